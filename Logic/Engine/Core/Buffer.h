@@ -1,0 +1,82 @@
+#pragma once
+/// @file Buffer.h
+/// @brief A typed, owning, move-only array in host or CUDA device memory.
+#include "CudaRuntime.h"
+#include "Device.h"
+#include "Error.h"
+
+#include <cstddef>
+#include <cstring>
+#include <utility>
+#include <vector>
+
+namespace tissuemosaic {
+
+template <class T>
+class Buffer {
+public:
+  Buffer() = default;
+  Buffer(Device device, std::size_t count) : device_(device), count_(count) {
+    if (count == 0) return;
+    data_ = device == Device::Cuda ? static_cast<T*>(cuda::allocate(count * sizeof(T))) : new T[count];
+  }
+  ~Buffer() { reset(); }
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  Buffer(Buffer&& other) noexcept { swap(other); }
+  Buffer& operator=(Buffer&& other) noexcept {
+    if (this != &other) {
+      reset();
+      swap(other);
+    }
+    return *this;
+  }
+
+  Device device() const { return device_; }
+  std::size_t size() const { return count_; }
+  T* data() { return data_; }
+  const T* data() const { return data_; }
+
+  /// Copies count_ elements from host memory into this buffer.
+  void upload(const T* host) {
+    if (device_ == Device::Cuda) cuda::copyHostToDevice(data_, host, count_ * sizeof(T));
+    else if (count_) std::memcpy(data_, host, count_ * sizeof(T));
+  }
+  /// Copies this buffer's elements into host memory.
+  void download(T* host) const {
+    if (device_ == Device::Cuda) cuda::copyDeviceToHost(host, data_, count_ * sizeof(T));
+    else if (count_) std::memcpy(host, data_, count_ * sizeof(T));
+  }
+  std::vector<T> toHost() const {
+    std::vector<T> host(count_);
+    download(host.data());
+    return host;
+  }
+  /// Copies another buffer of the same size (any device) into this one.
+  void copyFrom(const Buffer& other) {
+    require(other.count_ == count_, "Buffer::copyFrom: sizes differ");
+    if (count_ == 0) return;
+    if (device_ == Device::Cuda && other.device_ == Device::Cuda) cuda::copyDeviceToDevice(data_, other.data_, count_ * sizeof(T));
+    else if (device_ == Device::Cuda) cuda::copyHostToDevice(data_, other.data_, count_ * sizeof(T));
+    else other.download(data_);
+  }
+
+private:
+  void reset() {
+    if (device_ == Device::Cuda) cuda::release(data_);
+    else delete[] data_;
+    data_ = nullptr;
+    count_ = 0;
+  }
+  void swap(Buffer& other) noexcept {
+    std::swap(device_, other.device_);
+    std::swap(data_, other.data_);
+    std::swap(count_, other.count_);
+  }
+
+  Device device_ = Device::Cpu;
+  T* data_ = nullptr;
+  std::size_t count_ = 0;
+};
+
+}  // namespace tissuemosaic

@@ -1,0 +1,55 @@
+#include "CudaRuntime.h"
+
+#include "Error.h"
+
+#include <cuda_runtime.h>
+
+namespace tissuemosaic::cuda {
+
+namespace {
+void check(cudaError_t status, const char* what) {
+  if (status != cudaSuccess) throw Error(std::string("CUDA error in ") + what + ": " + cudaGetErrorString(status));
+}
+}  // namespace
+
+bool compiledIn() { return true; }
+
+std::string deviceProblem() {
+  int count = 0;
+  const cudaError_t status = cudaGetDeviceCount(&count);
+  if (status != cudaSuccess) return std::string("no usable CUDA device (") + cudaGetErrorString(status) + ")";
+  if (count == 0) return "no CUDA device is present";
+  return {};
+}
+
+std::string deviceName() {
+  cudaDeviceProp properties{};
+  check(cudaGetDeviceProperties(&properties, 0), "cudaGetDeviceProperties");
+  return properties.name;
+}
+
+void* allocate(std::size_t bytes) {
+  void* pointer = nullptr;
+  if (bytes == 0) return nullptr;
+  check(cudaMalloc(&pointer, bytes), "cudaMalloc");
+  return pointer;
+}
+
+void release(void* pointer) noexcept {
+  if (pointer) cudaFree(pointer);
+}
+
+void copyHostToDevice(void* device, const void* host, std::size_t bytes) {
+  if (bytes) check(cudaMemcpy(device, host, bytes, cudaMemcpyHostToDevice), "cudaMemcpy host to device");
+}
+void copyDeviceToHost(void* host, const void* device, std::size_t bytes) {
+  if (bytes) check(cudaMemcpy(host, device, bytes, cudaMemcpyDeviceToHost), "cudaMemcpy device to host");
+}
+void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes) {
+  if (bytes) check(cudaMemcpy(destination, source, bytes, cudaMemcpyDeviceToDevice), "cudaMemcpy device to device");
+}
+void synchronize() { check(cudaDeviceSynchronize(), "cudaDeviceSynchronize"); }
+
+void checkLaunch(const char* what) { check(cudaGetLastError(), what); }
+
+}  // namespace tissuemosaic::cuda

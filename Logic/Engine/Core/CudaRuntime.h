@@ -1,0 +1,24 @@
+#pragma once
+/// @file CudaRuntime.h
+/// @brief The few CUDA runtime services the engine needs, callable from plain C++ translation units.
+/// Implemented in CudaRuntime.cu when the CUDA backend is built, and by CudaRuntimeAbsent.cpp otherwise (where
+/// every call that needs a GPU throws Error).
+#include <cstddef>
+#include <string>
+
+namespace tissuemosaic::cuda {
+
+bool compiledIn();
+/// Empty when a CUDA device can be used, otherwise the reason (no driver, no device, ...).
+std::string deviceProblem();
+std::string deviceName();
+void* allocate(std::size_t bytes);
+void release(void* pointer) noexcept;
+void copyHostToDevice(void* device, const void* host, std::size_t bytes);
+void copyDeviceToHost(void* host, const void* device, std::size_t bytes);
+void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes);
+void synchronize();
+/// Throws Error naming `what` when the last kernel launch failed.
+void checkLaunch(const char* what);
+
+}  // namespace tissuemosaic::cuda

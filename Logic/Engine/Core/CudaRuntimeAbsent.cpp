@@ -1,0 +1,22 @@
+#include "CudaRuntime.h"
+
+#include "Error.h"
+
+namespace tissuemosaic::cuda {
+
+namespace {
+[[noreturn]] void absent() { throw Error("this build of TissueMosaic has no CUDA backend"); }
+}  // namespace
+
+bool compiledIn() { return false; }
+std::string deviceProblem() { return "this build of TissueMosaic has no CUDA backend"; }
+std::string deviceName() { absent(); }
+void* allocate(std::size_t) { absent(); }
+void release(void*) noexcept {}
+void copyHostToDevice(void*, const void*, std::size_t) { absent(); }
+void copyDeviceToHost(void*, const void*, std::size_t) { absent(); }
+void copyDeviceToDevice(void*, const void*, std::size_t) { absent(); }
+void synchronize() { absent(); }
+void checkLaunch(const char*) { absent(); }
+
+}  // namespace tissuemosaic::cuda

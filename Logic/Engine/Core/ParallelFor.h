@@ -1,0 +1,81 @@
+#pragma once
+/// @file ParallelFor.h
+/// @brief The engine's one parallel loop: parallelFor<Backend>(n, functor) calls functor(i) for i in [0, n).
+/// CpuBackend runs it on OpenCV's thread pool; CudaBackend (only in .cu translation units) as a grid-stride
+/// kernel. Algorithms are written once as functors with a TM_HOST_DEVICE operator() and instantiated for both.
+#include "HostDevice.h"
+
+#include <opencv2/core/utility.hpp>
+
+#include <algorithm>
+#include <cstdint>
+
+#if defined(__CUDACC__)
+#include "CudaRuntime.h"
+#include "KernelProfiler.h"
+
+#include <typeinfo>
+#endif
+
+namespace tissuemosaic {
+
+struct CpuBackend {};
+struct CudaBackend {};
+
+template <class Backend>
+struct ParallelFor;
+
+template <>
+struct ParallelFor<CpuBackend> {
+  /// grain: indices per task; small for heavy items (rows), large for light ones (pixels).
+  template <class Functor>
+  static void run(int64_t count, const Functor& functor, int64_t grain) {
+    if (count <= 0) return;
+    grain = std::max<int64_t>(1, grain);
+    const int64_t tasks = (count + grain - 1) / grain;
+    cv::parallel_for_(cv::Range(0, static_cast<int>(tasks)), [&](const cv::Range& range) {
+      for (int64_t task = range.start; task < range.end; ++task) {
+        const int64_t end = std::min(count, (task + 1) * grain);
+        for (int64_t i = task * grain; i < end; ++i) functor(i);
+      }
+    });
+  }
+};
+
+#if defined(__CUDACC__)
+template <class Functor>
+__global__ void parallelForKernel(int64_t count, Functor functor) {
+  const int64_t stride = static_cast<int64_t>(blockDim.x) * gridDim.x;
+  for (int64_t i = static_cast<int64_t>(blockIdx.x) * blockDim.x + threadIdx.x; i < count; i += stride) functor(i);
+}
+
+template <>
+struct ParallelFor<CudaBackend> {
+  template <class Functor>
+  static void run(int64_t count, const Functor& functor, int64_t /*grain*/) {
+    if (count <= 0) return;
+    constexpr int threads = 256;
+    const int64_t blocks = std::min<int64_t>((count + threads - 1) / threads, 65535);
+    const bool profile = profiling::enabled();
+    std::chrono::steady_clock::time_point start;
+    if (profile) {
+      cuda::synchronize();
+      start = std::chrono::steady_clock::now();
+    }
+    parallelForKernel<<<static_cast<unsigned>(blocks), threads>>>(count, functor);
+    cuda::checkLaunch("parallelFor kernel");
+    if (profile) {
+      cuda::synchronize();
+      profiling::record(typeid(Functor).name(),
+                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+  }
+};
+#endif
+
+template <class Backend, class Functor>
+void parallelFor(int64_t count, const Functor& functor, int64_t grain = 4096) {
+  ParallelFor<Backend>::run(count, functor, grain);
+}
+
+}  // namespace tissuemosaic

@@ -1,0 +1,163 @@
+// The CUDA instantiation of the section II pipeline, and the CUDA launcher of the ZNCC cost volume.
+#include "Core/CudaRuntime.h"
+#include "Core/Error.h"
+#include "Core/KernelProfiler.h"
+#include "StereoPipeline.inl"
+
+#include <cuda_runtime.h>
+
+namespace tissuemosaic::stereo {
+
+namespace {
+
+constexpr int kThreads = 128;  // one thread per column of the tile and its halo
+constexpr int kRowsPerBlock = 4;
+
+/// One block computes kRowsPerBlock image rows for a tile of (kThreads - 2r) pixels and every disparity. The left
+/// rows of the tile (with halo) and the right rows over the whole disparity span are cached in shared memory. Per
+/// disparity each thread forms its column's chessboard sums of L*R for the first row, then for the next rows by
+/// the exact recurrences Ce(y+1) = Co(y) -/+ one product, Co(y+1) = Ce(y) +/- one product (integer-valued floats:
+/// no rounding, so the sums equal the CPU's); then each pixel combines 2r+1 columns.
+__global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in) {
+  extern __shared__ float shared[];
+  const int r = in.radius;
+  const int cachedRows = 2 * r + kRowsPerBlock;
+  const int width = in.left.width, height = in.left.height;
+  const int tileWidth = kThreads - 2 * r;
+  const int y0 = blockIdx.y * kRowsPerBlock;
+  const int x0 = blockIdx.x * tileWidth;
+  const int maxDisparity = in.minDisparity + in.disparityCount - 1;
+  const int columns = kThreads;                              // c in [x0 - r, x0 + tileWidth + r)
+  const int rightColumns = columns + in.disparityCount - 1;  // c - d for every d
+  const int rightBegin = x0 - r - maxDisparity;
+  float* leftRows = shared;
+  float* rightRows = leftRows + cachedRows * columns;
+  float* columnEven = rightRows + cachedRows * rightColumns;  // [kRowsPerBlock][columns]
+  float* columnOdd = columnEven + kRowsPerBlock * columns;
+
+  for (int k = threadIdx.x; k < cachedRows * columns; k += blockDim.x) {
+    const int row = k / columns, c = k % columns;
+    leftRows[k] = in.left.at(clampIndex(x0 - r + c, width), clampIndex(y0 - r + row, height));
+  }
+  for (int k = threadIdx.x; k < cachedRows * rightColumns; k += blockDim.x) {
+    const int row = k / rightColumns, c = k % rightColumns;
+    rightRows[k] = in.right.at(clampIndex(rightBegin + c, width), clampIndex(y0 - r + row, height));
+  }
+  __syncthreads();
+
+  const int t = threadIdx.x;
+  const int x = x0 + t;
+  const bool ownsColumn = t < tileWidth && x < width;
+  const int n = chessboardPixelCount(r);
+  float sumL[kRowsPerBlock], normL[kRowsPerBlock];
+  int16_t best[kRowsPerBlock], bestDisparity[kRowsPerBlock];
+#pragma unroll
+  for (int k = 0; k < kRowsPerBlock; ++k) {
+    const bool owns = ownsColumn && y0 + k < height;
+    sumL[k] = owns ? in.sumLeft.at(x, y0 + k) : 0.0f;
+    normL[k] = owns ? in.inverseNormLeft.at(x, y0 + k) : 0.0f;
+    best[k] = kNoZncc;
+    bestDisparity[k] = kNoDisparity;
+  }
+
+  for (int i = 0; i < in.disparityCount; ++i) {
+    const int d = in.minDisparity + i;
+    {
+      const int rightOffset = t + maxDisparity - d;  // column (x0 - r + t) - d in the right cache
+      const auto product = [&](int cachedRow) {
+        return leftRows[cachedRow * columns + t] * rightRows[cachedRow * rightColumns + rightOffset];
+      };
+      float e, o;
+      chessboardColumnSums([&](int dy) { return product(dy + r); }, r, e, o);
+      columnEven[t] = e;
+      columnOdd[t] = o;
+#pragma unroll
+      for (int k = 1; k < kRowsPerBlock; ++k) {
+        const float leaving = product(k - 1);   // row y0 + k - 1 - r
+        const float entering = product(k + 2 * r);  // row y0 + k + r
+        const float nextEven = (r & 1) ? o - leaving : o + entering;
+        const float nextOdd = (r & 1) ? e + entering : e - leaving;
+        e = nextEven;
+        o = nextOdd;
+        columnEven[k * columns + t] = e;
+        columnOdd[k * columns + t] = o;
+      }
+    }
+    __syncthreads();
+    if (ownsColumn) {
+      const bool matchable = x - d >= 0 && x - d < width;
+#pragma unroll
+      for (int k = 0; k < kRowsPerBlock; ++k) {
+        const int y = y0 + k;
+        if (y >= height) break;
+        int16_t q = kNoZncc;
+        if (matchable) {
+          const float sumLR = chessboardWindowSum(
+              [&](int dx, float& ev, float& od) {
+                ev = columnEven[k * columns + t + r + dx];
+                od = columnOdd[k * columns + t + r + dx];
+              },
+              r);
+          q = quantisedZncc(sumLR, sumL[k], in.sumRight.at(x - d, y), normL[k], in.inverseNormRight.at(x - d, y), n);
+        }
+        in.volume[in.volumeIndex(i, x, y)] = q;
+        if (q > best[k]) {
+          best[k] = q;
+          bestDisparity[k] = static_cast<int16_t>(d);
+        }
+      }
+    }
+    __syncthreads();
+  }
+  if (ownsColumn) {
+#pragma unroll
+    for (int k = 0; k < kRowsPerBlock; ++k) {
+      if (y0 + k < height) in.bestDisparity.at(x, y0 + k) = bestDisparity[k];
+    }
+  }
+}
+
+}  // namespace
+
+void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs) {
+  const int r = inputs.radius;
+  const int cachedRows = 2 * r + kRowsPerBlock;
+  const int tileWidth = kThreads - 2 * r;
+  const std::size_t sharedBytes =
+      sizeof(float) * (static_cast<std::size_t>(cachedRows) * (2 * kThreads + inputs.disparityCount - 1) +
+                       2 * kRowsPerBlock * kThreads);
+  static std::size_t raisedLimit = 48 * 1024;
+  if (sharedBytes > raisedLimit) {
+    const cudaError_t status =
+        cudaFuncSetAttribute(znccVolumeKernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(sharedBytes));
+    if (status != cudaSuccess) {
+      throw Error("the disparity range is too wide for the GPU's shared memory (" + std::to_string(sharedBytes) +
+                  " bytes): " + cudaGetErrorString(status));
+    }
+    raisedLimit = sharedBytes;
+  }
+  const dim3 grid((inputs.left.width + tileWidth - 1) / tileWidth, (inputs.left.height + kRowsPerBlock - 1) / kRowsPerBlock);
+  const bool profile = profiling::enabled();
+  auto start = std::chrono::steady_clock::now();
+  if (profile) {
+    cuda::synchronize();
+    start = std::chrono::steady_clock::now();
+  }
+  znccVolumeKernel<<<grid, kThreads, sharedBytes>>>(inputs);
+  cuda::checkLaunch("ZNCC cost volume kernel");
+  if (profile) {
+    cuda::synchronize();
+    profiling::record("znccVolumeKernel",
+                      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  const int width = inputs.left.width;
+  parallelFor<CudaBackend>(inputs.left.pixelCount(),
+                           RightViewWinner{inputs.volume, inputs.layout, width, inputs.minDisparity,
+                                           inputs.disparityCount, inputs.rightBestDisparity});
+}
+
+void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings) {
+  runStereoPipeline<CudaBackend>(workspace, parameters, timings, computeZnccVolumeCuda);
+}
+
+}  // namespace tissuemosaic::stereo

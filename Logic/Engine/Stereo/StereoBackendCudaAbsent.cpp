@@ -1,0 +1,13 @@
+// Built only without the CUDA backend: the CUDA entry points say so instead of running.
+#include "Core/Error.h"
+#include "StereoPipeline.h"
+
+namespace tissuemosaic::stereo {
+
+void computeZnccVolumeCuda(const ZnccVolumeInputs&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
+
+void runStereoPipelineCuda(StereoWorkspace&, const StereoParameters&, StereoTimingsMs&) {
+  throw Error("this build of TissueMosaic has no CUDA backend");
+}
+
+}  // namespace tissuemosaic::stereo

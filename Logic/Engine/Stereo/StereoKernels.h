@@ -1,0 +1,592 @@
+#pragma once
+/// @file StereoKernels.h
+/// @brief The per-pixel steps of section II, written once for both backends (TM_HOST_DEVICE).
+///
+/// Exactness: grey levels are integers 0..255 stored as float, so every window sum of pixels or of pixel
+/// products is an integer below 2^24 and is exact in float whatever the summation order. ZNCC scores are then
+/// derived from exact sums with the same IEEE operations on both backends (CUDA is built with -fmad=false), and
+/// the discrete steps (outliers, holes) work on integers: the CPU and CUDA paths agree bit for bit up to the
+/// refinement's floating-point averages, which also run in the same order on both.
+#include "Core/HostDevice.h"
+#include "Core/Image.h"
+
+#include <cmath>
+#include <cstdint>
+
+namespace tissuemosaic::stereo {
+
+/// Discrete disparity maps hold int16; this marks "no estimate".
+constexpr int16_t kNoDisparity = INT16_MIN;
+/// The cost volume holds ZNCC * kZnccScale rounded; this marks "not computable" (outside the image, textureless).
+constexpr int16_t kNoZncc = INT16_MIN;
+constexpr float kZnccScale = 32000.0f;
+constexpr int kZnccMax = 32000;  ///< ZNCC = 1
+
+/// True for finite floats (NaN and infinities compare false), the same on host and device.
+TM_HOST_DEVICE TM_FORCE_INLINE bool isFiniteValue(float v) { return fabsf(v) <= 3.402823466e38f; }
+
+TM_HOST_DEVICE TM_FORCE_INLINE int clampIndex(int i, int size) { return i < 0 ? 0 : (i >= size ? size - 1 : i); }
+
+/// Pixels in the chessboard window of radius r (side 2r+1) that contains its centre: offsets (dx, dy) with
+/// dx + dy even. For r = 5 (the paper's 11x11) this is 61.
+TM_HOST_DEVICE TM_FORCE_INLINE int chessboardPixelCount(int r) {
+  const int even = 2 * (r / 2) + 1;  // even offsets in [-r, r]
+  const int odd = 2 * r + 1 - even;
+  return even * even + odd * odd;
+}
+
+/// Column sums of one image column for the chessboard window: `even` over rows y+dy with dy even, `odd` over dy
+/// odd, |dy| <= r. sample(dy) returns the value at row offset dy (the caller clamps rows).
+template <class Sample>
+TM_HOST_DEVICE TM_FORCE_INLINE void chessboardColumnSums(const Sample& sample, int r, float& even, float& odd) {
+  even = 0.0f;
+  odd = 0.0f;
+  for (int dy = -r; dy <= r; ++dy) {
+    const float v = sample(dy);
+    if ((dy & 1) == 0) even += v;
+    else odd += v;
+  }
+}
+
+/// Window sum at column x from column sums: columns x+dx with dx even contribute their `even` sum, dx odd their
+/// `odd` sum. column(dx) returns the (even, odd) pair of column x+dx through references.
+template <class Column>
+TM_HOST_DEVICE TM_FORCE_INLINE float chessboardWindowSum(const Column& column, int r) {
+  float sum = 0.0f;
+  for (int dx = -r; dx <= r; ++dx) {
+    float even, odd;
+    column(dx, even, odd);
+    sum += (dx & 1) == 0 ? even : odd;
+  }
+  return sum;
+}
+
+/// 1 / sqrt(n * sum(I^2) - sum(I)^2) of a window, or 0 when the window's grey-level standard deviation is below
+/// minStdDev (textureless: ZNCC undefined). Double keeps n * sumSq exact.
+TM_HOST_DEVICE TM_FORCE_INLINE float windowInverseNorm(float sum, float sumSq, int n, float minStdDev) {
+  const double spread = static_cast<double>(n) * static_cast<double>(sumSq) - static_cast<double>(sum) * sum;
+  const double minSpread = static_cast<double>(minStdDev) * minStdDev * n * n;
+  if (!(spread > minSpread) || spread <= 0.0) return 0.0f;
+  return static_cast<float>(1.0 / sqrt(spread));
+}
+
+/// ZNCC from exact window sums: (n * sumLR - sumL * sumR) * invNormL * invNormR, quantised to int16. Every term
+/// of the numerator is an integer below 2^31 for windows up to 19x19 (n <= 181), so int32 arithmetic is exact and
+/// vectorises on the CPU. Written without branches for the same reason.
+TM_HOST_DEVICE TM_FORCE_INLINE int16_t quantisedZncc(float sumLR, float sumL, float sumR, float invNormL,
+                                                     float invNormR, int n) {
+  const int numerator = n * static_cast<int>(sumLR) - static_cast<int>(sumL) * static_cast<int>(sumR);
+  // Rounded first, then clamped to [-1, 1] in integers: the same as clamping first, and branch-free.
+  int q = static_cast<int>(nearbyintf(static_cast<float>(numerator) * invNormL * invNormR * kZnccScale));
+  q = q < kZnccMax ? q : kZnccMax;
+  q = q > -kZnccMax ? q : -kZnccMax;
+  const bool textureless = (invNormL == 0.0f) | (invNormR == 0.0f);
+  return static_cast<int16_t>(textureless ? kNoZncc : q);
+}
+
+/// Window statistics, pass 1: chessboard column sums of I and I^2 at every pixel.
+struct WindowColumnSums {
+  ImageView<const float> image;
+  ImageView<float> evenSum, oddSum, evenSumSq, oddSumSq;
+  int radius;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int x = static_cast<int>(index % image.width);
+    const int y = static_cast<int>(index / image.width);
+    float e, o, e2, o2;
+    chessboardColumnSums([&](int dy) { return image.at(x, clampIndex(y + dy, image.height)); }, radius, e, o);
+    chessboardColumnSums(
+        [&](int dy) {
+          const float v = image.at(x, clampIndex(y + dy, image.height));
+          return v * v;
+        },
+        radius, e2, o2);
+    evenSum[index] = e;
+    oddSum[index] = o;
+    evenSumSq[index] = e2;
+    oddSumSq[index] = o2;
+  }
+};
+
+/// Window statistics, pass 2: window sum of I and the inverse norm at every pixel (replicated border).
+struct WindowStatistics {
+  ImageView<const float> evenSum, oddSum, evenSumSq, oddSumSq;
+  ImageView<float> sum, inverseNorm;
+  int radius;
+  float minStdDev;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int width = sum.width;
+    const int x = static_cast<int>(index % width);
+    const int y = static_cast<int>(index / width);
+    const float s = chessboardWindowSum(
+        [&](int dx, float& e, float& o) {
+          const int c = clampIndex(x + dx, width);
+          e = evenSum.at(c, y);
+          o = oddSum.at(c, y);
+        },
+        radius);
+    const float s2 = chessboardWindowSum(
+        [&](int dx, float& e, float& o) {
+          const int c = clampIndex(x + dx, width);
+          e = evenSumSq.at(c, y);
+          o = oddSumSq.at(c, y);
+        },
+        radius);
+    sum[index] = s;
+    inverseNorm[index] = windowInverseNorm(s, s2, chessboardPixelCount(radius), minStdDev);
+  }
+};
+
+/// Where the ZNCC of pixel (x, y) at disparity index i lives: y * rowStride + x + i * disparityStride. The CPU keeps
+/// each image row's disparity slices together (its row loop writes them contiguously and the re-selection finds a
+/// pixel's candidates in cache); the GPU keeps whole-image slices (coalesced across threads).
+struct VolumeLayout {
+  int64_t rowStride;
+  int64_t disparityStride;
+  static VolumeLayout rowMajor(int width, int disparityCount) {
+    return {static_cast<int64_t>(width) * disparityCount, width};
+  }
+  static VolumeLayout sliceMajor(int width, int height) {
+    return {width, static_cast<int64_t>(width) * height};
+  }
+  TM_HOST_DEVICE int64_t index(int x, int y, int disparityIndex) const {
+    return y * rowStride + x + disparityIndex * disparityStride;
+  }
+};
+
+/// Inputs of the cost-volume pass, shared by the CPU and CUDA launchers.
+struct ZnccVolumeInputs {
+  ImageView<const float> left, right;
+  ImageView<const float> sumLeft, inverseNormLeft, sumRight, inverseNormRight;
+  int radius;
+  int minDisparity;
+  int disparityCount;
+  int16_t* volume;
+  VolumeLayout layout;
+  ImageView<int16_t> bestDisparity;       ///< left-view winner
+  ImageView<int16_t> rightBestDisparity;  ///< right-view winner (the CPU launcher fills it in the same pass)
+
+  TM_HOST_DEVICE int64_t volumeIndex(int disparityIndex, int x, int y) const { return layout.index(x, y, disparityIndex); }
+};
+
+/// The 8 radial directions (E, SE, S, SW, W, NW, N, NE): direction k and k + 4 are opposite.
+TM_HOST_DEVICE TM_FORCE_INLINE void radialDirection(int k, int& dx, int& dy) {
+  const int table[8][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+  dx = table[k][0];
+  dy = table[k][1];
+}
+
+/// II.B outlier test: a disparity is kept when along at least one of the 8 radial directions, within radius r,
+/// consecutive estimates change by at most maxStepPx and at least half of the ray's in-image pixels carry one.
+struct RemoveOutliers {
+  ImageView<const int16_t> input;
+  ImageView<int16_t> output;
+  int radius;
+  float maxStepPx;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int x = static_cast<int>(index % input.width);
+    const int y = static_cast<int>(index / input.width);
+    const int16_t centre = input[index];
+    output[index] = centre;
+    if (centre == kNoDisparity) return;
+    for (int k = 0; k < 8; ++k) {
+      int dx, dy;
+      radialDirection(k, dx, dy);
+      int previous = centre;
+      int estimates = 0;
+      int inImage = 0;
+      bool smooth = true;
+      for (int s = 1; s <= radius; ++s) {
+        const int px = x + s * dx, py = y + s * dy;
+        if (!input.contains(px, py)) break;
+        ++inImage;
+        const int16_t value = input.at(px, py);
+        if (value == kNoDisparity) continue;
+        const int step = value - previous;
+        if (static_cast<float>(step < 0 ? -step : step) > maxStepPx) {
+          smooth = false;
+          break;
+        }
+        previous = value;
+        ++estimates;
+      }
+      if (smooth && inImage > 0 && 2 * estimates >= inImage) return;  // one smooth ray is enough
+    }
+    output[index] = kNoDisparity;
+  }
+};
+
+/// Disparity change per pixel that a filled line may span on a smooth surface: tissue stays well below it, while a
+/// depth edge jumps by several pixels at once.
+constexpr float kFillSlopeAllowance = 0.25f;
+
+/// II.B hole filling, method 1: along each of the 8 rays (up to radius px) find the nearest estimate; every pair
+/// of opposite rays that both hit gives a linear interpolation; with at least minLines such lines the hole takes
+/// their distance-weighted mean, rounded to the candidate disparities.
+struct FillHolesRadial {
+  ImageView<const int16_t> input;
+  ImageView<int16_t> output;
+  int radius;
+  int minLines;
+  float maxEndDifferencePx;  ///< a line whose ends differ by more (plus the slope allowance) crosses a depth edge
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int16_t centre = input[index];
+    output[index] = centre;
+    if (centre != kNoDisparity) return;
+    const int x = static_cast<int>(index % input.width);
+    const int y = static_cast<int>(index / input.width);
+    int hitValue[8];
+    int hitDistance[8];
+    for (int k = 0; k < 8; ++k) {
+      int dx, dy;
+      radialDirection(k, dx, dy);
+      hitDistance[k] = 0;
+      hitValue[k] = 0;
+      for (int s = 1; s <= radius; ++s) {
+        const int px = x + s * dx, py = y + s * dy;
+        if (!input.contains(px, py)) break;
+        const int16_t value = input.at(px, py);
+        if (value != kNoDisparity) {
+          hitDistance[k] = s;
+          hitValue[k] = value;
+          break;
+        }
+      }
+    }
+    int lines = 0;
+    float weightedSum = 0.0f, weightSum = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+      const int a = hitDistance[k], b = hitDistance[k + 4];
+      if (a == 0 || b == 0) continue;
+      const int endDifference = hitValue[k] > hitValue[k + 4] ? hitValue[k] - hitValue[k + 4] : hitValue[k + 4] - hitValue[k];
+      if (static_cast<float>(endDifference) > maxEndDifferencePx + kFillSlopeAllowance * static_cast<float>(a + b)) continue;
+      const float interpolated = static_cast<float>(hitValue[k] * b + hitValue[k + 4] * a) / static_cast<float>(a + b);
+      const float weight = 1.0f / static_cast<float>(a + b);
+      weightedSum += weight * interpolated;
+      weightSum += weight;
+      ++lines;
+    }
+    if (lines >= minLines) output[index] = static_cast<int16_t>(floorf(weightedSum / weightSum + 0.5f));
+  }
+};
+
+/// Box sums work on exact fixed-point integers (a value v enters as llrint(v * scale)), so any summation order
+/// gives the same sums: the CPU uses running sums (two passes, O(1) per pixel), the GPU direct sums per pixel
+/// (parallel, coalesced), and both produce identical results.
+constexpr double kFixedPointScale = 65536.0;  ///< 1/65536 px resolution for real-valued maps
+
+/// Box sums, pass 1 on the CPU (one row per call): running sums over x of a value and a validity count, radius r.
+template <class Value>
+struct BoxRowSums {
+  Value value;  ///< value(x, y, out) -> bool valid; out is the fixed-point value
+  int width, radius;
+  int64_t* rowSum;
+  int* rowCount;
+
+  TM_HOST_DEVICE void operator()(int64_t row) const {
+    const int y = static_cast<int>(row);
+    int64_t sum = 0, v = 0;
+    int count = 0;
+    for (int x = 0; x < radius && x < width; ++x) {
+      if (value(x, y, v)) { sum += v; ++count; }
+    }
+    for (int x = 0; x < width; ++x) {
+      const int enter = x + radius, leave = x - radius - 1;
+      if (enter < width && value(enter, y, v)) { sum += v; ++count; }
+      if (leave >= 0 && value(leave, y, v)) { sum -= v; --count; }
+      rowSum[static_cast<int64_t>(y) * width + x] = sum;
+      rowCount[static_cast<int64_t>(y) * width + x] = count;
+    }
+  }
+};
+
+/// Box sums, pass 1 on the GPU (one pixel per call): the same sums, added directly.
+template <class Value>
+struct BoxRowSumsDirect {
+  Value value;
+  int width, radius;
+  int64_t* rowSum;
+  int* rowCount;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int x = static_cast<int>(index % width);
+    const int y = static_cast<int>(index / width);
+    const int x0 = x - radius < 0 ? 0 : x - radius, x1 = x + radius >= width ? width - 1 : x + radius;
+    int64_t sum = 0, v = 0;
+    int count = 0;
+    for (int xx = x0; xx <= x1; ++xx) {
+      if (value(xx, y, v)) { sum += v; ++count; }
+    }
+    rowSum[index] = sum;
+    rowCount[index] = count;
+  }
+};
+
+/// Box sums, pass 2 on the CPU (one block of kColumnsPerTask columns per call, row-contiguous): running sums over y,
+/// handed to consumer(pixelIndex, sum, count) as soon as each is complete (no box-sum image is stored).
+template <int kColumnsPerTask, class Consumer>
+struct BoxColumnSums {
+  const int64_t* rowSum;
+  const int* rowCount;
+  int width, height, radius;
+  Consumer consumer;
+
+  static constexpr int64_t taskCount(int width) { return (width + kColumnsPerTask - 1) / kColumnsPerTask; }
+
+  TM_HOST_DEVICE void operator()(int64_t task) const {
+    const int x0 = static_cast<int>(task) * kColumnsPerTask;
+    const int columns = width - x0 < kColumnsPerTask ? width - x0 : kColumnsPerTask;
+    int64_t sum[kColumnsPerTask];
+    int count[kColumnsPerTask];
+    for (int c = 0; c < columns; ++c) {
+      sum[c] = 0;
+      count[c] = 0;
+    }
+    for (int y = 0; y < radius && y < height; ++y) {
+      for (int c = 0; c < columns; ++c) {
+        sum[c] += rowSum[static_cast<int64_t>(y) * width + x0 + c];
+        count[c] += rowCount[static_cast<int64_t>(y) * width + x0 + c];
+      }
+    }
+    for (int y = 0; y < height; ++y) {
+      const int enter = y + radius, leave = y - radius - 1;
+      for (int c = 0; c < columns; ++c) {
+        if (enter < height) {
+          sum[c] += rowSum[static_cast<int64_t>(enter) * width + x0 + c];
+          count[c] += rowCount[static_cast<int64_t>(enter) * width + x0 + c];
+        }
+        if (leave >= 0) {
+          sum[c] -= rowSum[static_cast<int64_t>(leave) * width + x0 + c];
+          count[c] -= rowCount[static_cast<int64_t>(leave) * width + x0 + c];
+        }
+        consumer(static_cast<int64_t>(y) * width + x0 + c, sum[c], count[c]);
+      }
+    }
+  }
+};
+
+/// Box sums, pass 2 on the GPU (one pixel per call): the same sums, added directly, handed to the consumer.
+template <class Consumer>
+struct BoxColumnSumsDirect {
+  const int64_t* rowSum;
+  const int* rowCount;
+  int width, height, radius;
+  Consumer consumer;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int x = static_cast<int>(index % width);
+    const int y = static_cast<int>(index / width);
+    const int y0 = y - radius < 0 ? 0 : y - radius, y1 = y + radius >= height ? height - 1 : y + radius;
+    int64_t sum = 0;
+    int count = 0;
+    for (int yy = y0; yy <= y1; ++yy) {
+      sum += rowSum[static_cast<int64_t>(yy) * width + x];
+      count += rowCount[static_cast<int64_t>(yy) * width + x];
+    }
+    consumer(index, sum, count);
+  }
+};
+
+/// A box-sum consumer that stores the sums (tests, inspection).
+struct StoreBoxSums {
+  int64_t* boxSum;
+  int* boxCount;
+  TM_HOST_DEVICE void operator()(int64_t index, int64_t sum, int count) const {
+    boxSum[index] = sum;
+    boxCount[index] = count;
+  }
+};
+
+/// Box-sum inputs: a discrete disparity map (valid where != kNoDisparity), scale 1.
+struct DiscreteDisparityValue {
+  ImageView<const int16_t> disparity;
+  static constexpr double kScale = 1.0;
+  TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
+    const int16_t d = disparity.at(x, y);
+    value = d;
+    return d != kNoDisparity;
+  }
+};
+
+/// Box-sum inputs: a float map (valid where finite) in fixed point.
+struct FloatValue {
+  ImageView<const float> map;
+  static constexpr double kScale = kFixedPointScale;
+  TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
+    const float v = map.at(x, y);
+    const bool valid = isFiniteValue(v);
+    value = valid ? llrint(static_cast<double>(v) * kScale) : 0;
+    return valid;
+  }
+};
+
+/// II.B hole filling, method 2: a hole whose square neighbourhood of radius r (inside the image) is at least
+/// minValidFraction valid takes the neighbourhood's mean, rounded to the candidate disparities.
+/// A box-sum consumer: sum and count are those of DiscreteDisparityValue (scale 1) over the radius.
+struct FillHolesDisc {
+  ImageView<const int16_t> input;
+  ImageView<int16_t> output;
+  int radius;
+  float minValidFraction;
+
+  TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int count) const {
+    const int16_t centre = input[index];
+    output[index] = centre;
+    if (centre != kNoDisparity) return;
+    const int x = static_cast<int>(index % input.width);
+    const int y = static_cast<int>(index / input.width);
+    const int x0 = x - radius < 0 ? 0 : x - radius, x1 = x + radius >= input.width ? input.width - 1 : x + radius;
+    const int y0 = y - radius < 0 ? 0 : y - radius, y1 = y + radius >= input.height ? input.height - 1 : y + radius;
+    const int area = (x1 - x0 + 1) * (y1 - y0 + 1);
+    if (count == 0 || static_cast<float>(count) < minValidFraction * static_cast<float>(area)) return;
+    output[index] = static_cast<int16_t>(floor(static_cast<double>(boxSum) / count + 0.5));
+  }
+};
+
+/// II.C initial state: d^(0) = o (float), NaN where there is no estimate.
+struct InitialiseSmoothed {
+  ImageView<const int16_t> discrete;
+  ImageView<float> smoothed;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int16_t o = discrete[index];
+    smoothed[index] = o == kNoDisparity ? NAN : static_cast<float>(o);
+  }
+};
+
+/// II.C eq. (1) and (2): d^(k) = average(o_j); b = d^(k) - alpha o - (1 - alpha) d^(k-1). A box-sum consumer of
+/// DiscreteDisparityValue (scale 1).
+struct LaplacianStep {
+  ImageView<const int16_t> discrete;
+  ImageView<const float> previous;
+  ImageView<float> current, correction;
+  float alpha;
+
+  TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int boxCount) const {
+    const int16_t o = discrete[index];
+    if (o == kNoDisparity || boxCount == 0) {
+      current[index] = NAN;
+      correction[index] = NAN;
+      return;
+    }
+    const float average = static_cast<float>(static_cast<double>(boxSum) / boxCount);
+    current[index] = average;
+    correction[index] = average - alpha * static_cast<float>(o) - (1.0f - alpha) * previous[index];
+  }
+};
+
+/// II.C eq. (3) and the re-selection of o_i: d^(k) -= average(b_j); then o_i := the candidate in d^(k) +- search
+/// minimising 1/ZNCC + eta (o* - d)^2 (candidates without a positive ZNCC are skipped). A box-sum consumer of
+/// FloatValue (fixed point) over the corrections b.
+struct ReselectDiscrete {
+  const int16_t* volume;
+  VolumeLayout layout;
+  int minDisparity, disparityCount, search;
+  float eta;
+  ImageView<float> current;
+  ImageView<int16_t> discrete;
+
+  TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int boxCount) const {
+    if (discrete[index] == kNoDisparity || boxCount == 0) return;
+    const int x = static_cast<int>(index % current.width);
+    const int y = static_cast<int>(index / current.width);
+    const float d =
+        current[index] - static_cast<float>(static_cast<double>(boxSum) / (FloatValue::kScale * boxCount));
+    current[index] = d;
+    const int centre = static_cast<int>(floorf(d + 0.5f)) - minDisparity;
+    float bestCost = INFINITY;
+    int best = -1;
+    for (int i = centre - search; i <= centre + search; ++i) {
+      if (i < 0 || i >= disparityCount) continue;
+      const int16_t q = volume[layout.index(x, y, i)];
+      if (q <= 0) continue;  // kNoZncc or non-positive correlation: 1/ZNCC is not a cost
+      const float offset = static_cast<float>(i + minDisparity) - d;
+      const float cost = kZnccScale / static_cast<float>(q) + eta * offset * offset;
+      if (cost < bestCost) {
+        bestCost = cost;
+        best = i;
+      }
+    }
+    if (best >= 0) discrete[index] = static_cast<int16_t>(best + minDisparity);
+  }
+};
+
+/// Discrete map to float disparity (NaN where none), e.g. for inspecting intermediate stages.
+struct DiscreteToFloat {
+  ImageView<const int16_t> discrete;
+  ImageView<float> output;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int16_t o = discrete[index];
+    output[index] = o == kNoDisparity ? NAN : static_cast<float>(o);
+  }
+};
+
+/// Right-view winner from the left-view cost volume: for right pixel xr, the disparity d whose left pixel xr + d
+/// matches best (ties: lowest d). Used by the left-right consistency check.
+struct RightViewWinner {
+  const int16_t* volume;
+  VolumeLayout layout;
+  int width, minDisparity, disparityCount;
+  ImageView<int16_t> rightDisparity;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int xr = static_cast<int>(index % width);
+    const int y = static_cast<int>(index / width);
+    int16_t best = kNoZncc, bestDisparity = kNoDisparity;
+    for (int i = 0; i < disparityCount; ++i) {
+      const int d = minDisparity + i;
+      const int xl = xr + d;
+      if (xl < 0 || xl >= width) continue;
+      const int16_t q = volume[layout.index(xl, y, i)];
+      if (q > best) {
+        best = q;
+        bestDisparity = static_cast<int16_t>(d);
+      }
+    }
+    rightDisparity[index] = bestDisparity;
+  }
+};
+
+/// Left-right consistency: a left winner d at x survives when the right view's winner at x - d is within
+/// maxDifferencePx of d (occlusions and window fattening at depth edges fail it).
+struct LeftRightCheck {
+  ImageView<const int16_t> leftDisparity, rightDisparity;
+  ImageView<int16_t> output;
+  int maxDifferencePx;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int16_t d = leftDisparity[index];
+    output[index] = d;
+    if (d == kNoDisparity) return;
+    const int x = static_cast<int>(index % leftDisparity.width);
+    const int y = static_cast<int>(index / leftDisparity.width);
+    const int xr = x - d;
+    const int16_t other = xr >= 0 && xr < leftDisparity.width ? rightDisparity.at(xr, y) : kNoDisparity;
+    const int difference = other == kNoDisparity ? maxDifferencePx + 1 : (other > d ? other - d : d - other);
+    if (difference > maxDifferencePx) output[index] = kNoDisparity;
+  }
+};
+
+/// The refined output: the smoothed d_i where it agrees with the re-selected discrete o_i within maxDeviationPx
+/// (smoothing supplies sub-pixel precision on smooth surfaces); o_i where it does not (depth edges, where a
+/// neighbourhood average is meaningless).
+struct FinalDisparity {
+  ImageView<const int16_t> discrete;
+  ImageView<float> smoothed;
+  float maxDeviationPx;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int16_t o = discrete[index];
+    if (o == kNoDisparity) {
+      smoothed[index] = NAN;
+      return;
+    }
+    const float d = smoothed[index];
+    const float deviation = fabsf(d - static_cast<float>(o));
+    if (!(deviation <= maxDeviationPx)) smoothed[index] = static_cast<float>(o);
+  }
+};
+
+}  // namespace tissuemosaic::stereo

@@ -1,0 +1,122 @@
+#include "StereoMatcher.h"
+
+#include "Core/Error.h"
+#include "StereoPipeline.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <chrono>
+
+namespace tissuemosaic {
+
+namespace stereo {
+
+StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int disparityCount_)
+    : device(device_), width(width_), height(height_), disparityCount(disparityCount_),
+      left(device, width, height), right(device, width, height),
+      columnEven(device, width, height), columnOdd(device, width, height),
+      columnEvenSq(device, width, height), columnOddSq(device, width, height),
+      sumLeft(device, width, height), inverseNormLeft(device, width, height),
+      sumRight(device, width, height), inverseNormRight(device, width, height),
+      volume(device, static_cast<std::size_t>(disparityCount) * width * height),
+      znccDisparity(device, width, height), rightZnccDisparity(device, width, height), discrete(device, width, height), discreteScratch(device, width, height),
+      filledDisparity(device, width, height),
+      smoothed(device, width, height), smoothedPrevious(device, width, height), correction(device, width, height),
+      rowSum(device, static_cast<std::size_t>(width) * height), rowCount(device, static_cast<std::size_t>(width) * height) {}
+
+}  // namespace stereo
+
+namespace {
+
+cv::Mat toGreyFloat(const cv::Mat& image, const char* which) {
+  require(!image.empty(), std::string("the ") + which + " image is empty");
+  require(image.depth() == CV_8U, std::string("the ") + which + " image must have 8 bits per channel");
+  cv::Mat grey;
+  switch (image.channels()) {
+    case 1: grey = image; break;
+    case 3: cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY); break;
+    case 4: cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY); break;
+    default: throw Error(std::string("the ") + which + " image must be grey, BGR or BGRA");
+  }
+  cv::Mat greyFloat;
+  grey.convertTo(greyFloat, CV_32F);
+  return greyFloat;
+}
+
+cv::Mat downloadDiscrete(const Image<int16_t>& image) {
+  const std::vector<int16_t> values = image.buffer().toHost();
+  cv::Mat result(image.height(), image.width(), CV_32F);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    result.at<float>(static_cast<int>(i)) = values[i] == stereo::kNoDisparity ? NAN : static_cast<float>(values[i]);
+  }
+  return result;
+}
+
+}  // namespace
+
+struct StereoMatcher::Impl {
+  Device device;
+  StereoParameters parameters;
+  std::unique_ptr<stereo::StereoWorkspace> workspace;
+};
+
+StereoMatcher::StereoMatcher(Device device, const StereoParameters& parameters) : impl_(new Impl{device, parameters, {}}) {
+  parameters.validate();
+  if (device == Device::Cuda) {
+    const std::string reason = cudaUnavailableReason();
+    if (!reason.empty()) throw Error("CUDA stereo matching was asked for, but " + reason);
+  }
+}
+
+StereoMatcher::~StereoMatcher() = default;
+
+Device StereoMatcher::device() const { return impl_->device; }
+const StereoParameters& StereoMatcher::parameters() const { return impl_->parameters; }
+
+cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
+                                        StereoTimingsMs* timings) {
+  const StereoParameters& p = impl_->parameters;
+  require(leftRectified.size() == rightRectified.size(),
+          "the left and right images differ in size (" + std::to_string(leftRectified.cols) + "x" +
+              std::to_string(leftRectified.rows) + " vs " + std::to_string(rightRectified.cols) + "x" +
+              std::to_string(rightRectified.rows) + ")");
+  const cv::Mat left = toGreyFloat(leftRectified, "left");
+  const cv::Mat right = toGreyFloat(rightRectified, "right");
+  const int minimumSide = p.znccWindowPx;
+  require(left.cols >= minimumSide && left.rows >= minimumSide,
+          "the images are smaller than the ZNCC window (" + std::to_string(minimumSide) + " px)");
+
+  StereoTimingsMs local;
+  StereoTimingsMs& t = timings ? *timings : local;
+  auto start = std::chrono::steady_clock::now();
+  auto& workspace = impl_->workspace;
+  if (!workspace || workspace->width != left.cols || workspace->height != left.rows ||
+      workspace->disparityCount != p.disparityCount()) {
+    workspace = std::make_unique<stereo::StereoWorkspace>(impl_->device, left.cols, left.rows, p.disparityCount());
+  }
+  workspace->left.buffer().upload(left.ptr<float>());
+  workspace->right.buffer().upload(right.ptr<float>());
+  synchronize(impl_->device);
+  t.upload = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+  if (impl_->device == Device::Cuda) stereo::runStereoPipelineCuda(*workspace, p, t);
+  else stereo::runStereoPipelineCpu(*workspace, p, t);
+
+  start = std::chrono::steady_clock::now();
+  cv::Mat disparity(left.rows, left.cols, CV_32F);
+  workspace->smoothed.buffer().download(disparity.ptr<float>());
+  t.download = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return disparity;
+}
+
+cv::Mat StereoMatcher::lastZnccDisparity() const {
+  require(impl_->workspace != nullptr, "no disparity has been computed yet");
+  return downloadDiscrete(impl_->workspace->znccDisparity);
+}
+
+cv::Mat StereoMatcher::lastFilledDisparity() const {
+  require(impl_->workspace != nullptr, "no disparity has been computed yet");
+  return downloadDiscrete(impl_->workspace->filledDisparity);
+}
+
+}  // namespace tissuemosaic

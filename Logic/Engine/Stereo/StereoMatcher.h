@@ -1,0 +1,50 @@
+#pragma once
+/// @file StereoMatcher.h
+/// @brief Section II of the paper as one call: ZNCC matching, iterative outlier removal with hole filling, and
+/// the improved Laplacian refinement, on the CPU or on a CUDA GPU.
+#include "Core/Device.h"
+#include "StereoParameters.h"
+
+#include <opencv2/core.hpp>
+
+#include <memory>
+
+namespace tissuemosaic {
+
+/// Milliseconds spent in each stage of one computeDisparity call (device work waited for at each stage end).
+struct StereoTimingsMs {
+  double upload = 0;         ///< host to device copy and grey conversion
+  double zncc = 0;           ///< window statistics, cost volume, best ZNCC disparity
+  double outliersHoles = 0;  ///< outlier removal alternating with both hole fillings
+  double refinement = 0;     ///< improved Laplacian smoothing with o_i re-selection
+  double download = 0;       ///< device to host copy of the result
+  double total() const { return zncc + outliersHoles + refinement; }
+};
+
+class StereoMatcher {
+public:
+  /// Validates the parameters (throws Error). Device::Cuda throws Error when CUDA cannot be used.
+  StereoMatcher(Device device, const StereoParameters& parameters);
+  ~StereoMatcher();
+  StereoMatcher(const StereoMatcher&) = delete;
+  StereoMatcher& operator=(const StereoMatcher&) = delete;
+
+  /// Left-view disparity (CV_32F, NaN where there is no estimate; left x matches right x - d) of a rectified
+  /// pair of equal size, 8-bit grey or BGR. Throws Error on empty or mismatched images.
+  cv::Mat computeDisparity(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
+                           StereoTimingsMs* timings = nullptr);
+
+  /// Intermediate results of the last call, for tests and the GUI: integer ZNCC winners (NaN where none),
+  /// and the discrete disparities after outlier removal and hole filling.
+  cv::Mat lastZnccDisparity() const;
+  cv::Mat lastFilledDisparity() const;
+
+  Device device() const;
+  const StereoParameters& parameters() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tissuemosaic

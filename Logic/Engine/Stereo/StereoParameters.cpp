@@ -1,0 +1,127 @@
+#include "StereoParameters.h"
+
+#include "Core/Error.h"
+
+#include <opencv2/core.hpp>
+
+#include <cmath>
+#include <sstream>
+
+namespace tissuemosaic {
+
+namespace {
+
+template <class T>
+void requireRange(const char* name, T value, T low, T high) {
+  if (!(value >= low && value <= high)) {
+    std::ostringstream message;
+    message << "stereo parameter " << name << " = " << value << " is out of range [" << low << ", " << high << "]";
+    throw Error(message.str());
+  }
+}
+
+template <class T>
+void readKey(const cv::FileNode& node, const char* name, T& value) {
+  const cv::FileNode entry = node[name];
+  if (entry.empty()) return;
+  if (!entry.isInt() && !entry.isReal()) throw Error(std::string("stereo parameter ") + name + " must be a number");
+  if constexpr (std::is_integral_v<T>) {
+    if (!entry.isInt()) throw Error(std::string("stereo parameter ") + name + " must be an integer");
+    value = static_cast<T>(static_cast<int>(entry));
+  } else {
+    value = static_cast<T>(static_cast<double>(entry));
+  }
+}
+
+}  // namespace
+
+void StereoParameters::validate() const {
+  requireRange("minDisparityPx", minDisparityPx, -1000, 1000);
+  requireRange("maxDisparityPx", maxDisparityPx, -1000, 1000);
+  if (maxDisparityPx < minDisparityPx) {
+    throw Error("stereo disparity range is inverted: maxDisparityPx (" + std::to_string(maxDisparityPx) +
+                ") < minDisparityPx (" + std::to_string(minDisparityPx) + ")");
+  }
+  requireRange("disparityCount", disparityCount(), 2, 1024);
+  requireRange("znccWindowPx", znccWindowPx, 3, 19);  // exact int32 ZNCC up to 19x19
+  if (znccWindowPx % 2 == 0) throw Error("stereo parameter znccWindowPx must be odd");
+  requireRange("minWindowStdDev", minWindowStdDev, 0.0f, 100.0f);
+  requireRange("leftRightMaxDifferencePx", leftRightMaxDifferencePx, -1, 1000);
+  requireRange("refineMaxDeviationPx", refineMaxDeviationPx, -1.0f, 1000.0f);
+  requireRange("holeMaxEdgeDifferencePx", holeMaxEdgeDifferencePx, -1.0f, 1000.0f);
+  requireRange("outlierIterations", outlierIterations, 0, 10);
+  requireRange("outlierRadiusStartPx", outlierRadiusStartPx, 1, 200);
+  requireRange("outlierRadiusStepPx", outlierRadiusStepPx, 0, 200);
+  requireRange("outlierSmoothnessPx", outlierSmoothnessPx, 0.0f, 100.0f);
+  requireRange("holeRadialRadiusPx", holeRadialRadiusPx, 0, 500);
+  requireRange("holeRadialMinLines", holeRadialMinLines, 1, 4);
+  requireRange("holeDiscRadiusPx", holeDiscRadiusPx, 0, 200);
+  requireRange("holeDiscMinValidFraction", holeDiscMinValidFraction, 0.0f, 1.0f);
+  requireRange("refineIterations", refineIterations, 0, 100);
+  requireRange("refineRadiusPx", refineRadiusPx, 1, 200);
+  requireRange("refineAlpha", refineAlpha, 0.0f, 1.0f);
+  requireRange("refineEta", refineEta, 0.0f, 100.0f);
+  requireRange("refineSearchPx", refineSearchPx, 0, 50);
+}
+
+void StereoParameters::write(cv::FileStorage& storage) const {
+  storage << "stereo" << "{";
+  storage << "minDisparityPx" << minDisparityPx << "maxDisparityPx" << maxDisparityPx;
+  storage << "znccWindowPx" << znccWindowPx << "minWindowStdDev" << minWindowStdDev;
+  storage << "leftRightMaxDifferencePx" << leftRightMaxDifferencePx << "refineMaxDeviationPx" << refineMaxDeviationPx;
+  storage << "holeMaxEdgeDifferencePx" << holeMaxEdgeDifferencePx;
+  storage << "outlierIterations" << outlierIterations << "outlierRadiusStartPx" << outlierRadiusStartPx;
+  storage << "outlierRadiusStepPx" << outlierRadiusStepPx << "outlierSmoothnessPx" << outlierSmoothnessPx;
+  storage << "holeRadialRadiusPx" << holeRadialRadiusPx << "holeRadialMinLines" << holeRadialMinLines;
+  storage << "holeDiscRadiusPx" << holeDiscRadiusPx << "holeDiscMinValidFraction" << holeDiscMinValidFraction;
+  storage << "refineIterations" << refineIterations << "refineRadiusPx" << refineRadiusPx;
+  storage << "refineAlpha" << refineAlpha << "refineEta" << refineEta << "refineSearchPx" << refineSearchPx;
+  storage << "}";
+}
+
+StereoParameters StereoParameters::read(const cv::FileNode& node) {
+  StereoParameters p;
+  if (node.empty()) return p;
+  if (!node.isMap()) throw Error("the 'stereo' parameter node must be a map");
+  readKey(node, "minDisparityPx", p.minDisparityPx);
+  readKey(node, "maxDisparityPx", p.maxDisparityPx);
+  readKey(node, "znccWindowPx", p.znccWindowPx);
+  readKey(node, "minWindowStdDev", p.minWindowStdDev);
+  readKey(node, "leftRightMaxDifferencePx", p.leftRightMaxDifferencePx);
+  readKey(node, "refineMaxDeviationPx", p.refineMaxDeviationPx);
+  readKey(node, "holeMaxEdgeDifferencePx", p.holeMaxEdgeDifferencePx);
+  readKey(node, "outlierIterations", p.outlierIterations);
+  readKey(node, "outlierRadiusStartPx", p.outlierRadiusStartPx);
+  readKey(node, "outlierRadiusStepPx", p.outlierRadiusStepPx);
+  readKey(node, "outlierSmoothnessPx", p.outlierSmoothnessPx);
+  readKey(node, "holeRadialRadiusPx", p.holeRadialRadiusPx);
+  readKey(node, "holeRadialMinLines", p.holeRadialMinLines);
+  readKey(node, "holeDiscRadiusPx", p.holeDiscRadiusPx);
+  readKey(node, "holeDiscMinValidFraction", p.holeDiscMinValidFraction);
+  readKey(node, "refineIterations", p.refineIterations);
+  readKey(node, "refineRadiusPx", p.refineRadiusPx);
+  readKey(node, "refineAlpha", p.refineAlpha);
+  readKey(node, "refineEta", p.refineEta);
+  readKey(node, "refineSearchPx", p.refineSearchPx);
+  p.validate();
+  return p;
+}
+
+StereoParameters StereoParameters::readFile(const std::string& path) {
+  cv::FileStorage storage;
+  try {
+    storage.open(path, cv::FileStorage::READ);
+  } catch (const cv::Exception& error) {
+    throw Error("cannot parse parameters file '" + path + "': " + error.what());
+  }
+  if (!storage.isOpened()) throw Error("cannot open parameters file '" + path + "'");
+  return read(storage["stereo"]);
+}
+
+void StereoParameters::writeFile(const std::string& path) const {
+  cv::FileStorage storage(path, cv::FileStorage::WRITE);
+  if (!storage.isOpened()) throw Error("cannot write parameters file '" + path + "'");
+  write(storage);
+}
+
+}  // namespace tissuemosaic

@@ -1,0 +1,62 @@
+#pragma once
+/// @file StereoParameters.h
+/// @brief Every parameter of the section II stereo matcher, with the paper's defaults, in one validated struct.
+/// This is the single source of these values: the command line, the parameter files and the GUI panel all edit
+/// this object.
+#include <string>
+
+namespace cv {
+class FileStorage;
+class FileNode;
+}  // namespace cv
+
+namespace tissuemosaic {
+
+struct StereoParameters {
+  // ZNCC local matching (II.A). Windows use every other pixel (a chessboard that contains the centre).
+  int minDisparityPx = -20;           ///< smallest candidate disparity (left x matches right x - d)
+  int maxDisparityPx = 80;            ///< largest candidate disparity, inclusive
+  int znccWindowPx = 11;              ///< odd window side, 3..19
+  float minWindowStdDev = 1.0f;       ///< grey-level std below which a window is textureless: no estimate
+
+  // Additions to the paper (set to -1 to switch off).
+  int leftRightMaxDifferencePx = 1;   ///< ZNCC winners failing the left-right check by more are dropped
+  float refineMaxDeviationPx = 1.0f;  ///< output o_i instead of d_i where they differ by more than this
+  float holeMaxEdgeDifferencePx = 2.5f;  ///< radial filling skips lines whose ends differ by more (depth edges)
+
+  // Iterative outlier removal and hole filling (II.B).
+  int outlierIterations = 3;          ///< removal + filling rounds
+  int outlierRadiusStartPx = 10;      ///< r of the first round
+  int outlierRadiusStepPx = 10;       ///< r grows by this each round
+  float outlierSmoothnessPx = 2.5f;   ///< largest disparity step between neighbours along a smooth ray
+  int holeRadialRadiusPx = 50;        ///< radial filling: search distance along each of the 8 rays
+  int holeRadialMinLines = 2;         ///< radial filling: opposite-ray pairs that must both hit a value
+  int holeDiscRadiusPx = 20;          ///< disc filling: neighbourhood radius
+  float holeDiscMinValidFraction = 0.5f;  ///< disc filling: share of the neighbourhood that must be valid
+
+  // Improved Laplacian refinement (II.C).
+  int refineIterations = 4;           ///< smoothing + re-selection rounds (the paper does not state it)
+  int refineRadiusPx = 15;            ///< smoothing neighbourhood radius
+  float refineAlpha = 0.1f;           ///< Vollmer's alpha, in [0, 1]
+  float refineEta = 0.01f;            ///< weight of the smoothness cost against 1/ZNCC
+  int refineSearchPx = 5;             ///< o_i is re-selected within d_i +- this
+
+  int disparityCount() const { return maxDisparityPx - minDisparityPx + 1; }
+  int znccRadiusPx() const { return znccWindowPx / 2; }
+
+  /// Throws Error naming the first parameter that is out of range.
+  void validate() const;
+
+  /// Writes the parameters under the node name "stereo".
+  void write(cv::FileStorage& storage) const;
+  /// Reads the parameters from a "stereo" node; keys that are missing keep their defaults, keys of the wrong type
+  /// are an error. Validates the result.
+  static StereoParameters read(const cv::FileNode& stereoNode);
+
+  /// Reads the "stereo" node of a YAML/XML parameters file (Error when the file is missing or unreadable).
+  static StereoParameters readFile(const std::string& path);
+  /// Writes a parameters file holding the "stereo" node.
+  void writeFile(const std::string& path) const;
+};
+
+}  // namespace tissuemosaic

@@ -1,0 +1,46 @@
+#pragma once
+/// @file StereoPipeline.h
+/// @brief The device-resident working set of the stereo matcher and the backend entry points that run section II
+/// on it. The steps are one template (StereoPipeline.inl) instantiated for the CPU (StereoBackendCpu.cpp) and
+/// for CUDA (StereoBackendCuda.cu); only the ZNCC cost volume has a launcher per backend (shared-memory tiling on
+/// the GPU), built from the same per-pixel functions.
+#include "Core/Buffer.h"
+#include "Core/Image.h"
+#include "StereoKernels.h"
+#include "StereoMatcher.h"
+#include "StereoParameters.h"
+
+namespace tissuemosaic::stereo {
+
+struct StereoWorkspace {
+  StereoWorkspace(Device device, int width, int height, int disparityCount);
+  VolumeLayout volumeLayout() const {
+    return device == Device::Cpu ? VolumeLayout::rowMajor(width, disparityCount) : VolumeLayout::sliceMajor(width, height);
+  }
+
+  Device device;
+  int width, height, disparityCount;
+  Image<float> left, right;                        ///< grey levels 0..255 (integers)
+  Image<float> columnEven, columnOdd, columnEvenSq, columnOddSq;
+  Image<float> sumLeft, inverseNormLeft, sumRight, inverseNormRight;
+  Buffer<int16_t> volume;                          ///< quantised ZNCC, laid out by volumeLayout()
+  Image<int16_t> znccDisparity;                    ///< best ZNCC disparity per pixel
+  Image<int16_t> rightZnccDisparity;               ///< best ZNCC disparity per right-image pixel
+  Image<int16_t> discrete, discreteScratch;        ///< o_i and a ping-pong partner
+  Image<int16_t> filledDisparity;                  ///< o_i after outlier removal and hole filling
+  Image<float> smoothed, smoothedPrevious, correction;
+  Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)
+  Buffer<int> rowCount;
+};
+
+/// Runs the whole of section II on workspace.left/right; the result is workspace.smoothed (NaN = none).
+void runStereoPipelineCpu(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings);
+/// The same on the GPU; throws Error in a build without CUDA.
+void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings);
+
+/// Backend-specific ZNCC cost volume + winner (argmax, lowest disparity on ties) from the window statistics. The
+/// CPU launcher also fills the right-view winners; on the GPU a RightViewWinner pass does.
+void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs);
+void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);
+
+}  // namespace tissuemosaic::stereo

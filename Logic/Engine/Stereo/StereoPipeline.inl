@@ -1,0 +1,123 @@
+// The section II pipeline, written once and instantiated per backend (included by StereoBackendCpu.cpp and
+// StereoBackendCuda.cu only).
+#include "Core/ParallelFor.h"
+#include "StereoPipeline.h"
+
+#include <chrono>
+#include <type_traits>
+
+namespace tissuemosaic::stereo {
+
+namespace {
+
+template <class Backend>
+struct PipelineSteps {
+  StereoWorkspace& w;
+  const StereoParameters& p;
+  int64_t pixels() const { return static_cast<int64_t>(w.width) * w.height; }
+
+  void windowStatistics(Image<float>& image, Image<float>& sum, Image<float>& inverseNorm) {
+    parallelFor<Backend>(pixels(), WindowColumnSums{image.view(), w.columnEven.view(), w.columnOdd.view(),
+                                                    w.columnEvenSq.view(), w.columnOddSq.view(), p.znccRadiusPx()});
+    parallelFor<Backend>(pixels(), WindowStatistics{w.columnEven.view(), w.columnOdd.view(), w.columnEvenSq.view(),
+                                                    w.columnOddSq.view(), sum.view(), inverseNorm.view(),
+                                                    p.znccRadiusPx(), p.minWindowStdDev});
+  }
+
+  /// Box sums of value over radius, handed per pixel to consumer(index, sum, count): running sums on the CPU
+  /// (rows, then row-contiguous blocks of columns), direct sums per pixel on the GPU; exact integers, so both give
+  /// the same result.
+  template <class Value, class Consumer>
+  void boxSums(const Value& value, int radius, const Consumer& consumer) {
+    if constexpr (std::is_same_v<Backend, CpuBackend>) {
+      parallelFor<Backend>(w.height, BoxRowSums<Value>{value, w.width, radius, w.rowSum.data(), w.rowCount.data()}, 1);
+      using ColumnSums = BoxColumnSums<64, Consumer>;
+      parallelFor<Backend>(ColumnSums::taskCount(w.width),
+                           ColumnSums{w.rowSum.data(), w.rowCount.data(), w.width, w.height, radius, consumer}, 1);
+    } else {
+      parallelFor<Backend>(pixels(), BoxRowSumsDirect<Value>{value, w.width, radius, w.rowSum.data(), w.rowCount.data()});
+      parallelFor<Backend>(pixels(), BoxColumnSumsDirect<Consumer>{w.rowSum.data(), w.rowCount.data(), w.width,
+                                                                   w.height, radius, consumer});
+    }
+  }
+
+  /// Runs a discrete-map step from w.discrete into w.discreteScratch, then swaps them.
+  template <class Step>
+  void discreteStep(const Step& step) {
+    parallelFor<Backend>(pixels(), step);
+    std::swap(w.discrete, w.discreteScratch);
+  }
+
+  void outliersAndHoles() {
+    w.discrete.buffer().copyFrom(w.znccDisparity.buffer());
+    if (p.leftRightMaxDifferencePx >= 0) {
+      parallelFor<Backend>(pixels(), LeftRightCheck{w.znccDisparity.view(), w.rightZnccDisparity.view(),
+                                                    w.discrete.view(), p.leftRightMaxDifferencePx});
+    }
+    for (int iteration = 0; iteration < p.outlierIterations; ++iteration) {
+      const int radius = p.outlierRadiusStartPx + iteration * p.outlierRadiusStepPx;
+      discreteStep(RemoveOutliers{w.discrete.view(), w.discreteScratch.view(), radius, p.outlierSmoothnessPx});
+      const float gate = p.holeMaxEdgeDifferencePx < 0 ? 1e9f : p.holeMaxEdgeDifferencePx;
+      if (p.holeRadialRadiusPx > 0) {
+        discreteStep(FillHolesRadial{w.discrete.view(), w.discreteScratch.view(), p.holeRadialRadiusPx,
+                                     p.holeRadialMinLines, gate});
+      }
+      if (p.holeDiscRadiusPx > 0) {
+        boxSums(DiscreteDisparityValue{w.discrete.view()}, p.holeDiscRadiusPx,
+                FillHolesDisc{w.discrete.view(), w.discreteScratch.view(), p.holeDiscRadiusPx,
+                              p.holeDiscMinValidFraction});
+        std::swap(w.discrete, w.discreteScratch);
+      }
+    }
+  }
+
+  void refinement() {
+    parallelFor<Backend>(pixels(), InitialiseSmoothed{w.discrete.view(), w.smoothed.view()});
+    for (int iteration = 0; iteration < p.refineIterations; ++iteration) {
+      std::swap(w.smoothed, w.smoothedPrevious);
+      boxSums(DiscreteDisparityValue{w.discrete.view()}, p.refineRadiusPx,
+              LaplacianStep{w.discrete.view(), w.smoothedPrevious.view(), w.smoothed.view(), w.correction.view(),
+                            p.refineAlpha});
+      boxSums(FloatValue{w.correction.view()}, p.refineRadiusPx,
+              ReselectDiscrete{w.volume.data(), w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
+                               p.refineSearchPx, p.refineEta, w.smoothed.view(), w.discrete.view()});
+    }
+    if (p.refineMaxDeviationPx >= 0) {
+      parallelFor<Backend>(pixels(), FinalDisparity{w.discrete.view(), w.smoothed.view(), p.refineMaxDeviationPx});
+    }
+  }
+};
+
+double elapsedMs(std::chrono::steady_clock::time_point& start, Device device) {
+  synchronize(device);
+  const auto now = std::chrono::steady_clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - start).count();
+  start = now;
+  return ms;
+}
+
+}  // namespace
+
+template <class Backend>
+void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimingsMs& timings,
+                       void (*znccVolume)(const ZnccVolumeInputs&)) {
+  PipelineSteps<Backend> steps{w, p};
+  auto start = std::chrono::steady_clock::now();
+
+  steps.windowStatistics(w.left, w.sumLeft, w.inverseNormLeft);
+  steps.windowStatistics(w.right, w.sumRight, w.inverseNormRight);
+  const ImageView<const float> left = w.left.view(), right = w.right.view();
+  znccVolume(ZnccVolumeInputs{left, right, w.sumLeft.view(), w.inverseNormLeft.view(), w.sumRight.view(),
+                              w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx, p.disparityCount(),
+                              w.volume.data(), w.volumeLayout(), w.znccDisparity.view(), w.rightZnccDisparity.view()});
+  timings.zncc = elapsedMs(start, w.device);
+
+  steps.outliersAndHoles();
+  w.filledDisparity.buffer().copyFrom(w.discrete.buffer());
+  timings.outliersHoles = elapsedMs(start, w.device);
+
+  steps.refinement();
+  timings.refinement = elapsedMs(start, w.device);
+}
+
+}  // namespace tissuemosaic::stereo

@@ -1,0 +1,313 @@
+#include "Tracking/PnpSolver.h"
+
+#include "Core/Error.h"
+#include "Tracking/R1PpnpCore.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace tissuemosaic {
+
+namespace {
+
+using detail::Hypothesis;
+using detail::PnpProblem;
+
+PnpResult failure(const std::string& reason, int hypotheses = 0, int innerIterations = 0) {
+  PnpResult result;
+  result.failureReason = reason;
+  result.hypotheses = hypotheses;
+  result.innerIterations = innerIterations;
+  return result;
+}
+
+bool finite(const Eigen::Vector2d& v) { return v.allFinite(); }
+bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
+
+/// Coincident or collinear points: the second principal spread is negligible against the first.
+bool collinear(const Points3d& points, const std::vector<int>& indices) {
+  if (indices.size() < 3) return true;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i : indices) mean += points[i];
+  mean /= static_cast<double>(indices.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int i : indices) covariance += (points[i] - mean) * (points[i] - mean).transpose();
+  const Eigen::Vector3d eig = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();
+  return !(eig[2] > 0) || eig[1] <= 1e-10 * eig[2] || eig[1] <= 1e-12;
+}
+
+/// The match of each 3D point (primary or candidate) with the smallest reprojection error under (R, t).
+struct BestMatch {
+  int slot = -1;      ///< -1 primary, j candidate
+  double error2 = 0;  ///< px^2
+  double primaryError2 = 0;  ///< px^2 of the primary match alone
+  Eigen::Vector2d pixelPx;
+};
+
+std::vector<BestMatch> bestMatches(const Points3d& points, const Pixels2d& pixels,
+                                   const std::vector<std::vector<CandidateMatch>>& candidates,
+                                   const PinholeIntrinsics& k, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  std::vector<BestMatch> best(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d c = R * points[i] + t;
+    BestMatch& b = best[i];
+    if (!(c.z() > 1e-9)) {
+      b.error2 = b.primaryError2 = std::numeric_limits<double>::infinity();
+      b.pixelPx = pixels[i];
+      continue;
+    }
+    const Eigen::Vector2d projected(k.fxPx * c.x() / c.z() + k.cxPx, k.fyPx * c.y() / c.z() + k.cyPx);
+    b.pixelPx = pixels[i];
+    b.error2 = b.primaryError2 = (projected - pixels[i]).squaredNorm();
+    if (candidates.empty()) continue;
+    for (std::size_t j = 0; j < candidates[i].size(); ++j) {
+      const double e2 = (projected - candidates[i][j].pixelPx).squaredNorm();
+      if (e2 < b.error2) {
+        b.error2 = e2;
+        b.slot = static_cast<int>(j);
+        b.pixelPx = candidates[i][j].pixelPx;
+      }
+    }
+  }
+  return best;
+}
+
+/// Gauss-Newton on the reprojection error of the given matches (left-multiplied rotation increments).
+/// Returns false when the normal equations are singular (a degenerate inlier set).
+bool polish(const Points3d& points, const std::vector<BestMatch>& matches, const std::vector<int>& indices,
+            const PinholeIntrinsics& k, Eigen::Matrix3d& R, Eigen::Vector3d& t) {
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> Jtr = Eigen::Matrix<double, 6, 1>::Zero();
+    for (int i : indices) {
+      const Eigen::Vector3d c = R * points[i] + t;
+      if (!(c.z() > 1e-9)) return false;
+      const double iz = 1.0 / c.z();
+      const Eigen::Vector2d r(k.fxPx * c.x() * iz + k.cxPx - matches[i].pixelPx.x(),
+                              k.fyPx * c.y() * iz + k.cyPx - matches[i].pixelPx.y());
+      Eigen::Matrix<double, 2, 3> dProj;
+      dProj << k.fxPx * iz, 0, -k.fxPx * c.x() * iz * iz, 0, k.fyPx * iz, -k.fyPx * c.y() * iz * iz;
+      Eigen::Matrix<double, 3, 6> dC;
+      const Eigen::Vector3d rc = c - t;  // R X
+      dC << 0, rc.z(), -rc.y(), 1, 0, 0,  //
+          -rc.z(), 0, rc.x(), 0, 1, 0,    //
+          rc.y(), -rc.x(), 0, 0, 0, 1;    // d(exp(w) R X + t) / d(w, t) = [-[RX]x, I]
+      const Eigen::Matrix<double, 2, 6> J = dProj * dC;
+      JtJ.noalias() += J.transpose() * J;
+      Jtr.noalias() += J.transpose() * r;
+    }
+    const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(JtJ);
+    const Eigen::VectorXd dv = JtJ.diagonal();
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-9 * dv.maxCoeff())) return false;
+    const Eigen::Matrix<double, 6, 1> delta = -ldlt.solve(Jtr);
+    if (!delta.allFinite()) return false;
+    const double angle = delta.head<3>().norm();
+    if (angle > 0) R = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix() * R;
+    t += delta.tail<3>();
+    if (angle < 1e-12 && delta.tail<3>().norm() < 1e-12) break;
+  }
+  // Re-orthonormalise against drift.
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  R = svd.matrixU() * svd.matrixV().transpose();
+  return R.allFinite() && t.allFinite();
+}
+
+/// A hypothesis' pose polished on its inliers until the inlier set settles. Returns the inlier count (0 when the
+/// inliers are too few, collinear or do not fix a pose).
+int refine(const Points3d& points, const Pixels2d& pixels, const std::vector<std::vector<CandidateMatch>>& candidates,
+           const PinholeIntrinsics& k, double inlierThresholdPx, Eigen::Matrix3d& R, Eigen::Vector3d& t) {
+  const double H2 = inlierThresholdPx * inlierThresholdPx;
+  std::vector<int> inliers, previous;
+  auto select = [&](std::vector<BestMatch>& matches) {
+    matches = bestMatches(points, pixels, candidates, k, R, t);
+    inliers.clear();
+    for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+      if (matches[i].error2 <= H2) inliers.push_back(i);
+    }
+    return inliers.size() >= 4 && !collinear(points, inliers);
+  };
+  std::vector<BestMatch> matches;
+  for (int round = 0; round < 10; ++round) {
+    if (!select(matches)) return 0;
+    if (inliers == previous) return static_cast<int>(inliers.size());
+    if (!polish(points, matches, inliers, k, R, t)) return 0;
+    previous = inliers;
+  }
+  return select(matches) ? static_cast<int>(inliers.size()) : 0;
+}
+
+PnpResult solve(const Points3d& points, const Pixels2d& pixels,
+                const std::vector<std::vector<CandidateMatch>>& candidates, const PinholeIntrinsics& k,
+                const TrackingParameters& params, const std::vector<int>& voteOrder) {
+  params.validate();
+  const int n = static_cast<int>(points.size());
+  require(pixels.size() == points.size(), "PnP: " + std::to_string(points.size()) + " 3D points but " +
+                                              std::to_string(pixels.size()) + " pixels");
+  require(candidates.empty() || candidates.size() == points.size(),
+          "DynamicR1PPnP: candidate lists (" + std::to_string(candidates.size()) + ") must match the 3D points (" +
+              std::to_string(points.size()) + ")");
+  for (int index : voteOrder) {
+    require(index >= 0 && index < n, "PnP: vote order index " + std::to_string(index) + " is outside [0, " +
+                                         std::to_string(n) + ")");
+  }
+  if (n < 4) return failure("PnP needs at least 4 matches, got " + std::to_string(n));
+  const bool intrinsicsOk = std::isfinite(k.fxPx) && std::isfinite(k.fyPx) && std::isfinite(k.cxPx) &&
+                            std::isfinite(k.cyPx) && k.fxPx > 0 && k.fyPx > 0;
+  if (!intrinsicsOk) return failure("PnP: intrinsics must be finite with positive focal lengths");
+  for (int i = 0; i < n; ++i) {
+    if (!finite(points[i]) || !finite(pixels[i]))
+      return failure("PnP: match " + std::to_string(i) + " has a non-finite 3D point or pixel");
+    if (candidates.empty()) continue;
+    for (const CandidateMatch& c : candidates[i]) {
+      if (!finite(c.pixelPx) || !std::isfinite(c.score) || !(c.score > 0) || c.score > 1)
+        return failure("DynamicR1PPnP: a candidate of match " + std::to_string(i) +
+                       " has a non-finite pixel or a score outside (0, 1]");
+    }
+  }
+  std::vector<int> all(n);
+  for (int i = 0; i < n; ++i) all[i] = i;
+  if (collinear(points, all)) return failure("PnP: the 3D points are coincident or collinear");
+
+  // Structure of arrays in normalised coordinates.
+  PnpProblem problem;
+  problem.fxPx = static_cast<float>(k.fxPx);
+  problem.fyPx = static_cast<float>(k.fyPx);
+  for (Eigen::ArrayXf* a : {&problem.X, &problem.Y, &problem.Z, &problem.xn, &problem.yn, &problem.invNorm2})
+    a->resize(n);
+  for (int i = 0; i < n; ++i) problem.originMm += points[i] / n;
+  for (int i = 0; i < n; ++i) {
+    problem.X[i] = static_cast<float>(points[i].x() - problem.originMm.x());
+    problem.Y[i] = static_cast<float>(points[i].y() - problem.originMm.y());
+    problem.Z[i] = static_cast<float>(points[i].z() - problem.originMm.z());
+    problem.xn[i] = (pixels[i].x() - k.cxPx) / k.fxPx;
+    problem.yn[i] = (pixels[i].y() - k.cyPx) / k.fyPx;
+  }
+  problem.invNorm2 = (problem.xn.square() + problem.yn.square() + 1.0f).inverse();
+  int m = 0;
+  for (const auto& list : candidates) m += static_cast<int>(list.size());
+  for (Eigen::ArrayXf* a : {&problem.cX, &problem.cY, &problem.cZ, &problem.cxn, &problem.cyn, &problem.cInvNorm2,
+                            &problem.cScore})
+    a->resize(m);
+  problem.cOwner.reserve(m);
+  problem.cSlot.reserve(m);
+  for (int i = 0, j = 0; i < static_cast<int>(candidates.size()); ++i) {
+    for (std::size_t s = 0; s < candidates[i].size(); ++s, ++j) {
+      problem.cX[j] = problem.X[i];
+      problem.cY[j] = problem.Y[i];
+      problem.cZ[j] = problem.Z[i];
+      problem.cxn[j] = (candidates[i][s].pixelPx.x() - k.cxPx) / k.fxPx;
+      problem.cyn[j] = (candidates[i][s].pixelPx.y() - k.cyPx) / k.fyPx;
+      problem.cScore[j] = candidates[i][s].score;
+      problem.cOwner.push_back(i);
+      problem.cSlot.push_back(static_cast<int>(s));
+    }
+  }
+  problem.cInvNorm2 = (problem.cxn.square() + problem.cyn.square() + 1.0f).inverse();
+
+  // Control points: the vote order first, then every match not listed, in input order.
+  std::vector<int> order;
+  order.reserve(n);
+  std::vector<unsigned char> listed(n, 0);
+  for (int index : voteOrder) {
+    if (!listed[index]) order.push_back(index);
+    listed[index] = 1;
+  }
+  for (int i = 0; i < n; ++i) {
+    if (!listed[i]) order.push_back(i);
+  }
+
+  detail::HypothesisSolver solver(problem, params);
+  Hypothesis best;
+  std::vector<unsigned char> explained(n, 0);  // inliers of the best hypothesis: as control points they repeat it
+  const double logFail = std::log(1.0 - params.ransacConfidence);
+  int needed = std::min(params.maxRansacIterations, n);
+  int hypotheses = 0, innerIterations = 0;
+  for (int h = 0; h < static_cast<int>(order.size()) && h < needed; ++h) {
+    const int o = order[h];
+    ++hypotheses;
+    if (explained[o]) continue;
+    // A hypothesis must beat the best so far to matter: abandon it early when it is far behind.
+    const int abortBelow = std::max(params.minInliers, best.inliers / 2);
+    const Hypothesis hypothesis = solver.solve(o, abortBelow);
+    innerIterations += hypothesis.iterations;
+    if (!hypothesis.valid) continue;
+    Hypothesis polished = hypothesis;
+    polished.inliers = refine(points, pixels, candidates, k, params.inlierThresholdPx, polished.R, polished.tMm);
+    if (polished.inliers <= best.inliers) continue;
+    best = polished;
+    // Mark the new best's inliers, and bound the hypotheses still needed (1-point sample: 1 - eps per miss).
+    const std::vector<BestMatch> matches = bestMatches(points, pixels, candidates, k, best.R, best.tMm);
+    const double H2 = params.inlierThresholdPx * params.inlierThresholdPx;
+    int primaryInliers = 0;
+    for (int i = 0; i < n; ++i) {
+      explained[i] = matches[i].primaryError2 <= H2;
+      primaryInliers += explained[i];
+    }
+    // Control points are primary matches: their inlier share, not the candidates', sets the odds of a miss.
+    const double inlierRatio = std::min(static_cast<double>(primaryInliers) / n, 1.0);
+    if (inlierRatio >= 1.0) {
+      needed = h + 1;
+    } else {
+      const double bound = std::ceil(logFail / std::log(1.0 - inlierRatio));
+      needed = static_cast<int>(std::min<double>(needed, bound));
+    }
+  }
+  if (!best.valid || best.inliers < params.minInliers) {
+    return failure("PnP: no pose with at least " + std::to_string(params.minInliers) + " inliers (best " +
+                       std::to_string(best.inliers) + ")",
+                   hypotheses, innerIterations);
+  }
+
+  const Eigen::Matrix3d R = best.R;
+  const Eigen::Vector3d t = best.tMm;
+  const double H2 = params.inlierThresholdPx * params.inlierThresholdPx;
+  std::vector<BestMatch> matches;
+  matches = bestMatches(points, pixels, candidates, k, R, t);
+  PnpResult result;
+  double sum2 = 0;
+  for (int i = 0; i < n; ++i) {
+    if (matches[i].error2 > H2) continue;
+    result.inlierIndices.push_back(i);
+    result.inlierMatch.push_back(matches[i].slot);
+    sum2 += matches[i].error2;
+  }
+  if (static_cast<int>(result.inlierIndices.size()) < std::max(params.minInliers, 4))
+    return failure("PnP: too few inliers after polishing", hypotheses, innerIterations);
+  result.success = true;
+  result.T_camera_world.block<3, 3>(0, 0) = R;
+  result.T_camera_world.block<3, 1>(0, 3) = t;
+  result.hypotheses = hypotheses;
+  result.innerIterations = innerIterations;
+  result.rmsInlierErrorPx = std::sqrt(sum2 / static_cast<double>(result.inlierIndices.size()));
+  return result;
+}
+
+}  // namespace
+
+PnpResult solveR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx, const PinholeIntrinsics& intrinsics,
+                      const TrackingParameters& parameters, const std::vector<int>& voteOrder) {
+  return solve(pointsMm, pixelsPx, {}, intrinsics, parameters, voteOrder);
+}
+
+PnpResult solveDynamicR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx,
+                             const std::vector<std::vector<CandidateMatch>>& candidates,
+                             const PinholeIntrinsics& intrinsics, const TrackingParameters& parameters,
+                             const std::vector<int>& voteOrder) {
+  return solve(pointsMm, pixelsPx, candidates, intrinsics, parameters, voteOrder);
+}
+
+void poseDifference(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double& rotationDeg, double& centreMm) {
+  const Eigen::Matrix3d Ra = a.block<3, 3>(0, 0), Rb = b.block<3, 3>(0, 0);
+  rotationDeg = Eigen::AngleAxisd(Ra.transpose() * Rb).angle() * 180.0 / M_PI;  // atan2-based: exact near 0
+  const Eigen::Vector3d centreA = -Ra.transpose() * a.block<3, 1>(0, 3);
+  const Eigen::Vector3d centreB = -Rb.transpose() * b.block<3, 1>(0, 3);
+  centreMm = (centreA - centreB).norm();
+}
+
+}  // namespace tissuemosaic

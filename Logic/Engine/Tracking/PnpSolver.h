@@ -1,0 +1,76 @@
+#pragma once
+/// @file PnpSolver.h
+/// @brief Camera pose from 3D-2D matches with many outliers (paper III.B): R1PPnP (Zhou et al., TPAMI 2018) and the
+/// paper's DynamicR1PPnP, which also weighs candidate 2D matches per 3D point while the pose converges.
+///
+/// Both are 1-point RANSAC: a control point o (taken in vote order) pins the camera centre onto o's viewing ray;
+/// R, the scale mu = 1/depth(o) and every depth lambda_i are then updated in turn to minimise
+/// sum_i w_i ||lambda_i x_i - x_o - mu R (X_i - X_o)||^2, re-weighting w_i = min(1, H / e_i) from the reprojection
+/// error e_i (px). The hypothesis with the most inliers (e_i <= H) wins and is polished by Gauss-Newton on the
+/// reprojection error of its inliers.
+///
+/// Failure is a result, not an exception: degenerate input (fewer than 4 matches, non-finite values, coincident or
+/// collinear 3D points, too few inliers) gives success = false and a reason, never a pose. Only misuse (arrays of
+/// different lengths, vote indices out of range, invalid parameters) throws tissuemosaic::Error.
+#include "Tracking/TrackingParameters.h"
+
+#include <Eigen/Core>
+#include <Eigen/StdVector>
+
+#include <string>
+#include <vector>
+
+namespace tissuemosaic {
+
+/// Pinhole camera of rectified (undistorted) images: u = fx X/Z + cx, v = fy Y/Z + cy.
+struct PinholeIntrinsics {
+  double fxPx = 0, fyPx = 0, cxPx = 0, cyPx = 0;
+};
+
+/// One candidate 2D match of a 3D point (DynamicR1PPnP), e.g. a further descriptor match in the current frame.
+struct CandidateMatch {
+  Eigen::Vector2d pixelPx = Eigen::Vector2d::Zero();
+  double score = 1.0;  ///< in (0, 1]: scales the candidate's weight (1 = as trusted as geometry alone says)
+};
+
+using Points3d = std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>>;
+using Pixels2d = std::vector<Eigen::Vector2d, Eigen::aligned_allocator<Eigen::Vector2d>>;
+
+struct PnpResult {
+  bool success = false;
+  /// World (object) frame to camera frame: X_camera = R X_world + t with R = block<3,3>(0,0), t = block<3,1>(0,3).
+  /// The inverse is the pipeline's T_world_camera. Identity when success is false.
+  Eigen::Matrix4d T_camera_world = Eigen::Matrix4d::Identity();
+  /// Indices (into the 3D points) of the inliers, ascending: their chosen 2D match reprojects within H px.
+  std::vector<int> inlierIndices;
+  /// Parallel to inlierIndices: which 2D match is the inlier, -1 for the primary match, j >= 0 for candidate j.
+  /// R1PPnP gives -1 throughout.
+  std::vector<int> inlierMatch;
+  int hypotheses = 0;          ///< control points tried (1-point RANSAC iterations)
+  int innerIterations = 0;     ///< re-weighting iterations summed over all hypotheses
+  double rmsInlierErrorPx = 0; ///< after polishing
+  std::string failureReason;   ///< empty on success
+
+  Eigen::Matrix3d rotation() const { return T_camera_world.block<3, 3>(0, 0); }
+  Eigen::Vector3d translationMm() const { return T_camera_world.block<3, 1>(0, 3); }
+};
+
+/// R1PPnP. pointsMm[i] (world frame, mm) is seen at pixelsPx[i]. voteOrder: indices of the matches in the order they
+/// should be tried as control points (histogram voting, best first); empty = input order. Indices not listed are
+/// still tried after the listed ones.
+PnpResult solveR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx, const PinholeIntrinsics& intrinsics,
+                      const TrackingParameters& parameters, const std::vector<int>& voteOrder = {});
+
+/// DynamicR1PPnP. As solveR1Ppnp, plus candidates[i]: further 2D matches of point i (any number, typically up to
+/// k = 2..4; candidates.size() must equal pointsMm.size() or be 0). A candidate whose error is < eta * H joins the
+/// cost with weight min(H / e, 1) * score, normalised by the point's total (candidates + primary) and ramped in by
+/// min((k - k0) / T, 1) from the iteration k0 it was first seen. Only primary matches serve as control points.
+PnpResult solveDynamicR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx,
+                             const std::vector<std::vector<CandidateMatch>>& candidates,
+                             const PinholeIntrinsics& intrinsics, const TrackingParameters& parameters,
+                             const std::vector<int>& voteOrder = {});
+
+/// Rotation angle (degrees) and camera-centre distance (mm) between two T_camera_world poses; for tests and benches.
+void poseDifference(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double& rotationDeg, double& centreMm);
+
+}  // namespace tissuemosaic

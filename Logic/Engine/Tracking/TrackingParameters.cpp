@@ -1,0 +1,79 @@
+#include "TrackingParameters.h"
+
+#include "Core/Error.h"
+
+#include <opencv2/core/persistence.hpp>
+
+#include <sstream>
+#include <type_traits>
+
+namespace tissuemosaic {
+
+namespace {
+
+template <class T>
+void requireRange(const char* name, T value, T low, T high) {
+  if (!(value >= low && value <= high)) {
+    std::ostringstream message;
+    message << "tracking parameter " << name << " = " << value << " is out of range [" << low << ", " << high << "]";
+    throw Error(message.str());
+  }
+}
+
+template <class T>
+void readKey(const cv::FileNode& node, const char* name, T& value) {
+  const cv::FileNode entry = node[name];
+  if (entry.empty()) return;
+  if (!entry.isInt() && !entry.isReal()) throw Error(std::string("tracking parameter ") + name + " must be a number");
+  if constexpr (std::is_integral_v<T>) {
+    if (!entry.isInt()) throw Error(std::string("tracking parameter ") + name + " must be an integer");
+    value = static_cast<T>(static_cast<int>(entry));
+  } else {
+    value = static_cast<T>(static_cast<double>(entry));
+  }
+}
+
+}  // namespace
+
+void TrackingParameters::validate() const {
+  requireRange("inlierThresholdPx", inlierThresholdPx, 0.01, 100.0);
+  requireRange("candidateEta", candidateEta, 1.0, 10.0);
+  requireRange("candidateRampIterations", candidateRampIterations, 1, 100);
+  requireRange("maxRansacIterations", maxRansacIterations, 1, 100000);
+  requireRange("ransacConfidence", ransacConfidence, 0.5, 0.999999);
+  requireRange("maxInnerIterations", maxInnerIterations, 2, 1000);
+  requireRange("minInliers", minInliers, 4, 100000);
+  requireRange("keyFrameMinInliers", keyFrameMinInliers, 4, 100000);
+  requireRange("keyFrameMinGapFrames", keyFrameMinGapFrames, 0, 100000);
+  requireRange("keyFramePoseThreshold", keyFramePoseThreshold, 0.0, 1e6);
+}
+
+void TrackingParameters::write(cv::FileStorage& storage) const {
+  storage << "tracking" << "{";
+  storage << "inlierThresholdPx" << inlierThresholdPx << "candidateEta" << candidateEta;
+  storage << "candidateRampIterations" << candidateRampIterations << "maxRansacIterations" << maxRansacIterations;
+  storage << "ransacConfidence" << ransacConfidence << "maxInnerIterations" << maxInnerIterations;
+  storage << "minInliers" << minInliers << "keyFrameMinInliers" << keyFrameMinInliers;
+  storage << "keyFrameMinGapFrames" << keyFrameMinGapFrames << "keyFramePoseThreshold" << keyFramePoseThreshold;
+  storage << "}";
+}
+
+TrackingParameters TrackingParameters::read(const cv::FileNode& node) {
+  TrackingParameters p;
+  if (node.empty()) return p;
+  if (!node.isMap()) throw Error("the 'tracking' parameter node must be a map");
+  readKey(node, "inlierThresholdPx", p.inlierThresholdPx);
+  readKey(node, "candidateEta", p.candidateEta);
+  readKey(node, "candidateRampIterations", p.candidateRampIterations);
+  readKey(node, "maxRansacIterations", p.maxRansacIterations);
+  readKey(node, "ransacConfidence", p.ransacConfidence);
+  readKey(node, "maxInnerIterations", p.maxInnerIterations);
+  readKey(node, "minInliers", p.minInliers);
+  readKey(node, "keyFrameMinInliers", p.keyFrameMinInliers);
+  readKey(node, "keyFrameMinGapFrames", p.keyFrameMinGapFrames);
+  readKey(node, "keyFramePoseThreshold", p.keyFramePoseThreshold);
+  p.validate();
+  return p;
+}
+
+}  // namespace tissuemosaic

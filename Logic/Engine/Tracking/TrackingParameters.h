@@ -1,0 +1,39 @@
+#pragma once
+/// @file TrackingParameters.h
+/// @brief Every parameter of the section III camera tracking (DynamicR1PPnP, key-frame decision), with the paper's
+/// defaults, in one validated struct. The command line, the parameter files and the GUI panel all edit this object.
+#include <string>
+
+namespace cv {
+class FileStorage;
+class FileNode;
+}  // namespace cv
+
+namespace tissuemosaic {
+
+struct TrackingParameters {
+  // R1PPnP / DynamicR1PPnP (III.B).
+  double inlierThresholdPx = 5.0;     ///< H: a match whose reprojection error is <= H px is an inlier (re-weighting knee)
+  double candidateEta = 2.0;          ///< eta > 1: a candidate match enters when its error is < eta * H
+  int candidateRampIterations = 5;    ///< T: a newly seen candidate's weight ramps in over T iterations
+  int maxRansacIterations = 500;      ///< most control points (1-point RANSAC hypotheses) tried per solve
+  double ransacConfidence = 0.99;     ///< stop once a better pose is this unlikely (1-point RANSAC bound)
+  int maxInnerIterations = 40;        ///< most re-weighting iterations per hypothesis (not in the paper)
+  int minInliers = 12;                ///< fewer inliers than this: the solve reports failure (not in the paper)
+
+  // Key-frame decision (III.C).
+  int keyFrameMinInliers = 50;        ///< a key frame needs at least this many DynamicR1PPnP inliers
+  int keyFrameMinGapFrames = 10;      ///< ... and this many frames since the last key frame,
+  double keyFramePoseThreshold = 10;  ///< ... or a pose difference ||dt|| + 20 min(||dE||, 2pi - ||dE||) above this
+
+  /// Throws Error naming the first parameter that is out of range.
+  void validate() const;
+
+  /// Writes the parameters under the node name "tracking".
+  void write(cv::FileStorage& storage) const;
+  /// Reads the parameters from a "tracking" node; keys that are missing keep their defaults, keys of the wrong type
+  /// are an error. Validates the result.
+  static TrackingParameters read(const cv::FileNode& trackingNode);
+};
+
+}  // namespace tissuemosaic

@@ -1,0 +1,146 @@
+// tissuemosaic bench stereo: median milliseconds per section II stage on a synthetic pair with 100 disparities,
+// and on the CPU OpenCV's StereoSGBM (MODE_SGBM_3WAY) on the same pair and range, in the same run.
+#include "Arguments.h"
+#include "Commands.h"
+#include "Core/Error.h"
+#include "Core/KernelProfiler.h"
+#include "Stereo/StereoMatcher.h"
+#include "SyntheticStereoScene.h"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <vector>
+
+namespace tissuemosaic::cli {
+
+namespace {
+
+const char* const help = R"(usage: tissuemosaic bench stereo [--width 960] [--height 540] [--device cpu|cuda|auto]
+                               [--repeats N] [--disparities 100] [--seed S]
+
+Prints one JSON object: the device, the input size and the median milliseconds per stage (zncc, outliers_holes,
+refinement, total) over N runs after 2 warm-up runs, on a synthetic tissue pair. On the CPU it also times OpenCV
+StereoSGBM (MODE_SGBM_3WAY) on the same pair and disparity range (rounded up to a multiple of 16, as SGBM needs).
+)";
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+struct Accuracy {
+  double density = 0, badOver1 = 0;
+};
+
+Accuracy accuracy(const cv::Mat& disparity, const cv::Mat& truth) {
+  long known = 0, estimated = 0, bad = 0;
+  for (int i = 0; i < truth.rows * truth.cols; ++i) {
+    const float t = truth.at<float>(i), d = disparity.at<float>(i);
+    if (!std::isfinite(t)) continue;
+    ++known;
+    if (!std::isfinite(d)) continue;
+    ++estimated;
+    bad += std::abs(d - t) > 1.0f;
+  }
+  return {known ? double(estimated) / known : 0.0, estimated ? double(bad) / estimated : 1.0};
+}
+
+}  // namespace
+
+int runBenchStereo(const Words& words) {
+  const Arguments arguments(words);
+  if (arguments.has("help")) {
+    std::cout << help;
+    return 0;
+  }
+  arguments.allowOnly({"width", "height", "device", "repeats", "disparities", "seed", "help"});
+  synthetic::SyntheticStereoOptions options = synthetic::SyntheticStereoOptions::wideDisparity();
+  options.width = arguments.integer("width", 960);
+  options.height = arguments.integer("height", 540);
+  options.seed = static_cast<uint32_t>(arguments.integer("seed", 7));
+  const int disparities = arguments.integer("disparities", 100);
+  const Device device = parseDevice(arguments.text("device", "auto"));
+  const int repeats = arguments.integer("repeats", device == Device::Cuda ? 50 : 10);
+  require(repeats >= 1 && repeats <= 10000, "--repeats must be in [1, 10000]");
+
+  std::fprintf(stderr, "bench stereo: rendering a %dx%d synthetic pair...\n", options.width, options.height);
+  const synthetic::SyntheticStereoPair pair = synthetic::renderSyntheticStereoPair(options);
+  double minTruth = 1e9;
+  for (int i = 0; i < pair.disparityPx.rows * pair.disparityPx.cols; ++i) {
+    const float t = pair.disparityPx.at<float>(i);
+    if (std::isfinite(t)) minTruth = std::min<double>(minTruth, t);
+  }
+  require(minTruth < 1e9, "the synthetic pair has no visible surface");
+
+  StereoParameters parameters;
+  parameters.minDisparityPx = static_cast<int>(std::floor(minTruth)) - 2;
+  parameters.maxDisparityPx = parameters.minDisparityPx + disparities - 1;
+  StereoMatcher matcher(device, parameters);
+
+  std::vector<double> zncc, outliers, refinement, total, upload;
+  cv::Mat disparity;
+  for (int run = 0; run < repeats + 2; ++run) {
+    StereoTimingsMs t;
+    disparity = matcher.computeDisparity(pair.leftRectified, pair.rightRectified, &t);
+    if (run < 2) continue;
+    zncc.push_back(t.zncc);
+    outliers.push_back(t.outliersHoles);
+    refinement.push_back(t.refinement);
+    total.push_back(t.total());
+    upload.push_back(t.upload);
+    std::fprintf(stderr, "\rbench stereo: run %d/%d", run - 1, repeats);
+  }
+  std::fprintf(stderr, "\n");
+  if (profiling::enabled()) {
+    std::fprintf(stderr, "kernel profile over %d runs (TM_PROFILE_KERNELS; each launch synchronised):\n%s", repeats + 2,
+                 profiling::report().c_str());
+  }
+  const Accuracy ours = accuracy(disparity, pair.disparityPx);
+
+  std::printf("{\"command\": \"bench stereo\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
+              "\"height\": %d, \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
+              deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, disparities,
+              parameters.minDisparityPx, repeats, cv::getNumThreads());
+  std::printf(" \"median_ms\": {\"zncc\": %.4f, \"outliers_holes\": %.4f, \"refinement\": %.4f, \"total\": %.4f, "
+              "\"upload\": %.4f},\n",
+              median(zncc), median(outliers), median(refinement), median(total), median(upload));
+  std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f}", ours.density, ours.badOver1);
+
+  if (device == Device::Cpu) {
+    const int sgbmDisparities = (disparities + 15) / 16 * 16;
+    const int block = 5;
+    cv::Ptr<cv::StereoSGBM> sgbm = cv::StereoSGBM::create(parameters.minDisparityPx, sgbmDisparities, block,
+                                                          8 * block * block, 32 * block * block, 1, 63, 10, 100, 2,
+                                                          cv::StereoSGBM::MODE_SGBM_3WAY);
+    cv::Mat leftGrey, rightGrey, sgbmDisparity;
+    cv::cvtColor(pair.leftRectified, leftGrey, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(pair.rightRectified, rightGrey, cv::COLOR_BGR2GRAY);
+    std::vector<double> sgbmMs;
+    for (int run = 0; run < repeats + 2; ++run) {
+      const auto start = std::chrono::steady_clock::now();
+      sgbm->compute(leftGrey, rightGrey, sgbmDisparity);
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      if (run >= 2) sgbmMs.push_back(ms);
+    }
+    cv::Mat sgbmFloat;
+    sgbmDisparity.convertTo(sgbmFloat, CV_32F, 1.0 / 16.0);
+    sgbmFloat.setTo(NAN, sgbmDisparity < (parameters.minDisparityPx - 1) * 16);
+    const Accuracy theirs = accuracy(sgbmFloat, pair.disparityPx);
+    const double oursMs = median(total), sgbmMedian = median(sgbmMs);
+    std::printf(",\n \"opencv_sgbm_3way\": {\"median_ms\": %.4f, \"num_disparities\": %d, \"block_size\": %d, "
+                "\"density\": %.4f, \"bad1\": %.4f},\n \"total_over_sgbm\": %.4f",
+                sgbmMedian, sgbmDisparities, block, theirs.density, theirs.badOver1, oursMs / sgbmMedian);
+  }
+  std::printf("}\n");
+  return 0;
+}
+
+}  // namespace tissuemosaic::cli

@@ -1,0 +1,17 @@
+#pragma once
+/// @file Commands.h
+/// @brief The sub-commands of `tissuemosaic`. Each takes the words after its name and returns the exit status;
+/// errors are thrown as tissuemosaic::Error and reported by main().
+#include <string>
+#include <vector>
+
+namespace tissuemosaic::cli {
+
+using Words = std::vector<std::string>;
+
+int runStereo(const Words& words);      ///< tissuemosaic stereo ...        (StereoCommand.cpp)
+int runBenchStereo(const Words& words); ///< tissuemosaic bench stereo ...  (BenchStereoCommand.cpp)
+int runBenchPnp(const Words& words);    ///< tissuemosaic bench pnp ...     (BenchPnpCommand.cpp)
+int runSynthPair(const Words& words);   ///< tissuemosaic synth pair ...    (SynthCommand.cpp)
+
+}  // namespace tissuemosaic::cli

@@ -1,0 +1,124 @@
+// tissuemosaic stereo: the left-view disparity of one stereo pair (section II), optionally depth as a coloured cloud.
+#include "Arguments.h"
+#include "Commands.h"
+#include "Core/Error.h"
+#include "Core/StereoRig.h"
+#include "IO/DisparityPfm.h"
+#include "IO/ImageFile.h"
+#include "IO/PointCloudPly.h"
+#include "Stereo/StereoMatcher.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+namespace tissuemosaic::cli {
+
+namespace {
+
+const char* const help = R"(usage: tissuemosaic stereo --left L.png --right R.png --out d.pfm [options]
+
+Left-view disparity (PFM, float, NaN where there is no estimate; a left pixel x matches right pixel x - d) by the
+paper's section II: ZNCC on an 11x11 chessboard window, iterative outlier removal with hole filling, and the
+improved Laplacian refinement.
+
+  --left, --right PATH       the stereo pair (8-bit PNG/JPEG/...; rectified unless --calib is given)
+  --out PATH                 disparity output (.pfm)
+  --min-disparity A          smallest candidate disparity in px (default -20)
+  --max-disparity B          largest candidate disparity in px, inclusive (default 80)
+  --calib rig.yml            OpenCV stereo calibration (K1 D1 K2 D2 R T imageSize): the pair is rectified
+                             first, and --cloud becomes available
+  --cloud PATH               binary PLY point cloud (mm, left rectified camera frame) with colour
+  --params p.yml             stereo parameters file (node "stereo"); --min/--max-disparity override it
+  --device cpu|cuda|auto     where to compute (default auto)
+  --ground-truth GT.pfm      print density, bad-1 and bad-2 against a ground-truth disparity (NaN = unknown)
+  --rectified-left PATH      also write the rectified left image (with --calib)
+)";
+
+void printScore(const cv::Mat& disparity, const cv::Mat& truth) {
+  require(truth.size() == disparity.size(), "the ground truth's size differs from the disparity's");
+  long evaluated = 0, estimated = 0, bad1 = 0, bad2 = 0;
+  double absError = 0;
+  for (int i = 0; i < disparity.rows * disparity.cols; ++i) {
+    const float t = truth.at<float>(i), d = disparity.at<float>(i);
+    if (!std::isfinite(t)) continue;
+    ++evaluated;
+    if (!std::isfinite(d)) continue;
+    ++estimated;
+    const double error = std::abs(d - t);
+    absError += error;
+    bad1 += error > 1.0;
+    bad2 += error > 2.0;
+  }
+  require(evaluated > 0, "the ground truth has no known pixel");
+  std::printf("accuracy against ground truth: density %.4f, bad-1 %.4f, bad-2 %.4f, mean abs error %.3f px "
+              "(over %ld known pixels)\n",
+              static_cast<double>(estimated) / evaluated, estimated ? static_cast<double>(bad1) / estimated : 1.0,
+              estimated ? static_cast<double>(bad2) / estimated : 1.0, estimated ? absError / estimated : 0.0,
+              evaluated);
+}
+
+}  // namespace
+
+int runStereo(const Words& words) {
+  const Arguments arguments(words);
+  if (arguments.has("help")) {
+    std::cout << help;
+    return 0;
+  }
+  arguments.allowOnly({"left", "right", "out", "min-disparity", "max-disparity", "calib", "cloud", "params", "device",
+                       "ground-truth", "rectified-left", "help"});
+  const std::string leftPath = arguments.required("left");
+  const std::string rightPath = arguments.required("right");
+  const std::string outPath = arguments.required("out");
+  if (arguments.has("cloud") && !arguments.has("calib")) {
+    throw Error("--cloud needs --calib: depth needs the rig's focal length and baseline");
+  }
+
+  StereoParameters parameters = arguments.has("params") ? StereoParameters::readFile(arguments.required("params"))
+                                                        : StereoParameters{};
+  parameters.minDisparityPx = arguments.integer("min-disparity", parameters.minDisparityPx);
+  parameters.maxDisparityPx = arguments.integer("max-disparity", parameters.maxDisparityPx);
+  parameters.validate();
+  const Device device = parseDevice(arguments.text("device", "auto"));
+
+  const ImagePair pair = loadImagePair(leftPath, rightPath);
+  cv::Mat left = pair.left, right = pair.right;
+
+  std::unique_ptr<StereoRectifier> rectifier;
+  if (arguments.has("calib")) {
+    const StereoCalibration calibration = StereoCalibration::read(arguments.required("calib"));
+    rectifier = std::make_unique<StereoRectifier>(calibration);
+    cv::Mat leftRectified, rightRectified;
+    rectifier->rectify(left, right, leftRectified, rightRectified);
+    left = leftRectified;
+    right = rightRectified;
+    if (arguments.has("rectified-left") && !cv::imwrite(arguments.required("rectified-left"), left)) {
+      throw Error("cannot write '" + arguments.required("rectified-left") + "'");
+    }
+  }
+
+  StereoMatcher matcher(device, parameters);
+  StereoTimingsMs timings;
+  const cv::Mat disparity = matcher.computeDisparity(left, right, &timings);
+  writePfm(outPath, disparity);
+  const int estimated = cv::countNonZero(disparity == disparity);
+  std::printf("disparity %dx%d on %s: %d of %d pixels estimated (%.1f%%), written to %s\n", disparity.cols,
+              disparity.rows, deviceDescription(device).c_str(), estimated, disparity.rows * disparity.cols,
+              100.0 * estimated / (disparity.rows * disparity.cols), outPath.c_str());
+  std::printf("time: zncc %.2f ms, outliers+holes %.2f ms, refinement %.2f ms, total %.2f ms\n", timings.zncc,
+              timings.outliersHoles, timings.refinement, timings.total());
+
+  if (arguments.has("cloud")) {
+    const ColoredPointCloud cloud = disparityToPointCloud(disparity, left, rectifier->geometry());
+    writePly(arguments.required("cloud"), cloud, "TissueMosaic stereo cloud, mm, left rectified camera frame");
+    std::printf("point cloud: %zu points written to %s\n", cloud.size(), arguments.required("cloud").c_str());
+  }
+  if (arguments.has("ground-truth")) printScore(disparity, readPfm(arguments.required("ground-truth")));
+  return 0;
+}
+
+}  // namespace tissuemosaic::cli

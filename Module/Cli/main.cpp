@@ -1,0 +1,70 @@
+// tissuemosaic: the headless command-line tool. Entry point only: each command lives in its own file.
+#include "Commands.h"
+#include "Core/Error.h"
+
+#include <opencv2/core/utility.hpp>
+
+#include <functional>
+#include <iostream>
+#include <map>
+
+using namespace tissuemosaic;
+
+namespace {
+
+const char* const usage = R"(usage: tissuemosaic COMMAND [options]
+
+commands:
+  stereo       --left L.png --right R.png --out d.pfm [--min-disparity A] [--max-disparity B]
+               [--calib rig.yml] [--cloud cloud.ply] [--device cpu|cuda|auto] [--params p.yml]
+               left-view disparity of one stereo pair (PFM, NaN = no estimate), optionally a coloured cloud
+  synth pair   --out DIR [--seed S] [--width W] [--height H]
+               a synthetic stereo pair with calibration and ground truth
+  bench stereo [--width 960] [--height 540] [--device cpu|cuda] [--repeats N]
+               median milliseconds per stereo stage as JSON
+  bench pnp    [--repeats N]
+               DynamicR1PPnP against OpenCV solvePnPRansac as JSON
+
+Run a command with --help for its details.
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cli::Words words(argv + 1, argv + argc);
+  if (words.empty() || words[0] == "--help" || words[0] == "-h" || words[0] == "help") {
+    std::cout << usage;
+    return words.empty() ? 2 : 0;
+  }
+  const std::map<std::string, std::function<int(const cli::Words&)>> commands = {
+      {"bench stereo", cli::runBenchStereo},
+      {"bench pnp", cli::runBenchPnp},
+#if !defined(TM_BENCH_ONLY)
+      {"stereo", cli::runStereo},
+      {"synth pair", cli::runSynthPair},
+#endif
+  };
+  std::string name = words[0];
+  std::size_t consumed = 1;
+  if (!commands.count(name) && words.size() > 1 && commands.count(name + " " + words[1])) {
+    name += " " + words[1];
+    consumed = 2;
+  }
+  const auto command = commands.find(name);
+  if (command == commands.end()) {
+    std::cerr << "tissuemosaic: unknown command '" << name << "'\n\n" << usage;
+    return 2;
+  }
+  try {
+    return command->second(cli::Words(words.begin() + static_cast<long>(consumed), words.end()));
+  } catch (const Error& error) {
+    std::cerr << "tissuemosaic " << name << ": error: " << error.what() << "\n";
+    return 1;
+  } catch (const cv::Exception& error) {
+    std::cerr << "tissuemosaic " << name << ": OpenCV error: " << error.what() << "\n";
+    return 1;
+  } catch (const std::exception& error) {
+    std::cerr << "tissuemosaic " << name << ": error: " << error.what() << "\n";
+    return 1;
+  }
+}

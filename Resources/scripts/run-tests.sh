@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Set up and build, then run every test (ctest). GUI tests need an X display: without DISPLAY the run goes
+# under xvfb-run. CUDA tests (label "cuda") skip with a message where no GPU exists. Exits non-zero on failure.
+# Extra arguments go to ctest, e.g. `run-tests.sh -L logic`.
+set -euo pipefail
+# shellcheck source=SCRIPTDIR/setup.sh
+source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
+tm_setup
+
+log="$TM_BUILD_DIR/Testing/run-tests.log"
+mkdir -p "$(dirname "$log")"
+ctest_command=(ctest --test-dir "$TM_BUILD_DIR" --output-on-failure -j "$TM_JOBS" "$@")
+if [ -z "${DISPLAY:-}" ]; then
+  ctest_command=(xvfb-run -a -s "-screen 0 1280x1024x24" "${ctest_command[@]}")
+fi
+
+tm_log "running: ${ctest_command[*]}"
+status=0
+"${ctest_command[@]}" 2>&1 | tee "$log" || status=$?
+
+tm_log "summary"
+grep -E 'tests passed|tests failed out of' "$log" || echo "ctest printed no summary (see $log)"
+skipped="$(grep -c -F '***Skipped' "$log" || true)"
+echo "skipped: $skipped (CUDA tests skip where no GPU exists; run them with: ctest --test-dir $TM_BUILD_DIR -L cuda)"
+if [ "$status" -ne 0 ]; then
+  echo "RESULT: FAILED (ctest exit status $status; full log: $log)"
+  exit "$status"
+fi
+echo "RESULT: PASSED"

@@ -1,0 +1,12 @@
+# Inputs for the command-line tests: a small synthetic pair, a corrupt image, an image of another size and a broken
+# calibration file.
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+execute_process(COMMAND ${CLI} synth pair --out ${WORK}/pair --width 320 --height 180 --seed 3 RESULT_VARIABLE status)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "tissuemosaic synth pair failed (${status})")
+endif()
+file(WRITE ${WORK}/corrupt.png "this is not a PNG file")
+file(WRITE ${WORK}/broken.yml "%YAML:1.0\nK1: [1, 2\n")
+execute_process(COMMAND ${CLI} synth pair --out ${WORK}/small --width 160 --height 90 RESULT_VARIABLE status)
+file(COPY_FILE ${WORK}/small/left.png ${WORK}/small.png)

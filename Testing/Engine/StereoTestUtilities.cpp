@@ -1,0 +1,62 @@
+#include "StereoTestUtilities.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <random>
+
+namespace tissuemosaic::test {
+
+cv::Mat randomTexture(int width, int height, unsigned seed, double blurSigma) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<float> uniform(0.0f, 255.0f);
+  cv::Mat noise(height, width, CV_32F);
+  for (int i = 0; i < width * height; ++i) noise.at<float>(i) = uniform(random);
+  if (blurSigma > 0) cv::GaussianBlur(noise, noise, cv::Size(0, 0), blurSigma);
+  cv::normalize(noise, noise, 10, 245, cv::NORM_MINMAX);
+  cv::Mat texture;
+  noise.convertTo(texture, CV_8U);
+  return texture;
+}
+
+cv::Mat shiftedView(const cv::Mat& left, double d0, double gx, double gy) {
+  // right(xr, y) = left(xr + d, y) where d is the disparity of the left pixel that lands on xr.
+  // For a plane d = d0 + gx * x + gy * y: xl = xr + d0 + gx * xl + gy * y  =>  xl = (xr + d0 + gy * y) / (1 - gx).
+  cv::Mat mapX(left.size(), CV_32F), mapY(left.size(), CV_32F);
+  for (int y = 0; y < left.rows; ++y) {
+    for (int x = 0; x < left.cols; ++x) {
+      mapX.at<float>(y, x) = static_cast<float>((x + d0 + gy * y) / (1.0 - gx));
+      mapY.at<float>(y, x) = static_cast<float>(y);
+    }
+  }
+  cv::Mat right;
+  cv::remap(left, right, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  return right;
+}
+
+DisparityScore scoreDisparity(const cv::Mat& estimate, const cv::Mat& groundTruth, const cv::Mat& mask) {
+  DisparityScore score;
+  int estimated = 0, bad1 = 0, bad2 = 0;
+  double absSum = 0;
+  for (int y = 0; y < estimate.rows; ++y) {
+    for (int x = 0; x < estimate.cols; ++x) {
+      const float truth = groundTruth.at<float>(y, x);
+      if (!mask.at<uchar>(y, x) || !std::isfinite(truth)) continue;
+      ++score.evaluated;
+      const float value = estimate.at<float>(y, x);
+      if (!std::isfinite(value)) continue;
+      ++estimated;
+      const double error = std::abs(value - truth);
+      absSum += error;
+      bad1 += error > 1.0;
+      bad2 += error > 2.0;
+    }
+  }
+  score.density = score.evaluated ? static_cast<double>(estimated) / score.evaluated : 0;
+  score.badOver1 = estimated ? static_cast<double>(bad1) / estimated : 1;
+  score.badOver2 = estimated ? static_cast<double>(bad2) / estimated : 1;
+  score.meanAbsError = estimated ? absSum / estimated : 0;
+  return score;
+}
+
+}  // namespace tissuemosaic::test

@@ -1,0 +1,37 @@
+#pragma once
+// Helpers shared by the stereo tests: seeded textures, brute-force references, Middlebury loading and scoring.
+#include <opencv2/core.hpp>
+
+#include <string>
+
+namespace tissuemosaic::test {
+
+/// Seeded random texture (8-bit grey), blurred so it has the spatial frequencies of a real surface.
+cv::Mat randomTexture(int width, int height, unsigned seed, double blurSigma = 1.0);
+
+/// The right view of a fronto-parallel or slanted plane: right(x - d(x, y), y) = left(x, y), rendered by sampling the
+/// left texture at x + d with linear interpolation; d = d0 + gx * x + gy * y.
+cv::Mat shiftedView(const cv::Mat& left, double d0, double gx = 0, double gy = 0);
+
+struct DisparityScore {
+  double density = 0;      ///< estimated pixels / evaluated pixels
+  double badOver1 = 0;     ///< share of estimated pixels with |error| > 1
+  double badOver2 = 0;     ///< share of estimated pixels with |error| > 2
+  double meanAbsError = 0; ///< over estimated pixels
+  int evaluated = 0;
+};
+
+/// Scores an estimate (CV_32F, NaN = none) against ground truth (CV_32F, NaN = unknown) over mask (8U, nonzero).
+DisparityScore scoreDisparity(const cv::Mat& estimate, const cv::Mat& groundTruth, const cv::Mat& mask);
+
+struct MiddleburyScene {
+  cv::Mat left, right;     ///< BGR
+  cv::Mat groundTruth;     ///< CV_32F disparity, NaN unknown
+  cv::Mat nonOccluded;     ///< 8U mask
+  int maxDisparity = 0;
+};
+
+/// Loads ../shared/data/middlebury-v2/<name>; returns false when the data is absent.
+bool loadMiddlebury(const std::string& name, MiddleburyScene& scene);
+
+}  // namespace tissuemosaic::test

@@ -1,0 +1,73 @@
+// Image loading: images as written by OpenCV, and clear errors instead of empty Mats.
+#include "Core/Error.h"
+#include "IO/ImageFile.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+namespace tissuemosaic {
+namespace {
+
+std::string outputPath(const std::string& name) {
+  const std::string folder = std::string(TM_TEST_OUTPUT_DIR) + "/ImageFile";
+  std::filesystem::create_directories(folder);
+  return folder + "/" + name;
+}
+
+void expectError(const std::function<void()>& call, const std::string& expected) {
+  try {
+    call();
+    ADD_FAILURE() << "no Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+  }
+}
+
+TEST(ImageFile, LoadsWhatOpenCvWrote) {
+  cv::Mat image(20, 30, CV_8UC3);
+  cv::randu(image, 0, 256);
+  const std::string path = outputPath("image.png");
+  ASSERT_TRUE(cv::imwrite(path, image));
+  const cv::Mat read = loadImage(path);
+  ASSERT_EQ(read.size(), image.size());
+  EXPECT_EQ(cv::norm(read, image, cv::NORM_INF), 0.0);  // PNG is lossless
+  EXPECT_EQ(loadImage(path, cv::IMREAD_GRAYSCALE).type(), CV_8UC1);
+}
+
+TEST(ImageFile, MissingOrCorruptFilesGiveErrors) {
+  const std::string missing = outputPath("no_such_image.png");
+  expectError([&] { loadImage(missing); }, "cannot read image '" + missing + "': file does not exist");
+  const std::string corrupt = outputPath("corrupt.png");
+  {
+    std::ofstream file(corrupt, std::ios::binary);
+    file << "\x89PNG\r\n\x1a\n this is not really a png";
+  }
+  expectError([&] { loadImage(corrupt); }, "cannot read image '" + corrupt + "': the file is not a readable image");
+  const std::string text = outputPath("text.jpg");
+  {
+    std::ofstream file(text);
+    file << "hello";
+  }
+  expectError([&] { loadImage(text); }, "not a readable image (corrupt or unsupported format)");
+  expectError([&] { loadImage(TM_TEST_OUTPUT_DIR); }, "folder");
+}
+
+TEST(ImageFile, PairMustHaveOneSize) {
+  const std::string left = outputPath("pair_left.png"), right = outputPath("pair_right.png"),
+                    other = outputPath("pair_other.png");
+  ASSERT_TRUE(cv::imwrite(left, cv::Mat(24, 32, CV_8UC3, cv::Scalar(1, 2, 3))));
+  ASSERT_TRUE(cv::imwrite(right, cv::Mat(24, 32, CV_8UC3, cv::Scalar(4, 5, 6))));
+  ASSERT_TRUE(cv::imwrite(other, cv::Mat(24, 33, CV_8UC3)));
+  const ImagePair pair = loadImagePair(left, right);
+  EXPECT_EQ(pair.left.at<cv::Vec3b>(0, 0), cv::Vec3b(1, 2, 3));
+  EXPECT_EQ(pair.right.at<cv::Vec3b>(23, 31), cv::Vec3b(4, 5, 6));
+  expectError([&] { loadImagePair(left, other); }, "left '" + left + "' is 32x24 but right '" + other + "' is 33x24");
+  expectError([&] { loadImagePair(left, outputPath("gone.png")); }, "does not exist");
+}
+
+}  // namespace
+}  // namespace tissuemosaic

@@ -1,0 +1,103 @@
+// The CUDA stereo path against the CPU path (ctest label "cuda"; skipped with a message where no GPU exists).
+// Both run the same per-pixel functions on exact integer window sums, so the ZNCC winners and the discrete maps
+// after outlier removal and hole filling must be identical, and the refined disparities agree within 0.5 px on at
+// least 99.5% of pixels (the bar); in practice they are bit-identical too.
+#include "StereoTestUtilities.h"
+#include "Core/Error.h"
+#include "Stereo/StereoMatcher.h"
+#include "SyntheticStereoScene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace tissuemosaic;
+
+namespace {
+
+struct Agreement {
+  double within05 = 0;  ///< share of pixels where both agree within 0.5 px (NaN on both counts as agreement)
+  long differentDiscrete = 0;
+};
+
+long countDifferent(const cv::Mat& a, const cv::Mat& b) {
+  long different = 0;
+  for (int i = 0; i < a.rows * a.cols; ++i) {
+    const float x = a.at<float>(i), y = b.at<float>(i);
+    const bool same = (std::isnan(x) && std::isnan(y)) || x == y;
+    different += !same;
+  }
+  return different;
+}
+
+double shareWithin(const cv::Mat& a, const cv::Mat& b, float tolerance) {
+  long agree = 0;
+  for (int i = 0; i < a.rows * a.cols; ++i) {
+    const float x = a.at<float>(i), y = b.at<float>(i);
+    agree += (std::isnan(x) && std::isnan(y)) || std::abs(x - y) <= tolerance;
+  }
+  return static_cast<double>(agree) / (a.rows * a.cols);
+}
+
+void compareBackends(const cv::Mat& left, const cv::Mat& right, const StereoParameters& parameters, const char* what) {
+  StereoMatcher cpu(Device::Cpu, parameters);
+  StereoMatcher gpu(Device::Cuda, parameters);
+  const cv::Mat cpuDisparity = cpu.computeDisparity(left, right);
+  const cv::Mat gpuDisparity = gpu.computeDisparity(left, right);
+  const long znccDifferent = countDifferent(cpu.lastZnccDisparity(), gpu.lastZnccDisparity());
+  const long filledDifferent = countDifferent(cpu.lastFilledDisparity(), gpu.lastFilledDisparity());
+  const double within = shareWithin(cpuDisparity, gpuDisparity, 0.5f);
+  const long finalDifferent = countDifferent(cpuDisparity, gpuDisparity);
+  std::printf("%s: ZNCC winners differing %ld, filled differing %ld, final within 0.5 px %.6f (bit-different %ld)\n",
+              what, znccDifferent, filledDifferent, within, finalDifferent);
+  EXPECT_EQ(znccDifferent, 0);
+  EXPECT_EQ(filledDifferent, 0);
+  EXPECT_GE(within, 0.995);
+}
+
+bool requireCuda() {
+  if (cudaAvailable()) return true;
+  std::printf("no usable CUDA device: %s\n", cudaUnavailableReason().c_str());
+  return false;
+}
+
+}  // namespace
+
+TEST(StereoCuda, MatchesCpuOnSyntheticTissuePair) {
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  const auto pair = synthetic::renderSyntheticStereoPair(synthetic::SyntheticStereoOptions{});
+  compareBackends(pair.leftRectified, pair.rightRectified, StereoParameters{}, "synthetic tissue 960x540, -20..80");
+}
+
+TEST(StereoCuda, MatchesCpuOnWideRangeAndOtherWindows) {
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  const auto pair = synthetic::renderSyntheticStereoPair(synthetic::SyntheticStereoOptions::wideDisparity());
+  StereoParameters parameters;
+  parameters.minDisparityPx = 50;
+  parameters.maxDisparityPx = 149;
+  compareBackends(pair.leftRectified, pair.rightRectified, parameters, "wide 960x540, 50..149");
+  for (int window : {5, 9, 15, 19}) {
+    parameters.znccWindowPx = window;
+    compareBackends(pair.leftRectified, pair.rightRectified, parameters, ("window " + std::to_string(window)).c_str());
+  }
+}
+
+TEST(StereoCuda, MatchesCpuOnRandomTexturesAndOddSizes) {
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    const int width = 97 + 61 * seed, height = 53 + 17 * seed;
+    const cv::Mat left = test::randomTexture(width, height, seed);
+    const cv::Mat right = test::shiftedView(left, -3.0 + seed, 0.02 * seed, -0.01);
+    StereoParameters parameters;
+    parameters.minDisparityPx = -10;
+    parameters.maxDisparityPx = 20 + static_cast<int>(seed);
+    compareBackends(left, right, parameters, ("random texture seed " + std::to_string(seed)).c_str());
+  }
+}
+
+TEST(StereoDeviceChoice, GpuRequestRefusedWithoutGpu) {
+  if (cudaAvailable()) GTEST_SKIP() << "a GPU is present: the refusal path cannot be exercised here";
+  EXPECT_THROW(StereoMatcher(Device::Cuda, StereoParameters{}), Error);
+  EXPECT_THROW(parseDevice("cuda"), Error);
+  EXPECT_EQ(parseDevice("auto"), Device::Cpu);
+}

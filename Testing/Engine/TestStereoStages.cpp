@@ -1,0 +1,260 @@
+// Each section II stage on inputs whose answer can be checked by hand or by brute force.
+#include "Core/ParallelFor.h"
+#include "StereoTestUtilities.h"
+#include "Stereo/StereoKernels.h"
+#include "Stereo/StereoPipeline.h"
+#include "Stereo/StereoMatcher.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace tissuemosaic;
+using namespace tissuemosaic::stereo;
+
+namespace {
+
+Image<int16_t> discreteImage(int width, int height, int16_t value) {
+  Image<int16_t> image(Device::Cpu, width, height);
+  for (int64_t i = 0; i < image.view().pixelCount(); ++i) image.view()[i] = value;
+  return image;
+}
+
+/// Brute-force chessboard window sum of I or I*J with replicated borders.
+double bruteForceWindowSum(const cv::Mat& a, const cv::Mat& b, int x, int y, int shift, int r) {
+  double sum = 0;
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      if ((dx + dy) % 2 != 0) continue;
+      const int yy = std::clamp(y + dy, 0, a.rows - 1);
+      sum += a.at<float>(yy, std::clamp(x + dx, 0, a.cols - 1)) * b.at<float>(yy, std::clamp(x + dx - shift, 0, b.cols - 1));
+    }
+  }
+  return sum;
+}
+
+}  // namespace
+
+TEST(StereoStages, ChessboardWindowHas61PixelsFor11x11) {
+  EXPECT_EQ(chessboardPixelCount(5), 61);
+  EXPECT_EQ(chessboardPixelCount(1), 5);
+}
+
+TEST(StereoStages, CostVolumeMatchesBruteForceZncc) {
+  const cv::Mat texture = test::randomTexture(64, 40, 3);
+  const cv::Mat other = test::randomTexture(64, 40, 4);
+  cv::Mat left, right;
+  texture.convertTo(left, CV_32F);
+  other.convertTo(right, CV_32F);
+  cv::Mat shifted;
+  test::shiftedView(texture, 3).convertTo(shifted, CV_32F);
+  right = 0.5 * right + 0.5 * shifted;
+  right.convertTo(right, CV_8U);
+  right.convertTo(right, CV_32F);
+  const int r = 5, minD = -2, count = 9, n = chessboardPixelCount(r);
+
+  Image<float> l(Device::Cpu, 64, 40), rr(Device::Cpu, 64, 40);
+  l.buffer().upload(left.ptr<float>());
+  rr.buffer().upload(right.ptr<float>());
+  Image<float> ce(Device::Cpu, 64, 40), co(Device::Cpu, 64, 40), ce2(Device::Cpu, 64, 40), co2(Device::Cpu, 64, 40);
+  Image<float> sumL(Device::Cpu, 64, 40), normL(Device::Cpu, 64, 40), sumR(Device::Cpu, 64, 40), normR(Device::Cpu, 64, 40);
+  for (auto [image, sum, norm] : {std::tuple{&l, &sumL, &normL}, std::tuple{&rr, &sumR, &normR}}) {
+    parallelFor<CpuBackend>(64 * 40, WindowColumnSums{image->view(), ce.view(), co.view(), ce2.view(), co2.view(), r});
+    parallelFor<CpuBackend>(64 * 40, WindowStatistics{ce.view(), co.view(), ce2.view(), co2.view(), sum->view(), norm->view(), r, 1.0f});
+  }
+  Buffer<int16_t> volume(Device::Cpu, count * 64 * 40);
+  Image<int16_t> best(Device::Cpu, 64, 40), rightBest(Device::Cpu, 64, 40);
+  const VolumeLayout layout = VolumeLayout::rowMajor(64, count);
+  computeZnccVolumeCpu(ZnccVolumeInputs{l.view(), rr.view(), sumL.view(), normL.view(), sumR.view(), normR.view(), r, minD,
+                                        count, volume.data(), layout, best.view(), rightBest.view()});
+
+  for (int y : {0, 7, 20, 39}) {
+    for (int x : {0, 5, 31, 63}) {
+      for (int i = 0; i < count; ++i) {
+        const int d = minD + i;
+        const int16_t q = volume.data()[layout.index(x, y, i)];
+        if (x - d < 0 || x - d >= 64) {
+          EXPECT_EQ(q, kNoZncc);
+          continue;
+        }
+        const double sLR = bruteForceWindowSum(left, right, x, y, d, r);
+        const double sL = bruteForceWindowSum(left, cv::Mat::ones(left.size(), CV_32F), x, y, 0, r);
+        const double sR = bruteForceWindowSum(cv::Mat::ones(left.size(), CV_32F), right, x, y, d, r);
+        const double sLL = bruteForceWindowSum(left, left, x, y, 0, r);
+        const double sRR = bruteForceWindowSum(right, right, x - d, y, 0, r);
+        const double zncc = (n * sLR - sL * sR) / std::sqrt((n * sLL - sL * sL) * (n * sRR - sR * sR));
+        EXPECT_NEAR(q / kZnccScale, zncc, 1.0 / kZnccScale) << "x " << x << " y " << y << " d " << d;
+      }
+    }
+  }
+  // Winners: left pixel x over its row of the volume; right pixel xr over the left pixels xr + d.
+  for (int y = 0; y < 40; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      int16_t bestLeft = kNoZncc, bestLeftD = kNoDisparity, bestRight = kNoZncc, bestRightD = kNoDisparity;
+      for (int i = 0; i < count; ++i) {
+        const int16_t q = volume.data()[layout.index(x, y, i)];
+        if (q > bestLeft) bestLeft = q, bestLeftD = static_cast<int16_t>(minD + i);
+        const int xl = x + minD + i;
+        if (xl < 0 || xl >= 64) continue;
+        const int16_t qr = volume.data()[layout.index(xl, y, i)];
+        if (qr > bestRight) bestRight = qr, bestRightD = static_cast<int16_t>(minD + i);
+      }
+      ASSERT_EQ(best.view().at(x, y), bestLeftD);
+      ASSERT_EQ(rightBest.view().at(x, y), bestRightD);
+    }
+  }
+}
+
+TEST(StereoStages, ZnccFindsIntegerShiftOfTexture) {
+  const cv::Mat left = test::randomTexture(160, 100, 11);
+  const cv::Mat right = test::shiftedView(left, 7);
+  StereoParameters parameters;
+  parameters.minDisparityPx = -5;
+  parameters.maxDisparityPx = 20;
+  StereoMatcher matcher(Device::Cpu, parameters);
+  const cv::Mat disparity = matcher.computeDisparity(left, right);
+  const cv::Mat zncc = matcher.lastZnccDisparity();
+  int checked = 0;
+  for (int y = 0; y < 100; ++y) {
+    for (int x = 50; x < 145; ++x) {  // windows and the smoothing radius clear of the image's side borders
+      ASSERT_EQ(zncc.at<float>(y, x), 7.0f) << x << "," << y;
+      ASSERT_NEAR(disparity.at<float>(y, x), 7.0f, 0.05) << x << "," << y;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 9000);
+}
+
+TEST(StereoStages, OutlierRemovalDropsSpikeKeepsSlopeAndStep) {
+  const int w = 60, h = 40;
+  Image<int16_t> input = discreteImage(w, h, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) input.view().at(x, y) = static_cast<int16_t>(x / 10 + (x >= 30 ? 20 : 0));  // slope + step
+  input.view().at(15, 20) = 40;  // isolated spike
+  Image<int16_t> output(Device::Cpu, w, h);
+  parallelFor<CpuBackend>(w * h, RemoveOutliers{input.view(), output.view(), 10, 2.5f});
+  EXPECT_EQ(output.view().at(15, 20), kNoDisparity);
+  int kept = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) kept += output.view().at(x, y) == input.view().at(x, y);
+  EXPECT_EQ(kept, w * h - 1);  // both sides of the step keep a smooth ray
+}
+
+TEST(StereoStages, OutlierRemovalDropsSmallWrongPatch) {
+  const int w = 60, h = 60;
+  Image<int16_t> input = discreteImage(w, h, 10);
+  for (int y = 28; y < 31; ++y)
+    for (int x = 28; x < 31; ++x) input.view().at(x, y) = 30;  // a 3x3 blob of a wrong disparity
+  Image<int16_t> output(Device::Cpu, w, h);
+  parallelFor<CpuBackend>(w * h, RemoveOutliers{input.view(), output.view(), 10, 2.5f});
+  for (int y = 28; y < 31; ++y)
+    for (int x = 28; x < 31; ++x) EXPECT_EQ(output.view().at(x, y), kNoDisparity);
+  EXPECT_EQ(output.view().at(5, 5), 10);
+}
+
+TEST(StereoStages, RadialFillingInterpolatesARampAndSkipsEdges) {
+  const int w = 80, h = 60;
+  Image<int16_t> input = discreteImage(w, h, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) input.view().at(x, y) = static_cast<int16_t>(x / 4);
+  for (int y = 25; y < 35; ++y)
+    for (int x = 35; x < 45; ++x) input.view().at(x, y) = kNoDisparity;
+  Image<int16_t> output(Device::Cpu, w, h);
+  parallelFor<CpuBackend>(w * h, FillHolesRadial{input.view(), output.view(), 50, 2, 2.5f});
+  for (int y = 25; y < 35; ++y)
+    for (int x = 35; x < 45; ++x) EXPECT_NEAR(output.view().at(x, y), x / 4.0, 1.0) << x << "," << y;
+
+  // A hole on a depth edge of 20 px: no line may interpolate across it, so pixels whose lines all cross stay empty.
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) input.view().at(x, y) = x < 40 ? 10 : 30;
+  for (int y = 0; y < h; ++y)
+    for (int x = 38; x < 42; ++x) input.view().at(x, y) = kNoDisparity;
+  parallelFor<CpuBackend>(w * h, FillHolesRadial{input.view(), output.view(), 50, 2, 2.5f});
+  for (int y = 0; y < h; ++y) EXPECT_EQ(output.view().at(39, y), kNoDisparity);
+}
+
+TEST(StereoStages, BoxSumsMatchBruteForce) {
+  const int w = 37, h = 23, r = 4;
+  Image<int16_t> input(Device::Cpu, w, h);
+  std::mt19937 random(5);
+  for (int64_t i = 0; i < w * h; ++i) input.view()[i] = random() % 5 == 0 ? kNoDisparity : static_cast<int16_t>(random() % 50);
+  Buffer<int64_t> rowSum(Device::Cpu, w * h), boxSum(Device::Cpu, w * h);
+  Buffer<int> rowCount(Device::Cpu, w * h), boxCount(Device::Cpu, w * h);
+  parallelFor<CpuBackend>(h, BoxRowSums<DiscreteDisparityValue>{{input.view()}, w, r, rowSum.data(), rowCount.data()}, 1);
+  parallelFor<CpuBackend>(w, BoxColumnSums<1, StoreBoxSums>{rowSum.data(), rowCount.data(), w, h, r, {boxSum.data(), boxCount.data()}}, 1);
+  // Blocks of columns (the CPU's choice) give bit-identical sums to one column per task (the GPU's).
+  Buffer<int64_t> blockSum(Device::Cpu, w * h);
+  Buffer<int> blockCount(Device::Cpu, w * h);
+  using Blocks = BoxColumnSums<8, StoreBoxSums>;
+  parallelFor<CpuBackend>(Blocks::taskCount(w), Blocks{rowSum.data(), rowCount.data(), w, h, r, {blockSum.data(), blockCount.data()}}, 1);
+  // And the GPU's direct per-pixel sums give the same again.
+  Buffer<int64_t> directRow(Device::Cpu, w * h), directSum(Device::Cpu, w * h);
+  Buffer<int> directRowCount(Device::Cpu, w * h), directCount(Device::Cpu, w * h);
+  parallelFor<CpuBackend>(w * h, BoxRowSumsDirect<DiscreteDisparityValue>{{input.view()}, w, r, directRow.data(), directRowCount.data()});
+  parallelFor<CpuBackend>(w * h, BoxColumnSumsDirect<StoreBoxSums>{directRow.data(), directRowCount.data(), w, h, r, {directSum.data(), directCount.data()}});
+  for (int i = 0; i < w * h; ++i) {
+    ASSERT_EQ(blockSum.data()[i], boxSum.data()[i]);
+    ASSERT_EQ(blockCount.data()[i], boxCount.data()[i]);
+    ASSERT_EQ(directSum.data()[i], boxSum.data()[i]);
+    ASSERT_EQ(directCount.data()[i], boxCount.data()[i]);
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      double sum = 0;
+      int count = 0;
+      for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy)
+        for (int xx = std::max(0, x - r); xx <= std::min(w - 1, x + r); ++xx)
+          if (input.view().at(xx, yy) != kNoDisparity) sum += input.view().at(xx, yy), ++count;
+      ASSERT_EQ(boxCount.data()[y * w + x], count);
+      ASSERT_EQ(boxSum.data()[y * w + x], static_cast<int64_t>(sum));
+    }
+  }
+}
+
+TEST(StereoStages, DiscFillingUsesNeighbourhoodMean) {
+  const int w = 60, h = 60, r = 20;
+  Image<int16_t> input = discreteImage(w, h, 12);
+  input.view().at(30, 30) = kNoDisparity;
+  for (int x = 0; x < w; ++x)
+    for (int y = 0; y < 5; ++y) input.view().at(x, y) = kNoDisparity;  // a sparse top band stays unfilled
+  for (int x = 0; x < w; x += 20) input.view().at(x, 0) = 12;
+  Buffer<int64_t> rowSum(Device::Cpu, w * h), boxSum(Device::Cpu, w * h);
+  Buffer<int> rowCount(Device::Cpu, w * h), boxCount(Device::Cpu, w * h);
+  parallelFor<CpuBackend>(h, BoxRowSums<DiscreteDisparityValue>{{input.view()}, w, r, rowSum.data(), rowCount.data()}, 1);
+  Image<int16_t> output(Device::Cpu, w, h);
+  parallelFor<CpuBackend>(w, BoxColumnSums<1, FillHolesDisc>{rowSum.data(), rowCount.data(), w, h, r, {input.view(), output.view(), r, 0.5f}}, 1);
+  EXPECT_EQ(output.view().at(30, 30), 12);
+  EXPECT_EQ(output.view().at(30, 3), 12);  // 25 of 41 rows around it are valid: > half
+  // At the top-left corner only 16 of 21x21 window rows exist; with 5 empty rows the valid share is 0.69: filled.
+  EXPECT_EQ(output.view().at(0, 1), 12);
+}
+
+TEST(StereoStages, RefinementGivesSubPixelDisparityOnSlantedPlane) {
+  // d = 10 + 0.05 x: ZNCC winners are integers (error up to 0.5 px); the refined map must be sub-pixel.
+  const cv::Mat left = test::randomTexture(240, 120, 21, 1.2);
+  const cv::Mat right = test::shiftedView(left, 10.0, 0.05, 0.0);
+  StereoParameters parameters;
+  parameters.minDisparityPx = 0;
+  parameters.maxDisparityPx = 40;
+  StereoMatcher matcher(Device::Cpu, parameters);
+  const cv::Mat refined = matcher.computeDisparity(left, right);
+  const cv::Mat zncc = matcher.lastZnccDisparity();
+  double refinedError = 0, znccError = 0;
+  int count = 0;
+  for (int y = 20; y < 100; ++y) {
+    for (int x = 40; x < 200; ++x) {
+      const double truth = 10.0 + 0.05 * x;
+      if (!std::isfinite(refined.at<float>(y, x)) || !std::isfinite(zncc.at<float>(y, x))) continue;
+      refinedError += std::abs(refined.at<float>(y, x) - truth);
+      znccError += std::abs(zncc.at<float>(y, x) - truth);
+      ++count;
+    }
+  }
+  ASSERT_GT(count, 12000);
+  refinedError /= count;
+  znccError /= count;
+  std::printf("mean abs error: zncc %.3f px, refined %.3f px\n", znccError, refinedError);
+  EXPECT_GT(znccError, 0.2);
+  EXPECT_LT(refinedError, 0.5 * znccError);
+}

@@ -1,0 +1,138 @@
+#include "SyntheticRenderer.h"
+
+#include "SyntheticRandom.h"
+
+#include <opencv2/core/utility.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace tissuemosaic::synthetic {
+
+namespace {
+
+/// x^n by repeated squaring (n >= 0): exact and much cheaper than std::pow.
+double powInt(double x, int n) {
+  double result = 1.0;
+  for (; n > 0; n >>= 1, x *= x)
+    if (n & 1) result *= x;
+  return result;
+}
+
+/// Brightness factor of the physical lens at a world ray direction (smooth fall-off toward the corners).
+double vignettingFactor(const SyntheticCamera& lens, const cv::Vec3d& rayWorld, double strength) {
+  const cv::Vec2d pixel = lens.project(lens.centreWorldMm + rayWorld);
+  const double halfW = 0.5 * lens.imageSize.width, halfH = 0.5 * lens.imageSize.height;
+  const double dx = pixel[0] - lens.K(0, 2), dy = pixel[1] - lens.K(1, 2);
+  const double r2 = (dx * dx + dy * dy) / (halfW * halfW + halfH * halfH);
+  return std::max(0.0, 1.0 - strength * r2);
+}
+
+/// Linear BGR radiance of the surface point at ray parameter t (Lambert + Blinn-Phong, light at the scope tip).
+cv::Vec3d shade(const cv::Vec3d& origin, const cv::Vec3d& ray, double t, const cv::Vec2d& gradient,
+                const TissueTexture& texture, const ShadingParameters& shading) {
+  const cv::Vec3d point = origin + t * ray;
+  const cv::Vec3d normal = cv::normalize(cv::Vec3d(gradient[0], gradient[1], -1.0));
+  cv::Vec3d toLight = shading.lightWorldMm - point;
+  const double distance2 = toLight.dot(toLight);
+  toLight *= 1.0 / std::sqrt(distance2);
+  const cv::Vec3d toEye = cv::normalize(origin - point);
+  const double diffuse = std::max(0.0, normal.dot(toLight));
+  const double halfway = normal.dot(cv::normalize(toLight + toEye));
+  // Below 0.97 the highlight term is < 1e-11 at the shininess used: skip the power.
+  const double specular = halfway > 0.97 ? shading.specularStrength * powInt(halfway, shading.shininess) : 0.0;
+  const double irradiance = shading.lightReferenceMm * shading.lightReferenceMm / distance2;
+  const cv::Vec3f albedo = texture.albedo(point[0], point[1]);
+  const double lit = (diffuse + shading.ambient) * irradiance * 1.2;
+  return {albedo[0] * lit + specular * irradiance, albedo[1] * lit + specular * irradiance,
+          albedo[2] * lit + specular * irradiance};
+}
+
+}  // namespace
+
+cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCamera, const TissueSurface& surface,
+                   const TissueTexture& texture, const ShadingParameters& shading, uint32_t seed,
+                   uint32_t noiseStream) {
+  const int width = camera.imageSize.width, height = camera.imageSize.height;
+  const int n = std::max(1, shading.supersampling);
+  cv::Mat image(camera.imageSize, CV_8UC3);
+  // 8-bit gamma table (sRGB-like 1/2.2) over linear values in [0, 1].
+  constexpr int tableSize = 4096;
+  std::vector<float> gamma(tableSize + 1);
+  for (int i = 0; i <= tableSize; ++i) gamma[i] = static_cast<float>(255.0 * std::pow(i / double(tableSize), 1 / 2.2));
+
+  cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
+    // The last two hits of each sub-row predict the next one (linear extrapolation): one Newton step then suffices.
+    std::vector<double> last(n), beforeLast(n);
+    for (int y = rows.start; y < rows.end; ++y) {
+      std::fill(last.begin(), last.end(), 0.0);
+      std::fill(beforeLast.begin(), beforeLast.end(), 0.0);
+      cv::Vec3b* out = image.ptr<cv::Vec3b>(y);
+      for (int x = 0; x < width; ++x) {
+        cv::Vec3d sum(0, 0, 0);
+        cv::Vec3d dRayDu, dRayDv;
+        const cv::Vec3d centreRay = camera.rayWorld(x, y, dRayDu, dRayDv);
+        for (int sy = 0; sy < n; ++sy) {
+          const double dv = (sy + 0.5) / n - 0.5;
+          for (int sx = 0; sx < n; ++sx) {
+            const double du = (sx + 0.5) / n - 0.5;
+            const cv::Vec3d ray = centreRay + du * dRayDu + dv * dRayDv;
+            cv::Vec2d gradient;
+            const double guess = beforeLast[sy] > 0 ? 2 * last[sy] - beforeLast[sy] : last[sy];
+            // 1 um along the ray is far below a texel: plenty for shading.
+            const double t = surface.intersect(camera.centreWorldMm, ray, guess, &gradient, 1e-3);
+            if (!std::isfinite(t)) continue;  // looking away from the tissue: black
+            beforeLast[sy] = last[sy];
+            last[sy] = t;
+            sum += shade(camera.centreWorldMm, ray, t, gradient, texture, shading);
+          }
+        }
+        const double vignette = vignettingFactor(lensCamera, centreRay, shading.vignetting);
+        const uint64_t pixel = static_cast<uint64_t>(y) * width + x;
+        for (int c = 0; c < 3; ++c) {
+          const double linear = std::min(1.0, std::max(0.0, sum[c] * vignette / (n * n)));
+          const double encoded = gamma[static_cast<int>(linear * tableSize + 0.5)];
+          // Read noise plus shot noise growing with the signal.
+          const double sigma = std::sqrt(shading.noiseStdGrey * shading.noiseStdGrey + 0.012 * encoded);
+          const double noisy = encoded + (shading.noiseStdGrey > 0 ? sigma * hashedGaussian(seed, noiseStream, pixel * 3 + c) : 0.0);
+          out[x][c] = cv::saturate_cast<uchar>(noisy);
+        }
+      }
+    }
+  });
+  return image;
+}
+
+void renderRectifiedGroundTruth(const SyntheticCamera& left, const SyntheticCamera& right,
+                                const TissueSurface& surface, cv::Mat& disparityPx, cv::Mat& depthMm) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  disparityPx.create(left.imageSize, CV_32F);
+  depthMm.create(left.imageSize, CV_32F);
+  cv::parallel_for_(cv::Range(0, left.imageSize.height), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      float* disparity = disparityPx.ptr<float>(y);
+      float* depth = depthMm.ptr<float>(y);
+      double last = 0, beforeLast = 0;
+      for (int x = 0; x < left.imageSize.width; ++x) {
+        disparity[x] = depth[x] = nan;
+        const cv::Vec3d ray = left.rayWorld(x, y);
+        const double t = surface.intersect(left.centreWorldMm, ray, beforeLast > 0 ? 2 * last - beforeLast : last);
+        if (!std::isfinite(t)) continue;
+        beforeLast = last;
+        last = t;
+        const cv::Vec3d point = left.centreWorldMm + t * ray;
+        double leftDepth = 0, rightDepth = 0;
+        left.project(point, &leftDepth);
+        const cv::Vec2d inRight = right.project(point, &rightDepth);
+        // Surfaces here are never self-occluded (TissueSurface::maxSlope), so in the right image means visible.
+        if (rightDepth <= 0 || inRight[0] < -0.5 || inRight[0] > right.imageSize.width - 0.5) continue;
+        depth[x] = static_cast<float>(leftDepth);
+        disparity[x] = static_cast<float>(x - inRight[0]);
+      }
+    }
+  });
+}
+
+}  // namespace tissuemosaic::synthetic

@@ -1,0 +1,208 @@
+// qTissueMosaicStereoParametersWidget: panel <-> parameters round trips, invalid edits refused with a visible
+// message, presets, and editing a logic's parameters.
+#include "qTissueMosaicStereoParametersWidget.h"
+#include "vtkTissueMosaicStereoLogic.h"
+
+#include <gtest/gtest.h>
+
+#include <vtkNew.h>
+
+#include <QApplication>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QSignalSpy>
+#include <QSpinBox>
+#include <QTimer>
+
+#include <filesystem>
+
+using tissuemosaic::StereoParameters;
+
+namespace {
+
+/// Every field differs from the default (and is exactly representable in the spin boxes' decimals).
+StereoParameters unusualParameters() {
+  StereoParameters p;
+  p.minDisparityPx = -7;
+  p.maxDisparityPx = 57;
+  p.znccWindowPx = 9;
+  p.minWindowStdDev = 2.25f;
+  p.outlierIterations = 5;
+  p.outlierRadiusStartPx = 12;
+  p.outlierRadiusStepPx = 6;
+  p.outlierSmoothnessPx = 1.75f;
+  p.holeRadialRadiusPx = 44;
+  p.holeRadialMinLines = 3;
+  p.holeDiscRadiusPx = 17;
+  p.holeDiscMinValidFraction = 0.35f;
+  p.refineIterations = 7;
+  p.refineRadiusPx = 11;
+  p.refineAlpha = 0.3f;
+  p.refineEta = 0.025f;
+  p.refineSearchPx = 4;
+  return p;
+}
+
+struct Fields {
+  std::vector<std::pair<const char*, int StereoParameters::*>> ints = {
+      {"minDisparityPx", &StereoParameters::minDisparityPx},
+      {"maxDisparityPx", &StereoParameters::maxDisparityPx},
+      {"znccWindowPx", &StereoParameters::znccWindowPx},
+      {"outlierIterations", &StereoParameters::outlierIterations},
+      {"outlierRadiusStartPx", &StereoParameters::outlierRadiusStartPx},
+      {"outlierRadiusStepPx", &StereoParameters::outlierRadiusStepPx},
+      {"holeRadialRadiusPx", &StereoParameters::holeRadialRadiusPx},
+      {"holeRadialMinLines", &StereoParameters::holeRadialMinLines},
+      {"holeDiscRadiusPx", &StereoParameters::holeDiscRadiusPx},
+      {"refineIterations", &StereoParameters::refineIterations},
+      {"refineRadiusPx", &StereoParameters::refineRadiusPx},
+      {"refineSearchPx", &StereoParameters::refineSearchPx}};
+  std::vector<std::pair<const char*, float StereoParameters::*>> reals = {
+      {"minWindowStdDev", &StereoParameters::minWindowStdDev},
+      {"outlierSmoothnessPx", &StereoParameters::outlierSmoothnessPx},
+      {"holeDiscMinValidFraction", &StereoParameters::holeDiscMinValidFraction},
+      {"refineAlpha", &StereoParameters::refineAlpha},
+      {"refineEta", &StereoParameters::refineEta}};
+};
+
+QSpinBox* intBox(QWidget& widget, const char* key) {
+  return widget.findChild<QSpinBox*>(QString(key) + "SpinBox");
+}
+QDoubleSpinBox* realBox(QWidget& widget, const char* key) {
+  return widget.findChild<QDoubleSpinBox*>(QString(key) + "SpinBox");
+}
+
+void expectSameParameters(const StereoParameters& a, const StereoParameters& b) {
+  const Fields fields;
+  for (const auto& field : fields.ints) EXPECT_EQ(a.*field.second, b.*field.second) << field.first;
+  for (const auto& field : fields.reals) EXPECT_FLOAT_EQ(a.*field.second, b.*field.second) << field.first;
+}
+
+}  // namespace
+
+TEST(StereoParametersWidget, ObjectToPanelShowsEveryField) {
+  qTissueMosaicStereoParametersWidget widget;
+  const Fields fields;
+  // The 17 fields of StereoParameters, each with its own spin box and a tooltip.
+  ASSERT_EQ(fields.ints.size() + fields.reals.size(), 17u);
+  ASSERT_TRUE(widget.setParameters(unusualParameters())) << widget.errorText().toStdString();
+  const StereoParameters expected = unusualParameters();
+  for (const auto& field : fields.ints) {
+    QSpinBox* box = intBox(widget, field.first);
+    ASSERT_NE(box, nullptr) << field.first;
+    EXPECT_EQ(box->value(), expected.*field.second) << field.first;
+    EXPECT_FALSE(box->toolTip().isEmpty()) << field.first;
+  }
+  for (const auto& field : fields.reals) {
+    QDoubleSpinBox* box = realBox(widget, field.first);
+    ASSERT_NE(box, nullptr) << field.first;
+    EXPECT_FLOAT_EQ(static_cast<float>(box->value()), expected.*field.second) << field.first;
+    EXPECT_FALSE(box->toolTip().isEmpty()) << field.first;
+  }
+}
+
+TEST(StereoParametersWidget, PanelToObjectRoundTrip) {
+  qTissueMosaicStereoParametersWidget widget;
+  QSignalSpy changed(&widget, &qTissueMosaicStereoParametersWidget::parametersChanged);
+  const StereoParameters target = unusualParameters();
+  const Fields fields;
+  // Edit as a user would, one spin box at a time; every intermediate state is valid.
+  for (const auto& field : fields.ints) intBox(widget, field.first)->setValue(target.*field.second);
+  for (const auto& field : fields.reals) realBox(widget, field.first)->setValue(target.*field.second);
+  expectSameParameters(widget.parameters(), target);
+  EXPECT_EQ(changed.count(), 17);
+  EXPECT_TRUE(widget.errorText().isEmpty());
+
+  // And back: what the panel holds shows again after a GUI refresh.
+  widget.updateGUIFromParameters();
+  ASSERT_TRUE(widget.updateParametersFromGUI());
+  expectSameParameters(widget.parameters(), target);
+}
+
+TEST(StereoParametersWidget, InvalidCombinationIsRefusedWithAVisibleMessage) {
+  qTissueMosaicStereoParametersWidget widget;
+  widget.show();
+  QLabel* errorLabel = widget.findChild<QLabel*>("errorLabel");
+  ASSERT_NE(errorLabel, nullptr);
+  EXPECT_FALSE(errorLabel->isVisible());
+
+  QSignalSpy changed(&widget, &qTissueMosaicStereoParametersWidget::parametersChanged);
+  intBox(widget, "minDisparityPx")->setValue(90);  // above the max of 80
+  EXPECT_EQ(widget.parameters().minDisparityPx, -20) << "the invalid value must not reach the object";
+  EXPECT_EQ(changed.count(), 0);
+  EXPECT_TRUE(errorLabel->isVisible());
+  EXPECT_TRUE(errorLabel->text().contains("maxDisparityPx")) << errorLabel->text().toStdString();
+
+  intBox(widget, "maxDisparityPx")->setValue(120);  // now valid again: both values go through
+  EXPECT_EQ(widget.parameters().minDisparityPx, 90);
+  EXPECT_EQ(widget.parameters().maxDisparityPx, 120);
+  EXPECT_FALSE(errorLabel->isVisible());
+
+  intBox(widget, "znccWindowPx")->setValue(10);  // even window
+  EXPECT_EQ(widget.parameters().znccWindowPx, 11);
+  EXPECT_TRUE(errorLabel->isVisible());
+  EXPECT_TRUE(errorLabel->text().contains("odd")) << errorLabel->text().toStdString();
+
+  StereoParameters inverted;
+  inverted.minDisparityPx = 10;
+  inverted.maxDisparityPx = 5;
+  EXPECT_FALSE(widget.setParameters(inverted));
+  EXPECT_EQ(widget.parameters().maxDisparityPx, 120);
+
+  // Show the panel briefly, as a user would see it, then quit on a timer.
+  QTimer::singleShot(50, qApp, &QApplication::quit);
+  qApp->exec();
+}
+
+TEST(StereoParametersWidget, PresetsApplyTheirFiles) {
+  qTissueMosaicStereoParametersWidget widget;
+  const QStringList names = widget.presetNames();
+  ASSERT_TRUE(names.contains("paper defaults")) << names.join(", ").toStdString();
+  ASSERT_TRUE(names.contains("fast")) << names.join(", ").toStdString();
+  EXPECT_EQ(names.first(), "paper defaults");
+
+  StereoParameters fast;
+  std::string errorText;
+  ASSERT_TRUE(vtkTissueMosaicStereoLogic::ReadStereoParametersFile(TM_PRESETS_DIR "/fast.yml", fast, errorText))
+      << errorText;
+  ASSERT_TRUE(widget.applyPreset("fast"));
+  expectSameParameters(widget.parameters(), fast);
+  EXPECT_EQ(intBox(widget, "znccWindowPx")->value(), fast.znccWindowPx);
+  auto* presetBox = widget.findChild<QComboBox*>("presetComboBox");
+  ASSERT_NE(presetBox, nullptr);
+  EXPECT_EQ(presetBox->currentText(), "fast");
+
+  intBox(widget, "refineSearchPx")->setValue(fast.refineSearchPx + 1);  // an edit leaves the preset
+  EXPECT_EQ(presetBox->currentText(), "(custom)");
+
+  ASSERT_TRUE(widget.applyPreset("paper defaults"));
+  expectSameParameters(widget.parameters(), StereoParameters{});
+  EXPECT_FALSE(widget.applyPreset("no such preset"));
+}
+
+TEST(StereoParametersWidget, EditsTheLogicsParametersAndFiles) {
+  vtkNew<vtkTissueMosaicStereoLogic> logic;
+  ASSERT_TRUE(logic->SetStereoParameters(unusualParameters()));
+  qTissueMosaicStereoParametersWidget widget;
+  widget.setStereoLogic(logic);
+  EXPECT_EQ(intBox(widget, "maxDisparityPx")->value(), 57);
+
+  intBox(widget, "maxDisparityPx")->setValue(64);
+  EXPECT_EQ(logic->GetStereoParameters().maxDisparityPx, 64);
+  intBox(widget, "maxDisparityPx")->setValue(-10);  // below the min of -7: refused
+  EXPECT_EQ(logic->GetStereoParameters().maxDisparityPx, 64);
+
+  std::filesystem::create_directories(TM_TEST_OUTPUT_DIR);
+  const QString path = TM_TEST_OUTPUT_DIR "/widget-parameters.yml";
+  intBox(widget, "maxDisparityPx")->setValue(64);
+  ASSERT_TRUE(widget.saveParametersFile(path)) << widget.errorText().toStdString();
+  ASSERT_TRUE(widget.applyPreset("paper defaults"));
+  EXPECT_EQ(logic->GetStereoParameters().maxDisparityPx, 80);
+  ASSERT_TRUE(widget.loadParametersFile(path)) << widget.errorText().toStdString();
+  StereoParameters expected = unusualParameters();
+  expected.maxDisparityPx = 64;
+  expectSameParameters(logic->GetStereoParameters(), expected);
+  EXPECT_FALSE(widget.loadParametersFile(TM_TEST_OUTPUT_DIR "/missing.yml"));
+  EXPECT_FALSE(widget.errorText().isEmpty());
+}

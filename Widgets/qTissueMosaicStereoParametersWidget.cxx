@@ -1,0 +1,391 @@
+#include "qTissueMosaicStereoParametersWidget.h"
+
+#include "vtkTissueMosaicStereoLogic.h"
+
+#include <vtkSmartPointer.h>
+
+#include <QComboBox>
+#include <QDir>
+#include <QDoubleSpinBox>
+#include <QFile>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QSpinBox>
+#include <QVBoxLayout>
+
+#include <map>
+#include <vector>
+
+// Q_INIT_RESOURCE must be called outside any namespace; the resources live in a static library, so nothing
+// registers them unless we do.
+static void initPresetResources() { Q_INIT_RESOURCE(Presets); }
+
+namespace {
+
+using tissuemosaic::StereoParameters;
+
+enum Group { Zncc, Outliers, Refinement };
+
+/// One spin box per field. Ranges are those StereoParameters::validate accepts, so the spin boxes never clamp
+/// silently; combinations (min <= max, odd window) are checked by validate and refused with its message.
+struct IntField {
+  const char* key;
+  const char* label;
+  Group group;
+  int StereoParameters::*member;
+  int minimum, maximum, step;
+  const char* suffix;
+  const char* toolTip;
+};
+
+struct RealField {
+  const char* key;
+  const char* label;
+  Group group;
+  float StereoParameters::*member;
+  double minimum, maximum, step;
+  int decimals;
+  const char* suffix;
+  const char* toolTip;
+};
+
+const IntField intFields[] = {
+    {"minDisparityPx", "Min disparity", Zncc, &StereoParameters::minDisparityPx, -1000, 1000, 1, " px",
+     "Smallest candidate disparity (a left pixel x matches right pixel x - d). Paper IV: candidates from -20 to "
+     "80 px. Must not exceed the max disparity; at most 1024 candidates."},
+    {"maxDisparityPx", "Max disparity", Zncc, &StereoParameters::maxDisparityPx, -1000, 1000, 1, " px",
+     "Largest candidate disparity, inclusive. Paper IV: 80 px (range -20..80). The ZNCC cost grows with the "
+     "number of candidates."},
+    {"znccWindowPx", "ZNCC window", Zncc, &StereoParameters::znccWindowPx, 3, 21, 2, " px",
+     "Side of the square ZNCC matching window, odd. Paper II.A: 11x11, using every other pixel (a chessboard)."},
+    {"outlierIterations", "Iterations", Outliers, &StereoParameters::outlierIterations, 0, 10, 1, "",
+     "Rounds of outlier removal alternating with hole filling. Paper II.B: 3."},
+    {"outlierRadiusStartPx", "Detection radius r", Outliers, &StereoParameters::outlierRadiusStartPx, 1, 200, 1,
+     " px",
+     "Initial detection radius r: a pixel is an outlier when none of its 8 radial directions changes smoothly "
+     "within r. Paper II.B: 10 px."},
+    {"outlierRadiusStepPx", "Radius step dr", Outliers, &StereoParameters::outlierRadiusStepPx, 0, 200, 1, " px",
+     "Growth of r per round, so that removed disparities can be filled and later rounds keep inliers. "
+     "Paper II.B: 10 px."},
+    {"holeRadialRadiusPx", "Radial filling radius", Outliers, &StereoParameters::holeRadialRadiusPx, 0, 500, 1,
+     " px", "Hole filling, first method: search distance along the pixel's 8 radial directions. Paper II.B: 50 px."},
+    {"holeRadialMinLines", "Radial filling lines", Outliers, &StereoParameters::holeRadialMinLines, 1, 4, 1, "",
+     "Hole filling, first method: opposite direction pairs that must both reach a valid disparity before "
+     "interpolating (the paper's 'sufficient number of neighbouring points')."},
+    {"holeDiscRadiusPx", "Disc filling radius", Outliers, &StereoParameters::holeDiscRadiusPx, 0, 200, 1, " px",
+     "Hole filling, second method: radius of the neighbourhood searched around the pixel. Paper II.B: 20 px."},
+    {"refineIterations", "Iterations", Refinement, &StereoParameters::refineIterations, 0, 100, 1, "",
+     "Rounds of improved Laplacian smoothing, each followed by re-selection of the discrete disparity o_i. "
+     "The paper does not state the number."},
+    {"refineRadiusPx", "Smoothing radius", Refinement, &StereoParameters::refineRadiusPx, 1, 200, 1, " px",
+     "Neighbourhood radius of the Laplacian smoothing of the discrete disparities o_j (design default 15 px)."},
+    {"refineSearchPx", "Re-selection range", Refinement, &StereoParameters::refineSearchPx, 0, 50, 1, " px",
+     "o_i is re-selected within [d_i - s, d_i + s] minimising 1/ZNCC + eta (o - d_i)^2. Paper II.C: 5 px."},
+};
+
+const RealField realFields[] = {
+    {"minWindowStdDev", "Min window std. dev.", Zncc, &StereoParameters::minWindowStdDev, 0.0, 100.0, 0.5, 2, "",
+     "Grey-level standard deviation below which a window counts as textureless and gets no ZNCC estimate "
+     "(an engine safeguard; not in the paper)."},
+    {"outlierSmoothnessPx", "Smoothness threshold", Outliers, &StereoParameters::outlierSmoothnessPx, 0.0, 100.0,
+     0.5, 2, " px",
+     "Largest disparity difference between neighbouring points along a smooth radial direction. "
+     "Paper II.B: 2.5."},
+    {"holeDiscMinValidFraction", "Disc filling valid share", Outliers, &StereoParameters::holeDiscMinValidFraction,
+     0.0, 1.0, 0.05, 2, "",
+     "Hole filling, second method: share of the neighbourhood that must have a valid disparity before "
+     "interpolating (the paper's 'sufficient number')."},
+    {"refineAlpha", "Alpha", Refinement, &StereoParameters::refineAlpha, 0.0, 1.0, 0.05, 3, "",
+     "Vollmer's weight in b_i = d_i(k) - alpha o_i - (1 - alpha) d_i(k-1), which keeps the surface from "
+     "shrinking. Paper II.C: 0.1, in [0, 1]."},
+    {"refineEta", "Eta", Refinement, &StereoParameters::refineEta, 0.0, 100.0, 0.005, 4, "",
+     "Weight of the smoothness cost (o - d_i)^2 against the ZNCC cost 1/ZNCC when re-selecting o_i. "
+     "Paper II.C: 0.01 with an 11x11 window."},
+};
+
+bool sameParameters(const StereoParameters& a, const StereoParameters& b) {
+  for (const IntField& field : intFields) {
+    if (a.*field.member != b.*field.member) return false;
+  }
+  for (const RealField& field : realFields) {
+    if (a.*field.member != b.*field.member) return false;
+  }
+  return true;
+}
+
+const char* const customPresetLabel = "(custom)";
+
+}  // namespace
+
+class qTissueMosaicStereoParametersWidgetPrivate {
+  Q_DECLARE_PUBLIC(qTissueMosaicStereoParametersWidget);
+
+public:
+  explicit qTissueMosaicStereoParametersWidgetPrivate(qTissueMosaicStereoParametersWidget& object) : q_ptr(&object) {}
+  void setupUi();
+  void loadPresets();
+  void showError(const QString& message);
+  void selectMatchingPreset();
+  /// The parameters the panel shows: the logic's when set, else the panel's own.
+  const StereoParameters& current() const { return logic ? logic->GetStereoParameters() : ownParameters; }
+  bool store(const StereoParameters& parameters);
+
+  qTissueMosaicStereoParametersWidget* const q_ptr;
+  StereoParameters ownParameters;
+  vtkSmartPointer<vtkTissueMosaicStereoLogic> logic;
+  std::vector<QSpinBox*> intSpinBoxes;        ///< parallel to intFields
+  std::vector<QDoubleSpinBox*> realSpinBoxes; ///< parallel to realFields
+  std::map<QString, StereoParameters> presets;
+  QComboBox* presetComboBox = nullptr;
+  QLabel* errorLabel = nullptr;
+};
+
+void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
+  Q_Q(qTissueMosaicStereoParametersWidget);
+  auto* layout = new QVBoxLayout(q);
+
+  auto* presetRow = new QHBoxLayout();
+  presetRow->addWidget(new QLabel(QObject::tr("Preset:"), q));
+  presetComboBox = new QComboBox(q);
+  presetComboBox->setObjectName("presetComboBox");
+  presetComboBox->setToolTip(QObject::tr("Replace all values with a preset from Resources/Presets."));
+  presetRow->addWidget(presetComboBox, 1);
+  auto* loadButton = new QPushButton(QObject::tr("Load..."), q);
+  loadButton->setObjectName("loadButton");
+  loadButton->setToolTip(QObject::tr("Read the 'stereo' map of a YAML/XML parameter file."));
+  auto* saveButton = new QPushButton(QObject::tr("Save..."), q);
+  saveButton->setObjectName("saveButton");
+  saveButton->setToolTip(QObject::tr("Write the current parameters to a YAML parameter file."));
+  presetRow->addWidget(loadButton);
+  presetRow->addWidget(saveButton);
+  layout->addLayout(presetRow);
+
+  const char* const groupTitles[] = {"ZNCC matching (paper II.A)", "Outlier removal and hole filling (II.B)",
+                                     "Improved Laplacian refinement (II.C)"};
+  QFormLayout* forms[3];
+  for (int group = 0; group < 3; ++group) {
+    auto* box = new QGroupBox(QObject::tr(groupTitles[group]), q);
+    forms[group] = new QFormLayout(box);
+    layout->addWidget(box);
+  }
+  for (const IntField& field : intFields) {
+    auto* spinBox = new QSpinBox(q);
+    spinBox->setObjectName(QString(field.key) + "SpinBox");
+    spinBox->setRange(field.minimum, field.maximum);
+    spinBox->setSingleStep(field.step);
+    spinBox->setSuffix(field.suffix);
+    spinBox->setToolTip(QObject::tr(field.toolTip));
+    forms[field.group]->addRow(QObject::tr(field.label), spinBox);
+    QObject::connect(spinBox, QOverload<int>::of(&QSpinBox::valueChanged), q,
+                     &qTissueMosaicStereoParametersWidget::updateParametersFromGUI);
+    intSpinBoxes.push_back(spinBox);
+  }
+  for (const RealField& field : realFields) {
+    auto* spinBox = new QDoubleSpinBox(q);
+    spinBox->setObjectName(QString(field.key) + "SpinBox");
+    spinBox->setDecimals(field.decimals);
+    spinBox->setRange(field.minimum, field.maximum);
+    spinBox->setSingleStep(field.step);
+    spinBox->setSuffix(field.suffix);
+    spinBox->setToolTip(QObject::tr(field.toolTip));
+    forms[field.group]->addRow(QObject::tr(field.label), spinBox);
+    QObject::connect(spinBox, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
+                     &qTissueMosaicStereoParametersWidget::updateParametersFromGUI);
+    realSpinBoxes.push_back(spinBox);
+  }
+
+  errorLabel = new QLabel(q);
+  errorLabel->setObjectName("errorLabel");
+  errorLabel->setWordWrap(true);
+  errorLabel->setStyleSheet("QLabel { color: #c00000; font-weight: bold; }");
+  errorLabel->hide();
+  layout->addWidget(errorLabel);
+  layout->addStretch(1);
+
+  QObject::connect(presetComboBox, QOverload<int>::of(&QComboBox::activated), q, [this](int index) {
+    Q_Q(qTissueMosaicStereoParametersWidget);
+    q->applyPreset(presetComboBox->itemText(index));
+  });
+  QObject::connect(loadButton, &QPushButton::clicked, q, [q] {
+    const QString path = QFileDialog::getOpenFileName(q, QObject::tr("Load stereo parameters"), QString(),
+                                                      QObject::tr("Parameter files (*.yml *.yaml *.xml)"));
+    if (!path.isEmpty()) q->loadParametersFile(path);
+  });
+  QObject::connect(saveButton, &QPushButton::clicked, q, [q] {
+    const QString path = QFileDialog::getSaveFileName(q, QObject::tr("Save stereo parameters"), QString(),
+                                                      QObject::tr("Parameter files (*.yml *.yaml *.xml)"));
+    if (!path.isEmpty()) q->saveParametersFile(path);
+  });
+}
+
+void qTissueMosaicStereoParametersWidgetPrivate::loadPresets() {
+  initPresetResources();
+  const QDir directory(":/Presets");
+  for (const QFileInfo& file : directory.entryInfoList({"*.yml"}, QDir::Files, QDir::Name)) {
+    QFile resource(file.absoluteFilePath());
+    StereoParameters parameters;
+    std::string errorText;
+    if (!resource.open(QIODevice::ReadOnly) ||
+        !vtkTissueMosaicStereoLogic::ParseStereoParameters(resource.readAll().toStdString(), parameters,
+                                                           errorText)) {
+      qWarning("stereo preset %s is unusable: %s", qPrintable(file.fileName()), errorText.c_str());
+      continue;
+    }
+    presets[file.completeBaseName().replace('-', ' ')] = parameters;
+  }
+  // "paper defaults" first: it is what a new user should see.
+  presetComboBox->addItem(customPresetLabel);
+  if (presets.count("paper defaults")) presetComboBox->addItem("paper defaults");
+  for (const auto& preset : presets) {
+    if (preset.first != "paper defaults") presetComboBox->addItem(preset.first);
+  }
+}
+
+void qTissueMosaicStereoParametersWidgetPrivate::showError(const QString& message) {
+  errorLabel->setText(message);
+  errorLabel->setVisible(!message.isEmpty());
+}
+
+void qTissueMosaicStereoParametersWidgetPrivate::selectMatchingPreset() {
+  const QSignalBlocker blocker(presetComboBox);
+  int index = 0;
+  for (const auto& preset : presets) {
+    if (sameParameters(preset.second, current())) index = presetComboBox->findText(preset.first);
+  }
+  presetComboBox->setCurrentIndex(index);
+}
+
+bool qTissueMosaicStereoParametersWidgetPrivate::store(const StereoParameters& parameters) {
+  try {
+    parameters.validate();
+  } catch (const std::exception& error) {
+    showError(QObject::tr("Not applied: %1").arg(QString::fromStdString(error.what())));
+    return false;
+  }
+  if (logic) {
+    if (!logic->SetStereoParameters(parameters)) {
+      showError(QObject::tr("Not applied: %1").arg(QString::fromStdString(logic->GetLastErrorText())));
+      return false;
+    }
+  } else {
+    ownParameters = parameters;
+  }
+  showError(QString());
+  return true;
+}
+
+qTissueMosaicStereoParametersWidget::qTissueMosaicStereoParametersWidget(QWidget* parent)
+    : QWidget(parent), d_ptr(new qTissueMosaicStereoParametersWidgetPrivate(*this)) {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  d->setupUi();
+  d->loadPresets();
+  updateGUIFromParameters();
+}
+
+qTissueMosaicStereoParametersWidget::~qTissueMosaicStereoParametersWidget() = default;
+
+tissuemosaic::StereoParameters qTissueMosaicStereoParametersWidget::parameters() const {
+  Q_D(const qTissueMosaicStereoParametersWidget);
+  return d->current();
+}
+
+bool qTissueMosaicStereoParametersWidget::setParameters(const tissuemosaic::StereoParameters& parameters) {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  if (!d->store(parameters)) return false;
+  updateGUIFromParameters();
+  return true;
+}
+
+void qTissueMosaicStereoParametersWidget::setStereoLogic(vtkTissueMosaicStereoLogic* logic) {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  d->logic = logic;
+  updateGUIFromParameters();
+}
+
+vtkTissueMosaicStereoLogic* qTissueMosaicStereoParametersWidget::stereoLogic() const {
+  Q_D(const qTissueMosaicStereoParametersWidget);
+  return d->logic;
+}
+
+QStringList qTissueMosaicStereoParametersWidget::presetNames() const {
+  Q_D(const qTissueMosaicStereoParametersWidget);
+  QStringList names;
+  for (int i = 1; i < d->presetComboBox->count(); ++i) names << d->presetComboBox->itemText(i);
+  return names;
+}
+
+QString qTissueMosaicStereoParametersWidget::errorText() const {
+  Q_D(const qTissueMosaicStereoParametersWidget);
+  return d->errorLabel->text();
+}
+
+void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  const StereoParameters& parameters = d->current();
+  for (std::size_t i = 0; i < d->intSpinBoxes.size(); ++i) {
+    const QSignalBlocker blocker(d->intSpinBoxes[i]);
+    d->intSpinBoxes[i]->setValue(parameters.*intFields[i].member);
+  }
+  for (std::size_t i = 0; i < d->realSpinBoxes.size(); ++i) {
+    const QSignalBlocker blocker(d->realSpinBoxes[i]);
+    d->realSpinBoxes[i]->setValue(parameters.*realFields[i].member);
+  }
+  d->showError(QString());
+  d->selectMatchingPreset();
+}
+
+bool qTissueMosaicStereoParametersWidget::updateParametersFromGUI() {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  StereoParameters parameters = d->current();
+  for (std::size_t i = 0; i < d->intSpinBoxes.size(); ++i) {
+    parameters.*intFields[i].member = d->intSpinBoxes[i]->value();
+  }
+  for (std::size_t i = 0; i < d->realSpinBoxes.size(); ++i) {
+    parameters.*realFields[i].member = static_cast<float>(d->realSpinBoxes[i]->value());
+  }
+  if (!d->store(parameters)) return false;
+  d->selectMatchingPreset();
+  emit parametersChanged();
+  return true;
+}
+
+bool qTissueMosaicStereoParametersWidget::applyPreset(const QString& name) {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  const auto preset = d->presets.find(name);
+  if (preset == d->presets.end()) {
+    if (name != customPresetLabel) d->showError(tr("Unknown preset '%1'").arg(name));
+    return false;
+  }
+  if (!setParameters(preset->second)) return false;
+  emit parametersChanged();
+  return true;
+}
+
+bool qTissueMosaicStereoParametersWidget::loadParametersFile(const QString& path) {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  StereoParameters parameters;
+  std::string errorText;
+  if (!vtkTissueMosaicStereoLogic::ReadStereoParametersFile(path.toStdString(), parameters, errorText)) {
+    d->showError(tr("Not loaded: %1").arg(QString::fromStdString(errorText)));
+    return false;
+  }
+  if (!setParameters(parameters)) return false;
+  emit parametersChanged();
+  return true;
+}
+
+bool qTissueMosaicStereoParametersWidget::saveParametersFile(const QString& path) {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  std::string errorText;
+  if (!vtkTissueMosaicStereoLogic::WriteStereoParametersFile(path.toStdString(), d->current(), errorText)) {
+    d->showError(tr("Not saved: %1").arg(QString::fromStdString(errorText)));
+    return false;
+  }
+  return true;
+}

@@ -1,0 +1,57 @@
+#pragma once
+/// @class qTissueMosaicStereoParametersWidget
+/// @brief Panel that edits every field of tissuemosaic::StereoParameters (paper section II), with presets.
+///
+/// The panel shows one parameters object: its own, or, after setStereoLogic(), the logic's. Every edit is
+/// validated at once (StereoParameters::validate); an invalid combination (e.g. min disparity > max, an even
+/// window) is refused: the object keeps its last valid value and the panel shows the reason until it is fixed.
+/// Presets come from Resources/Presets/*.yml (compiled in as Qt resources).
+#include "Stereo/StereoParameters.h"
+
+#include <QScopedPointer>
+#include <QStringList>
+#include <QWidget>
+
+class qTissueMosaicStereoParametersWidgetPrivate;
+class vtkTissueMosaicStereoLogic;
+
+class qTissueMosaicStereoParametersWidget : public QWidget {
+  Q_OBJECT
+public:
+  explicit qTissueMosaicStereoParametersWidget(QWidget* parent = nullptr);
+  ~qTissueMosaicStereoParametersWidget() override;
+
+  /// The last valid parameters (the logic's when a logic is set).
+  tissuemosaic::StereoParameters parameters() const;
+  /// Shows the given parameters; refused (false, message shown) when they are invalid.
+  bool setParameters(const tissuemosaic::StereoParameters& parameters);
+
+  /// The panel edits this logic's parameters from now on (nullptr: its own copy). Not owned beyond a reference.
+  void setStereoLogic(vtkTissueMosaicStereoLogic* logic);
+  vtkTissueMosaicStereoLogic* stereoLogic() const;
+
+  /// Preset names, e.g. "paper defaults", "fast" (from the file names).
+  QStringList presetNames() const;
+  /// The message shown for the last refused edit; empty when the panel is valid.
+  QString errorText() const;
+
+public slots:
+  /// Shows the parameters object in the spin boxes (re-reading the logic's, when set). Emits no edits.
+  void updateGUIFromParameters();
+  /// Validates the spin box values; stores them (and emits parametersChanged) when valid, else shows why not.
+  bool updateParametersFromGUI();
+  bool applyPreset(const QString& name);
+  bool loadParametersFile(const QString& path);
+  bool saveParametersFile(const QString& path);
+
+signals:
+  /// The parameters object received new valid values from the panel.
+  void parametersChanged();
+
+protected:
+  QScopedPointer<qTissueMosaicStereoParametersWidgetPrivate> d_ptr;
+
+private:
+  Q_DECLARE_PRIVATE(qTissueMosaicStereoParametersWidget);
+  Q_DISABLE_COPY(qTissueMosaicStereoParametersWidget);
+};
