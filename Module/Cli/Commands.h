@@ -13,5 +13,7 @@ int runStereo(const Words& words);      ///< tissuemosaic stereo ...        (Ste
 int runBenchStereo(const Words& words); ///< tissuemosaic bench stereo ...  (BenchStereoCommand.cpp)
 int runBenchPnp(const Words& words);    ///< tissuemosaic bench pnp ...     (BenchPnpCommand.cpp)
 int runSynthPair(const Words& words);   ///< tissuemosaic synth pair ...    (SynthCommand.cpp)
+int runSynthScan(const Words& words);   ///< tissuemosaic synth scan ...    (SynthScanCommand.cpp)
+int runTrack(const Words& words);       ///< tissuemosaic track ...         (TrackCommand.cpp)
 
 }  // namespace tissuemosaic::cli

@@ -20,6 +20,11 @@ commands:
                left-view disparity of one stereo pair (PFM, NaN = no estimate), optionally a coloured cloud
   synth pair   --out DIR [--seed S] [--width W] [--height H]
                a synthetic stereo pair with calibration and ground truth
+  synth scan   --out DIR [--frames N] [--seed S] [--width W] [--height H]
+               a synthetic scanning video (rectified frames) with trajectory, surface and depth ground truth
+  track        --left-frames DIR --right-frames DIR --calib rig.yml --out trajectory.txt
+               [--rectified] [--device cpu|cuda|auto] [--start-tum T.txt] [--groundtruth T.txt]
+               camera tracking (ORB, histogram voting, DynamicR1PPnP) to a TUM trajectory
   bench stereo [--width 960] [--height 540] [--device cpu|cuda] [--repeats N]
                median milliseconds per stereo stage as JSON
   bench pnp    [--repeats N]
@@ -42,6 +47,8 @@ int main(int argc, char** argv) {
 #if !defined(TM_BENCH_ONLY)
       {"stereo", cli::runStereo},
       {"synth pair", cli::runSynthPair},
+      {"synth scan", cli::runSynthScan},
+      {"track", cli::runTrack},
 #endif
   };
   std::string name = words[0];

@@ -122,6 +122,11 @@ void SyntheticStereoOptions::validate() const {
   requireRange(supersampling, 1, 4, "supersampling");
 }
 
+StereoCalibration syntheticStereoCalibration(const SyntheticStereoOptions& options) {
+  options.validate();
+  return makeCalibration(options);
+}
+
 SyntheticStereoPair renderSyntheticStereoPair(const SyntheticStereoOptions& options) {
   options.validate();
   SyntheticStereoPair pair;

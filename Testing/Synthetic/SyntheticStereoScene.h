@@ -45,6 +45,10 @@ struct SyntheticStereoPair {
   cv::Mat R1, R2, P1, P2;         ///< cv::stereoRectify's outputs that the rectified renders used
 };
 
+/// The raw (unrectified) rig the scene uses for these options: slightly different lenses with small distortion and a
+/// small rotation between the eyes. Shared with the synthetic scanning video (SyntheticScan.h).
+StereoCalibration syntheticStereoCalibration(const SyntheticStereoOptions& options);
+
 /// Renders the scene. Throws Error for invalid options or a surface too steep for the view (it would occlude
 /// itself, which the ground truth does not model).
 SyntheticStereoPair renderSyntheticStereoPair(const SyntheticStereoOptions& options);

@@ -52,6 +52,11 @@ public:
     download(host.data());
     return host;
   }
+  /// Sets every byte to zero.
+  void setZero() {
+    if (device_ == Device::Cuda) cuda::setZero(data_, count_ * sizeof(T));
+    else if (count_) std::memset(static_cast<void*>(data_), 0, count_ * sizeof(T));
+  }
   /// Copies another buffer of the same size (any device) into this one.
   void copyFrom(const Buffer& other) {
     require(other.count_ == count_, "Buffer::copyFrom: sizes differ");

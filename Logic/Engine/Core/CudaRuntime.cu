@@ -48,6 +48,9 @@ void copyDeviceToHost(void* host, const void* device, std::size_t bytes) {
 void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes) {
   if (bytes) check(cudaMemcpy(destination, source, bytes, cudaMemcpyDeviceToDevice), "cudaMemcpy device to device");
 }
+void setZero(void* device, std::size_t bytes) {
+  if (bytes) check(cudaMemset(device, 0, bytes), "cudaMemset");
+}
 void synchronize() { check(cudaDeviceSynchronize(), "cudaDeviceSynchronize"); }
 
 void checkLaunch(const char* what) { check(cudaGetLastError(), what); }

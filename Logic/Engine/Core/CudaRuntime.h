@@ -17,6 +17,7 @@ void release(void* pointer) noexcept;
 void copyHostToDevice(void* device, const void* host, std::size_t bytes);
 void copyDeviceToHost(void* host, const void* device, std::size_t bytes);
 void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes);
+void setZero(void* device, std::size_t bytes);
 void synchronize();
 /// Throws Error naming `what` when the last kernel launch failed.
 void checkLaunch(const char* what);

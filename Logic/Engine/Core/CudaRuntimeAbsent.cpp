@@ -16,6 +16,7 @@ void release(void*) noexcept {}
 void copyHostToDevice(void*, const void*, std::size_t) { absent(); }
 void copyDeviceToHost(void*, const void*, std::size_t) { absent(); }
 void copyDeviceToDevice(void*, const void*, std::size_t) { absent(); }
+void setZero(void*, std::size_t) { absent(); }
 void synchronize() { absent(); }
 void checkLaunch(const char*) { absent(); }
 

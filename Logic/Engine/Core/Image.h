@@ -6,6 +6,7 @@
 #include "HostDevice.h"
 
 #include <cstdint>
+#include <type_traits>
 
 namespace tissuemosaic {
 
@@ -16,7 +17,10 @@ struct ImageView {
   int height = 0;
 
   /// A view of mutable pixels converts to a read-only view.
-  TM_HOST_DEVICE operator ImageView<const T>() const { return {data, width, height}; }
+  template <class U = T, std::enable_if_t<!std::is_const_v<U>, int> = 0>
+  TM_HOST_DEVICE operator ImageView<const U>() const {
+    return {data, width, height};
+  }
 
   TM_HOST_DEVICE T& at(int x, int y) const { return data[static_cast<int64_t>(y) * width + x]; }
   TM_HOST_DEVICE T& operator[](int64_t index) const { return data[index]; }

@@ -34,6 +34,12 @@ __global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in
   float* rightRows = leftRows + cachedRows * columns;
   float* columnEven = rightRows + cachedRows * rightColumns;  // [kRowsPerBlock][columns]
   float* columnOdd = columnEven + kRowsPerBlock * columns;
+  // Right pixels x - d that this tile can reach: [x0 - maxDisparity, x0 + tileWidth - 1 - minDisparity].
+  const int rightPixels = tileWidth + in.disparityCount - 1;
+  const int rightPixelBegin = x0 - maxDisparity;
+  float* rightSum = columnOdd + kRowsPerBlock * columns;      // [kRowsPerBlock][rightPixels]
+  float* rightNorm = rightSum + kRowsPerBlock * rightPixels;
+  uint32_t* rightWinner = reinterpret_cast<uint32_t*>(rightNorm + kRowsPerBlock * rightPixels);
 
   for (int k = threadIdx.x; k < cachedRows * columns; k += blockDim.x) {
     const int row = k / columns, c = k % columns;
@@ -42,6 +48,13 @@ __global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in
   for (int k = threadIdx.x; k < cachedRows * rightColumns; k += blockDim.x) {
     const int row = k / rightColumns, c = k % rightColumns;
     rightRows[k] = in.right.at(clampIndex(rightBegin + c, width), clampIndex(y0 - r + row, height));
+  }
+  for (int k = threadIdx.x; k < kRowsPerBlock * rightPixels; k += blockDim.x) {
+    const int row = k / rightPixels, xr = rightPixelBegin + k % rightPixels, y = y0 + row;
+    const bool inside = xr >= 0 && xr < width && y < height;
+    rightSum[k] = inside ? in.sumRight.at(xr, y) : 0.0f;
+    rightNorm[k] = inside ? in.inverseNormRight.at(xr, y) : 0.0f;
+    rightWinner[k] = 0;
   }
   __syncthreads();
 
@@ -98,7 +111,9 @@ __global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in
                 od = columnOdd[k * columns + t + r + dx];
               },
               r);
-          q = quantisedZncc(sumLR, sumL[k], in.sumRight.at(x - d, y), normL[k], in.inverseNormRight.at(x - d, y), n);
+          const int rightIndex = k * rightPixels + (x - d - rightPixelBegin);
+          q = quantisedZncc(sumLR, sumL[k], rightSum[rightIndex], normL[k], rightNorm[rightIndex], n);
+          if (q != kNoZncc) atomicMax(&rightWinner[rightIndex], packRightWinner(q, i));
         }
         in.volume[in.volumeIndex(i, x, y)] = q;
         if (q > best[k]) {
@@ -115,7 +130,25 @@ __global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in
       if (y0 + k < height) in.bestDisparity.at(x, y0 + k) = bestDisparity[k];
     }
   }
+  // This tile's right-view candidates join those of the other tiles that reach the same right pixels.
+  for (int k = threadIdx.x; k < kRowsPerBlock * rightPixels; k += blockDim.x) {
+    const int row = k / rightPixels, xr = rightPixelBegin + k % rightPixels, y = y0 + row;
+    if (rightWinner[k] != 0 && xr >= 0 && xr < width && y < height) {
+      atomicMax(&in.rightWinnerKeys[static_cast<int64_t>(y) * width + xr], rightWinner[k]);
+    }
+  }
 }
+
+/// Right-view winners from their packed keys; clears the keys for the next frame.
+struct UnpackRightWinners {
+  uint32_t* keys;
+  int minDisparity;
+  ImageView<int16_t> rightBestDisparity;
+  __device__ void operator()(int64_t index) const {
+    rightBestDisparity[index] = unpackRightWinner(keys[index], minDisparity);
+    keys[index] = 0;
+  }
+};
 
 }  // namespace
 
@@ -123,9 +156,10 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs) {
   const int r = inputs.radius;
   const int cachedRows = 2 * r + kRowsPerBlock;
   const int tileWidth = kThreads - 2 * r;
+  const std::size_t rightPixels = tileWidth + inputs.disparityCount - 1;
   const std::size_t sharedBytes =
       sizeof(float) * (static_cast<std::size_t>(cachedRows) * (2 * kThreads + inputs.disparityCount - 1) +
-                       2 * kRowsPerBlock * kThreads);
+                       2 * kRowsPerBlock * kThreads + 3 * kRowsPerBlock * rightPixels);
   static std::size_t raisedLimit = 48 * 1024;
   if (sharedBytes > raisedLimit) {
     const cudaError_t status =
@@ -150,10 +184,8 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs) {
     profiling::record("znccVolumeKernel",
                       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
-  const int width = inputs.left.width;
   parallelFor<CudaBackend>(inputs.left.pixelCount(),
-                           RightViewWinner{inputs.volume, inputs.layout, width, inputs.minDisparity,
-                                           inputs.disparityCount, inputs.rightBestDisparity});
+                           UnpackRightWinners{inputs.rightWinnerKeys, inputs.minDisparity, inputs.rightBestDisparity});
 }
 
 void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings) {

@@ -165,7 +165,8 @@ struct ZnccVolumeInputs {
   int16_t* volume;
   VolumeLayout layout;
   ImageView<int16_t> bestDisparity;       ///< left-view winner
-  ImageView<int16_t> rightBestDisparity;  ///< right-view winner (the CPU launcher fills it in the same pass)
+  ImageView<int16_t> rightBestDisparity;  ///< right-view winner (both launchers fill it in the same pass)
+  uint32_t* rightWinnerKeys;              ///< GPU scratch, one per pixel: packRightWinner of the best so far
 
   TM_HOST_DEVICE int64_t volumeIndex(int disparityIndex, int x, int y) const { return layout.index(x, y, disparityIndex); }
 };
@@ -176,6 +177,20 @@ TM_HOST_DEVICE TM_FORCE_INLINE void radialDirection(int k, int& dx, int& dy) {
   dx = table[k][0];
   dy = table[k][1];
 }
+
+/// Steps s >= 1 for which (x + s dx, y + s dy) stays inside a width x height image, capped at maxSteps.
+TM_HOST_DEVICE TM_FORCE_INLINE int stepsInside(int x, int y, int dx, int dy, int width, int height, int maxSteps) {
+  int steps = maxSteps;
+  if (dx > 0) steps = steps < width - 1 - x ? steps : width - 1 - x;
+  if (dx < 0) steps = steps < x ? steps : x;
+  if (dy > 0) steps = steps < height - 1 - y ? steps : height - 1 - y;
+  if (dy < 0) steps = steps < y ? steps : y;
+  return steps;
+}
+
+/// Ray walks fetch this many steps before looking at them: independent loads in flight instead of one load per
+/// decision (the GPU walk is latency-bound otherwise). Results are those of a one-step-at-a-time walk.
+constexpr int kRayFetch = 4;
 
 /// II.B outlier test: a disparity is kept when along at least one of the 8 radial directions, within radius r,
 /// consecutive estimates change by at most maxStepPx and at least half of the ray's in-image pixels carry one.
@@ -194,23 +209,28 @@ struct RemoveOutliers {
     for (int k = 0; k < 8; ++k) {
       int dx, dy;
       radialDirection(k, dx, dy);
+      const int inImage = stepsInside(x, y, dx, dy, input.width, input.height, radius);
       int previous = centre;
       int estimates = 0;
-      int inImage = 0;
       bool smooth = true;
-      for (int s = 1; s <= radius; ++s) {
-        const int px = x + s * dx, py = y + s * dy;
-        if (!input.contains(px, py)) break;
-        ++inImage;
-        const int16_t value = input.at(px, py);
-        if (value == kNoDisparity) continue;
-        const int step = value - previous;
-        if (static_cast<float>(step < 0 ? -step : step) > maxStepPx) {
-          smooth = false;
-          break;
+      for (int s0 = 1; s0 <= inImage && smooth; s0 += kRayFetch) {
+        int16_t values[kRayFetch];
+#pragma unroll
+        for (int j = 0; j < kRayFetch; ++j) {
+          values[j] = s0 + j <= inImage ? input.at(x + (s0 + j) * dx, y + (s0 + j) * dy) : kNoDisparity;
         }
-        previous = value;
-        ++estimates;
+#pragma unroll
+        for (int j = 0; j < kRayFetch; ++j) {
+          const int16_t value = values[j];
+          if (!smooth || value == kNoDisparity) continue;
+          const int step = value - previous;
+          if (static_cast<float>(step < 0 ? -step : step) > maxStepPx) {
+            smooth = false;
+          } else {
+            previous = value;
+            ++estimates;
+          }
+        }
       }
       if (smooth && inImage > 0 && 2 * estimates >= inImage) return;  // one smooth ray is enough
     }
@@ -245,14 +265,19 @@ struct FillHolesRadial {
       radialDirection(k, dx, dy);
       hitDistance[k] = 0;
       hitValue[k] = 0;
-      for (int s = 1; s <= radius; ++s) {
-        const int px = x + s * dx, py = y + s * dy;
-        if (!input.contains(px, py)) break;
-        const int16_t value = input.at(px, py);
-        if (value != kNoDisparity) {
-          hitDistance[k] = s;
-          hitValue[k] = value;
-          break;
+      const int inImage = stepsInside(x, y, dx, dy, input.width, input.height, radius);
+      for (int s0 = 1; s0 <= inImage && hitDistance[k] == 0; s0 += kRayFetch) {
+        int16_t values[kRayFetch];
+#pragma unroll
+        for (int j = 0; j < kRayFetch; ++j) {
+          values[j] = s0 + j <= inImage ? input.at(x + (s0 + j) * dx, y + (s0 + j) * dy) : kNoDisparity;
+        }
+#pragma unroll
+        for (int j = 0; j < kRayFetch; ++j) {
+          if (hitDistance[k] == 0 && values[j] != kNoDisparity) {
+            hitDistance[k] = s0 + j;
+            hitValue[k] = values[j];
+          }
         }
       }
     }
@@ -523,31 +548,14 @@ struct DiscreteToFloat {
   }
 };
 
-/// Right-view winner from the left-view cost volume: for right pixel xr, the disparity d whose left pixel xr + d
-/// matches best (ties: lowest d). Used by the left-right consistency check.
-struct RightViewWinner {
-  const int16_t* volume;
-  VolumeLayout layout;
-  int width, minDisparity, disparityCount;
-  ImageView<int16_t> rightDisparity;
-
-  TM_HOST_DEVICE void operator()(int64_t index) const {
-    const int xr = static_cast<int>(index % width);
-    const int y = static_cast<int>(index / width);
-    int16_t best = kNoZncc, bestDisparity = kNoDisparity;
-    for (int i = 0; i < disparityCount; ++i) {
-      const int d = minDisparity + i;
-      const int xl = xr + d;
-      if (xl < 0 || xl >= width) continue;
-      const int16_t q = volume[layout.index(xl, y, i)];
-      if (q > best) {
-        best = q;
-        bestDisparity = static_cast<int16_t>(d);
-      }
-    }
-    rightDisparity[index] = bestDisparity;
-  }
-};
+/// The right-view winner as one integer whose maximum is the best score, ties going to the lowest disparity index
+/// (the CPU's rule): lets GPU threads merge candidates with atomicMax. 0 means "none".
+TM_HOST_DEVICE TM_FORCE_INLINE uint32_t packRightWinner(int16_t score, int disparityIndex) {
+  return (static_cast<uint32_t>(score + 32768) << 16) | static_cast<uint32_t>(0xFFFF - disparityIndex);
+}
+TM_HOST_DEVICE TM_FORCE_INLINE int16_t unpackRightWinner(uint32_t key, int minDisparity) {
+  return key == 0 ? kNoDisparity : static_cast<int16_t>(minDisparity + (0xFFFF - static_cast<int>(key & 0xFFFF)));
+}
 
 /// Left-right consistency: a left winner d at x survives when the right view's winner at x - d is within
 /// maxDifferencePx of d (occlusions and window fattening at depth edges fail it).

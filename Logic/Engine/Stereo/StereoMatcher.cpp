@@ -19,10 +19,13 @@ StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int di
       sumLeft(device, width, height), inverseNormLeft(device, width, height),
       sumRight(device, width, height), inverseNormRight(device, width, height),
       volume(device, static_cast<std::size_t>(disparityCount) * width * height),
-      znccDisparity(device, width, height), rightZnccDisparity(device, width, height), discrete(device, width, height), discreteScratch(device, width, height),
+      znccDisparity(device, width, height), rightZnccDisparity(device, width, height),
+      rightWinnerKeys(device, device == Device::Cuda ? static_cast<std::size_t>(width) * height : 0), discrete(device, width, height), discreteScratch(device, width, height),
       filledDisparity(device, width, height),
       smoothed(device, width, height), smoothedPrevious(device, width, height), correction(device, width, height),
-      rowSum(device, static_cast<std::size_t>(width) * height), rowCount(device, static_cast<std::size_t>(width) * height) {}
+      rowSum(device, static_cast<std::size_t>(width) * height), rowCount(device, static_cast<std::size_t>(width) * height) {
+  rightWinnerKeys.setZero();  // the GPU launcher leaves them zero after each frame
+}
 
 }  // namespace stereo
 

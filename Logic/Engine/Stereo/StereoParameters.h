@@ -21,7 +21,7 @@ struct StereoParameters {
 
   // Additions to the paper (set to -1 to switch off).
   int leftRightMaxDifferencePx = 1;   ///< ZNCC winners failing the left-right check by more are dropped
-  float refineMaxDeviationPx = 1.0f;  ///< output o_i instead of d_i where they differ by more than this
+  float refineMaxDeviationPx = 2.0f;  ///< output o_i instead of d_i where they differ by more than this
   float holeMaxEdgeDifferencePx = 2.5f;  ///< radial filling skips lines whose ends differ by more (depth edges)
 
   // Iterative outlier removal and hole filling (II.B).
@@ -35,7 +35,8 @@ struct StereoParameters {
   float holeDiscMinValidFraction = 0.5f;  ///< disc filling: share of the neighbourhood that must be valid
 
   // Improved Laplacian refinement (II.C).
-  int refineIterations = 4;           ///< smoothing + re-selection rounds (the paper does not state it)
+  int refineIterations = 3;           ///< smoothing + re-selection rounds (the paper does not state it; 1: mean
+                                      ///< error 0.171 px on the synthetic pair, 2: 0.159, 3: 0.155, 4: 0.152)
   int refineRadiusPx = 15;            ///< smoothing neighbourhood radius
   float refineAlpha = 0.1f;           ///< Vollmer's alpha, in [0, 1]
   float refineEta = 0.01f;            ///< weight of the smoothness cost against 1/ZNCC

@@ -26,6 +26,7 @@ struct StereoWorkspace {
   Buffer<int16_t> volume;                          ///< quantised ZNCC, laid out by volumeLayout()
   Image<int16_t> znccDisparity;                    ///< best ZNCC disparity per pixel
   Image<int16_t> rightZnccDisparity;               ///< best ZNCC disparity per right-image pixel
+  Buffer<uint32_t> rightWinnerKeys;                ///< GPU scratch of the right-view winners
   Image<int16_t> discrete, discreteScratch;        ///< o_i and a ping-pong partner
   Image<int16_t> filledDisparity;                  ///< o_i after outlier removal and hole filling
   Image<float> smoothed, smoothedPrevious, correction;
@@ -39,7 +40,7 @@ void runStereoPipelineCpu(StereoWorkspace& workspace, const StereoParameters& pa
 void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings);
 
 /// Backend-specific ZNCC cost volume + winner (argmax, lowest disparity on ties) from the window statistics. The
-/// CPU launcher also fills the right-view winners; on the GPU a RightViewWinner pass does.
+/// right-view winners are found in the same pass (rightBestDisparity).
 void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs);
 void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);
 

@@ -2,6 +2,9 @@
 // StereoBackendCuda.cu only).
 #include "Core/ParallelFor.h"
 #include "StereoPipeline.h"
+#if defined(__CUDACC__)
+#include "BoxFilterCuda.cuh"
+#endif
 
 #include <chrono>
 #include <type_traits>
@@ -25,8 +28,8 @@ struct PipelineSteps {
   }
 
   /// Box sums of value over radius, handed per pixel to consumer(index, sum, count): running sums on the CPU
-  /// (rows, then row-contiguous blocks of columns), direct sums per pixel on the GPU; exact integers, so both give
-  /// the same result.
+  /// (rows, then row-contiguous blocks of columns), shared-memory tiles on the GPU (direct per-pixel passes where a
+  /// tile does not fit); exact integers, so all give the same result.
   template <class Value, class Consumer>
   void boxSums(const Value& value, int radius, const Consumer& consumer) {
     if constexpr (std::is_same_v<Backend, CpuBackend>) {
@@ -35,6 +38,9 @@ struct PipelineSteps {
       parallelFor<Backend>(ColumnSums::taskCount(w.width),
                            ColumnSums{w.rowSum.data(), w.rowCount.data(), w.width, w.height, radius, consumer}, 1);
     } else {
+#if defined(__CUDACC__)
+      if (boxFilterTiledCuda(value, radius, consumer, w.width, w.height)) return;
+#endif
       parallelFor<Backend>(pixels(), BoxRowSumsDirect<Value>{value, w.width, radius, w.rowSum.data(), w.rowCount.data()});
       parallelFor<Backend>(pixels(), BoxColumnSumsDirect<Consumer>{w.rowSum.data(), w.rowCount.data(), w.width,
                                                                    w.height, radius, consumer});
@@ -109,7 +115,8 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
   const ImageView<const float> left = w.left.view(), right = w.right.view();
   znccVolume(ZnccVolumeInputs{left, right, w.sumLeft.view(), w.inverseNormLeft.view(), w.sumRight.view(),
                               w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx, p.disparityCount(),
-                              w.volume.data(), w.volumeLayout(), w.znccDisparity.view(), w.rightZnccDisparity.view()});
+                              w.volume.data(), w.volumeLayout(), w.znccDisparity.view(), w.rightZnccDisparity.view(),
+                              w.rightWinnerKeys.data()});
   timings.zncc = elapsedMs(start, w.device);
 
   steps.outliersAndHoles();

@@ -1,0 +1,193 @@
+#include "Tracking/FrameTracker.h"
+
+#include "Core/Error.h"
+#include "Tracking/HistogramVoting.h"
+#include "Tracking/KeyFrameDecision.h"
+#include "Tracking/PnpSolver.h"
+
+#include <Eigen/Geometry>
+#include <opencv2/features2d.hpp>
+
+#include <chrono>
+#include <cmath>
+
+namespace tissuemosaic {
+
+namespace {
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+Eigen::Matrix4d inverseRigid(const Eigen::Matrix4d& T) {
+  Eigen::Matrix4d inverse = Eigen::Matrix4d::Identity();
+  inverse.block<3, 3>(0, 0) = T.block<3, 3>(0, 0).transpose();
+  inverse.block<3, 1>(0, 3) = -T.block<3, 3>(0, 0).transpose() * T.block<3, 1>(0, 3);
+  return inverse;
+}
+
+/// The frame new frames are matched against: its features with depth, their world points, and its pose.
+struct Reference {
+  int frameIndex = -1;
+  std::vector<cv::Point2f> pixelsPx;
+  cv::Mat descriptors;
+  Points3d pointsWorldMm;
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
+};
+
+}  // namespace
+
+void FrameTrackerOptions::validate() const {
+  tracking.validate();
+  features.validate();
+  require(maxStepMm > 0 && std::isfinite(maxStepMm), "tracker: maxStepMm must be a positive number of mm");
+  require(maxStepDeg > 0 && maxStepDeg <= 180, "tracker: maxStepDeg must be in (0, 180]");
+}
+
+struct FrameTracker::Impl {
+  RectifiedGeometry geometry;
+  FrameTrackerOptions options;
+  Eigen::Matrix4d T_world_start;
+  cv::Ptr<cv::ORB> orb;
+  cv::BFMatcher matcher{cv::NORM_HAMMING, false};
+  int frames = 0;
+  Reference reference;
+  int lastKeyFrameIndex = -1;
+  Eigen::Matrix4d T_world_lastKeyFrame = Eigen::Matrix4d::Identity();
+
+  void setReference(const StereoFeatures& features, const Eigen::Matrix4d& T_world_camera, int frameIndex) {
+    reference = Reference();
+    reference.frameIndex = frameIndex;
+    reference.T_world_camera = T_world_camera;
+    const Eigen::Matrix3d R = T_world_camera.block<3, 3>(0, 0);
+    const Eigen::Vector3d t = T_world_camera.block<3, 1>(0, 3);
+    std::vector<int> rows;
+    for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
+      if (!features.pointsCameraMm[i].allFinite()) continue;
+      rows.push_back(static_cast<int>(i));
+      reference.pixelsPx.push_back(features.keypoints[i].pt);
+      reference.pointsWorldMm.push_back(R * features.pointsCameraMm[i] + t);
+    }
+    reference.descriptors.create(static_cast<int>(rows.size()), features.descriptors.cols, features.descriptors.type());
+    for (std::size_t r = 0; r < rows.size(); ++r) features.descriptors.row(rows[r]).copyTo(reference.descriptors.row(static_cast<int>(r)));
+  }
+};
+
+FrameTracker::FrameTracker(const RectifiedGeometry& geometry, const FrameTrackerOptions& options,
+                           const Eigen::Matrix4d& T_world_startCamera)
+    : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  require(geometry.focalPx > 0 && geometry.baselineMm > 0, "tracker: the rectified geometry has no focal length or baseline");
+  require(T_world_startCamera.allFinite() &&
+              (T_world_startCamera.block<3, 3>(0, 0) * T_world_startCamera.block<3, 3>(0, 0).transpose() -
+               Eigen::Matrix3d::Identity()).norm() < 1e-6,
+          "tracker: the start pose is not a rigid transform");
+  impl_->geometry = geometry;
+  impl_->options = options;
+  impl_->T_world_start = T_world_startCamera;
+  const FeatureParameters& f = options.features;
+  impl_->orb = cv::ORB::create(f.maxFeatures, static_cast<float>(f.scaleFactor), f.levels, f.edgeThresholdPx, 0, 2,
+                               cv::ORB::HARRIS_SCORE, 31, f.fastThreshold);
+}
+
+FrameTracker::~FrameTracker() = default;
+
+int FrameTracker::frameCount() const { return impl_->frames; }
+const FrameTrackerOptions& FrameTracker::options() const { return impl_->options; }
+
+TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& disparityPx) {
+  Impl& s = *impl_;
+  require(leftRectified.size() == s.geometry.imageSize,
+          "tracker: frame size " + std::to_string(leftRectified.cols) + "x" + std::to_string(leftRectified.rows) +
+              " differs from the rig's " + std::to_string(s.geometry.imageSize.width) + "x" +
+              std::to_string(s.geometry.imageSize.height));
+  TrackResult result;
+  result.frameIndex = s.frames++;
+  const auto start = std::chrono::steady_clock::now();
+  const StereoFeatures features = extractStereoFeatures(*s.orb, leftRectified, disparityPx, s.geometry);
+  result.features = static_cast<int>(features.keypoints.size());
+  result.featuresWithDepth = features.withDepth;
+
+  if (s.reference.frameIndex < 0) {  // the first frame defines the start
+    result.orbVotingMs = millisecondsSince(start);
+    result.tracked = result.initial = result.keyFrame = true;
+    result.T_world_camera = s.T_world_start;
+    s.setReference(features, s.T_world_start, result.frameIndex);
+    s.lastKeyFrameIndex = result.frameIndex;
+    s.T_world_lastKeyFrame = s.T_world_start;
+    return result;
+  }
+
+  // Reference features (with depth) against all current ones: the best match is the primary, the next ones are
+  // DynamicR1PPnP's candidates.
+  const FeatureParameters& fp = s.options.features;
+  std::vector<std::vector<cv::DMatch>> knn;
+  if (!s.reference.descriptors.empty() && !features.descriptors.empty())
+    s.matcher.knnMatch(s.reference.descriptors, features.descriptors, knn, 1 + fp.candidatesPerFeature);
+  Points3d points;
+  Pixels2d pixels, fromPx;
+  std::vector<std::vector<CandidateMatch>> candidates;
+  for (const std::vector<cv::DMatch>& list : knn) {
+    if (list.empty() || list[0].distance > fp.maxHammingDistance) continue;
+    const cv::Point2f from = s.reference.pixelsPx[list[0].queryIdx];
+    const cv::Point2f to = features.keypoints[list[0].trainIdx].pt;
+    points.push_back(s.reference.pointsWorldMm[list[0].queryIdx]);
+    fromPx.emplace_back(from.x, from.y);
+    pixels.emplace_back(to.x, to.y);
+    std::vector<CandidateMatch> further;
+    for (std::size_t j = 1; j < list.size(); ++j) {
+      if (list[j].distance > fp.maxHammingDistance) break;
+      CandidateMatch candidate;
+      const cv::Point2f p = features.keypoints[list[j].trainIdx].pt;
+      candidate.pixelPx = Eigen::Vector2d(p.x, p.y);
+      further.push_back(candidate);
+    }
+    candidates.push_back(std::move(further));
+  }
+  result.matches = static_cast<int>(points.size());
+  const HistogramVote vote = histogramVote(fromPx, pixels, fp.voteBinPx);
+  result.orbVotingMs = millisecondsSince(start);
+
+  const auto lost = [&](const std::string& why) {
+    result.tracked = false;
+    result.failureReason = why;
+    return result;
+  };
+  const int needed = std::max(s.options.tracking.minInliers, 4);
+  if (result.matches < needed) {
+    return lost("too few feature matches with the last tracked frame (" + std::to_string(result.matches) + ", need " +
+                std::to_string(needed) + ")");
+  }
+  const PinholeIntrinsics intrinsics{s.geometry.focalPx, s.geometry.focalPx, s.geometry.cxLeftPx, s.geometry.cyPx};
+  const auto pnpStart = std::chrono::steady_clock::now();
+  const PnpResult pnp = solveDynamicR1Ppnp(points, pixels, candidates, intrinsics, s.options.tracking, vote.order);
+  result.pnpMs = millisecondsSince(pnpStart);
+  if (!pnp.success) return lost(pnp.failureReason);
+  result.inliers = static_cast<int>(pnp.inlierIndices.size());
+  result.rmsErrorPx = pnp.rmsInlierErrorPx;
+  const Eigen::Matrix4d T_world_camera = inverseRigid(pnp.T_camera_world);
+
+  // A step far beyond what a hand-held scope does between frames is a wrong pose, not motion.
+  const int steps = result.frameIndex - s.reference.frameIndex;
+  const double stepMm =
+      (T_world_camera.block<3, 1>(0, 3) - s.reference.T_world_camera.block<3, 1>(0, 3)).norm() / steps;
+  const double stepDeg = Eigen::AngleAxisd(Eigen::Matrix3d(s.reference.T_world_camera.block<3, 3>(0, 0).transpose() *
+                                                           T_world_camera.block<3, 3>(0, 0)))
+                             .angle() * 180.0 / M_PI / steps;
+  if (stepMm > s.options.maxStepMm || stepDeg > s.options.maxStepDeg) {
+    return lost(cv::format("implausible pose jump (%.1f mm, %.1f deg per frame)", stepMm, stepDeg));
+  }
+
+  result.tracked = true;
+  result.T_world_camera = T_world_camera;
+  const double difference = keyFramePoseDifference(T_world_camera, s.T_world_lastKeyFrame);
+  result.keyFrame = isKeyFrame(result.inliers, result.frameIndex - s.lastKeyFrameIndex, difference, s.options.tracking);
+  if (result.keyFrame) {
+    s.lastKeyFrameIndex = result.frameIndex;
+    s.T_world_lastKeyFrame = T_world_camera;
+  }
+  s.setReference(features, T_world_camera, result.frameIndex);
+  return result;
+}
+
+}  // namespace tissuemosaic

@@ -1,0 +1,72 @@
+#pragma once
+/// @file FrameTracker.h
+/// @brief Frame-to-frame camera tracking of paper section III.A-C on the CPU: ORB features of the rectified left
+/// image lifted to 3D with the stereo disparity, brute-force Hamming matching with the previous tracked frame
+/// (best match plus the next-best ones as DynamicR1PPnP candidates), histogram voting on the 2D displacements
+/// (the control-point order), DynamicR1PPnP for the pose, and the key-frame decision.
+///
+/// Lost tracking is a state, never a guessed pose: when there are too few matches, the solver fails, or the pose
+/// jumps implausibly far, track() reports tracked = false with a reason, and the next frame is matched against
+/// the last tracked frame again.
+#include "Core/StereoRig.h"
+#include "Tracking/StereoFeatures.h"
+#include "Tracking/TrackingParameters.h"
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include <memory>
+#include <string>
+
+namespace tissuemosaic {
+
+struct FrameTrackerOptions {
+  TrackingParameters tracking;  ///< DynamicR1PPnP and key-frame parameters (the paper's)
+  FeatureParameters features;   ///< ORB, matching and voting
+  double maxStepMm = 30.0;      ///< a camera moving farther than this per frame since the reference is lost, not fast
+  double maxStepDeg = 20.0;     ///< ... and the same for rotation per frame
+
+  void validate() const;
+};
+
+struct TrackResult {
+  int frameIndex = 0;
+  bool tracked = false;          ///< false: lost (see failureReason); T_world_camera is then not valid
+  bool keyFrame = false;
+  bool initial = false;          ///< the first frame: pose = the start pose, no solve
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();  ///< left rectified camera to world (mm)
+  int features = 0;              ///< ORB features in this frame
+  int featuresWithDepth = 0;
+  int matches = 0;               ///< reference features (with depth) that found a descriptor match here
+  int inliers = 0;               ///< DynamicR1PPnP inliers
+  double rmsErrorPx = 0;         ///< inliers' reprojection error
+  double orbVotingMs = 0;        ///< ORB detection, description, lifting, matching and histogram voting
+  double pnpMs = 0;              ///< DynamicR1PPnP
+  std::string failureReason;     ///< empty when tracked
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+class FrameTracker {
+public:
+  /// geometry: of the rectified pair whose disparities track() receives. T_world_startCamera: pose of the first
+  /// frame (identity: the world frame is the first left rectified camera). Throws Error for invalid options.
+  FrameTracker(const RectifiedGeometry& geometry, const FrameTrackerOptions& options = {},
+               const Eigen::Matrix4d& T_world_startCamera = Eigen::Matrix4d::Identity());
+  ~FrameTracker();
+  FrameTracker(const FrameTracker&) = delete;
+  FrameTracker& operator=(const FrameTracker&) = delete;
+
+  /// Tracks the next frame: the rectified left image (8-bit grey or BGR) and its left-view disparity (CV_32F,
+  /// NaN = none). Throws Error only for misuse (empty or mismatched images).
+  TrackResult track(const cv::Mat& leftRectified, const cv::Mat& disparityPx);
+
+  /// Frames given to track() so far.
+  int frameCount() const;
+  const FrameTrackerOptions& options() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tissuemosaic

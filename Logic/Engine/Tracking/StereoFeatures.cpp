@@ -1,0 +1,74 @@
+#include "Tracking/StereoFeatures.h"
+
+#include "Core/Error.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace tissuemosaic {
+
+namespace {
+
+void requireRange(double value, double low, double high, const char* name) {
+  require(value >= low && value <= high, std::string("feature parameters: ") + name + " must be in [" +
+                                             cv::format("%g", low) + ", " + cv::format("%g", high) + "], got " +
+                                             cv::format("%g", value));
+}
+
+/// Disparity at a sub-pixel position: bilinear where the 4 neighbours are estimates, else the nearest pixel's.
+float sampleDisparity(const cv::Mat& disparity, const cv::Point2f& p) {
+  const int x0 = static_cast<int>(std::floor(p.x)), y0 = static_cast<int>(std::floor(p.y));
+  if (x0 >= 0 && y0 >= 0 && x0 + 1 < disparity.cols && y0 + 1 < disparity.rows) {
+    const float a = p.x - x0, b = p.y - y0;
+    const float d00 = disparity.at<float>(y0, x0), d01 = disparity.at<float>(y0, x0 + 1);
+    const float d10 = disparity.at<float>(y0 + 1, x0), d11 = disparity.at<float>(y0 + 1, x0 + 1);
+    const float d = (d00 * (1 - a) + d01 * a) * (1 - b) + (d10 * (1 - a) + d11 * a) * b;
+    if (std::isfinite(d)) return d;
+  }
+  const int x = cvRound(p.x), y = cvRound(p.y);
+  if (x < 0 || y < 0 || x >= disparity.cols || y >= disparity.rows) return std::numeric_limits<float>::quiet_NaN();
+  return disparity.at<float>(y, x);
+}
+
+}  // namespace
+
+void FeatureParameters::validate() const {
+  requireRange(maxFeatures, 10, 100000, "maxFeatures");
+  requireRange(scaleFactor, 1.01, 2.0, "scaleFactor");
+  requireRange(levels, 1, 16, "levels");
+  requireRange(fastThreshold, 1, 255, "fastThreshold");
+  requireRange(edgeThresholdPx, 3, 100, "edgeThresholdPx");
+  requireRange(maxHammingDistance, 1, 256, "maxHammingDistance");
+  requireRange(candidatesPerFeature, 0, 8, "candidatesPerFeature");
+  requireRange(voteBinPx, 0.5, 1000, "voteBinPx");
+}
+
+StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified, const cv::Mat& disparityPx,
+                                     const RectifiedGeometry& geometry) {
+  require(!leftRectified.empty(), "tracking: the left image is empty");
+  require(leftRectified.depth() == CV_8U && (leftRectified.channels() == 1 || leftRectified.channels() == 3),
+          "tracking: the left image must be 8-bit grey or BGR");
+  require(disparityPx.type() == CV_32FC1 && disparityPx.size() == leftRectified.size(),
+          "tracking: the disparity map must be CV_32F and of the left image's size");
+  cv::Mat grey;
+  if (leftRectified.channels() == 3) cv::cvtColor(leftRectified, grey, cv::COLOR_BGR2GRAY);
+  else grey = leftRectified;
+  StereoFeatures features;
+  orb.detectAndCompute(grey, cv::noArray(), features.keypoints, features.descriptors);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  features.pointsCameraMm.assign(features.keypoints.size(), Eigen::Vector3d(nan, nan, nan));
+  for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
+    const cv::Point2f p = features.keypoints[i].pt;
+    const double d = sampleDisparity(disparityPx, p);
+    if (!std::isfinite(d) || d + geometry.doffsPx <= 0) continue;
+    const double z = geometry.depthMm(d);
+    features.pointsCameraMm[i] = Eigen::Vector3d((p.x - geometry.cxLeftPx) * z / geometry.focalPx,
+                                                 (p.y - geometry.cyPx) * z / geometry.focalPx, z);
+    ++features.withDepth;
+  }
+  return features;
+}
+
+}  // namespace tissuemosaic

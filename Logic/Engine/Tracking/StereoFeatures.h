@@ -1,0 +1,43 @@
+#pragma once
+/// @file StereoFeatures.h
+/// @brief ORB features of a rectified left image, each lifted to 3D (left rectified camera frame, mm) from the
+/// left-view disparity map where the stereo stage has an estimate.
+#include "Core/StereoRig.h"
+#include "Tracking/PnpSolver.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
+
+#include <vector>
+
+namespace tissuemosaic {
+
+struct FeatureParameters {
+  int maxFeatures = 2000;       ///< ORB features kept per frame (the strongest by FAST/Harris response)
+  double scaleFactor = 1.2;     ///< ORB pyramid scale between levels
+  int levels = 8;               ///< ORB pyramid levels
+  int fastThreshold = 10;       ///< FAST corner threshold (grey levels); low: tissue has weak texture
+  int edgeThresholdPx = 19;     ///< border without features (>= the ORB patch radius)
+  int maxHammingDistance = 64;  ///< descriptor matches farther than this (of 256 bits) are dropped
+  int candidatesPerFeature = 2; ///< further descriptor matches offered to DynamicR1PPnP per feature (k - 1)
+  double voteBinPx = 6.0;       ///< histogram-voting bin size
+
+  /// Throws Error naming the first parameter that is out of range.
+  void validate() const;
+};
+
+/// One frame's features. pointsCameraMm[i] is NaN where keypoint i has no depth.
+struct StereoFeatures {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;    ///< CV_8U, one 32-byte row per keypoint
+  Points3d pointsCameraMm;
+  int withDepth = 0;      ///< keypoints that have a 3D point
+};
+
+/// Detects ORB features on the (grey or BGR, 8-bit) rectified left image and lifts each with the disparity
+/// (CV_32F, NaN = none, same size) sampled bilinearly at the keypoint when its 4 neighbours have estimates, else at
+/// the nearest pixel. Throws Error on empty or mismatched inputs.
+StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified, const cv::Mat& disparityPx,
+                                     const RectifiedGeometry& geometry);
+
+}  // namespace tissuemosaic

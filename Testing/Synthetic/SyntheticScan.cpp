@@ -1,0 +1,313 @@
+#include "SyntheticScan.h"
+
+#include "Core/Error.h"
+#include "SyntheticCamera.h"
+#include "SyntheticRandom.h"
+#include "SyntheticRenderer.h"
+#include "SyntheticStereoScene.h"
+#include "TissueSurface.h"
+#include "TissueTexture.h"
+
+#include <opencv2/calib3d.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace tissuemosaic::synthetic {
+
+namespace {
+
+constexpr double pi = 3.141592653589793;
+constexpr double degree = pi / 180.0;
+
+void requireRange(double value, double low, double high, const std::string& name) {
+  require(value >= low && value <= high, "synthetic scan: " + name + " must be in [" + cv::format("%g", low) + ", " +
+                                             cv::format("%g", high) + "], got " + cv::format("%g", value));
+}
+
+cv::Matx33d rotationX(double a) { return {1, 0, 0, 0, std::cos(a), -std::sin(a), 0, std::sin(a), std::cos(a)}; }
+cv::Matx33d rotationY(double a) { return {std::cos(a), 0, std::sin(a), 0, 1, 0, -std::sin(a), 0, std::cos(a)}; }
+cv::Matx33d rotationZ(double a) { return {std::cos(a), -std::sin(a), 0, std::sin(a), std::cos(a), 0, 0, 0, 1}; }
+
+cv::Matx33d matx33(const cv::Mat& m) { return cv::Matx33d(m(cv::Rect(0, 0, 3, 3)).clone().ptr<double>()); }
+
+/// The path: a closed Lissajous raster on the XY plane walked at a smoothly varying speed, plus slow, smooth
+/// oscillations of tilt, roll and working distance. Every quantity is a smooth function of time.
+struct ScanPath {
+  // Lissajous raster sampled densely and parametrised by arc length.
+  std::vector<cv::Vec2d> samples;
+  std::vector<double> arcLengthMm;
+  double startMm = 0;
+  double speedOmega = 0, speedPhase = 0;
+  double tiltOmega[2] = {0, 0}, tiltPhase[2] = {0, 0};
+  double rollOmega = 0, rollPhase = 0, distanceOmega = 0, distancePhase = 0;
+
+  ScanPath(const SyntheticScanOptions& o) {
+    std::mt19937 generator(o.seed ^ 0x5ca9u);
+    const auto period = [&](double low, double high) { return 2 * pi / uniform(generator, low, high); };
+    const double phaseY = uniform(generator, 0, 2 * pi);
+    const int count = 40000;
+    samples.resize(count + 1);
+    arcLengthMm.resize(count + 1);
+    for (int i = 0; i <= count; ++i) {
+      const double theta = 2 * pi * i / count;
+      samples[i] = {0.5 * o.rasterWidthMm * std::sin(theta),
+                    0.5 * o.rasterHeightMm * std::sin(2 * o.rasterSweeps * theta + phaseY)};
+      arcLengthMm[i] = i == 0 ? 0 : arcLengthMm[i - 1] + cv::norm(samples[i] - samples[i - 1]);
+    }
+    startMm = uniform(generator, 0, arcLengthMm.back());
+    speedOmega = period(5, 9);
+    speedPhase = uniform(generator, 0, 2 * pi);
+    for (int k = 0; k < 2; ++k) {
+      tiltOmega[k] = period(8, 14);
+      tiltPhase[k] = uniform(generator, 0, 2 * pi);
+    }
+    rollOmega = period(10, 16);
+    rollPhase = uniform(generator, 0, 2 * pi);
+    distanceOmega = period(6, 12);
+    distancePhase = uniform(generator, 0, 2 * pi);
+  }
+
+  /// Distance walked by time t: the integral of v(t) = vmin + (vmax - vmin) (1 - cos(w t + p)) / 2.
+  double walkedMm(const SyntheticScanOptions& o, double t) const {
+    const double span = o.maxSpeedMmPerS - o.minSpeedMmPerS;
+    return (o.minSpeedMmPerS + 0.5 * span) * t -
+           0.5 * span / speedOmega * (std::sin(speedOmega * t + speedPhase) - std::sin(speedPhase));
+  }
+
+  cv::Vec2d positionMm(double s) const {
+    const double length = arcLengthMm.back();
+    s = std::fmod(s, length);
+    if (s < 0) s += length;
+    const auto upper = std::upper_bound(arcLengthMm.begin(), arcLengthMm.end(), s);
+    const std::size_t i = std::min<std::size_t>(std::max<std::ptrdiff_t>(upper - arcLengthMm.begin(), 1),
+                                                arcLengthMm.size() - 1);
+    const double a = (s - arcLengthMm[i - 1]) / std::max(arcLengthMm[i] - arcLengthMm[i - 1], 1e-12);
+    return samples[i - 1] * (1 - a) + samples[i] * a;
+  }
+
+  /// Left rectified camera at time t: aimed at the surface point above the path position from the working distance.
+  void pose(const SyntheticScanOptions& o, const TissueSurface& surface, double t, cv::Matx33d& R_world_camera,
+            cv::Vec3d& centreMm) const {
+    const cv::Vec2d xy = positionMm(startMm + walkedMm(o, t));
+    const double tilt = o.maxTiltDeg * degree / std::sqrt(2.0);
+    const double a = tilt * std::sin(tiltOmega[0] * t + tiltPhase[0]);
+    const double b = tilt * std::sin(tiltOmega[1] * t + tiltPhase[1]);
+    const double roll = o.maxRollDeg * degree * std::sin(rollOmega * t + rollPhase);
+    R_world_camera = rotationX(a) * rotationY(b) * rotationZ(roll);
+    const double mid = 0.5 * (o.minWorkingDistanceMm + o.maxWorkingDistanceMm);
+    const double amplitude = 0.5 * (o.maxWorkingDistanceMm - o.minWorkingDistanceMm);
+    const double distance = mid + amplitude * std::sin(distanceOmega * t + distancePhase);
+    const cv::Vec3d aim(xy[0], xy[1], surface.heightMm(xy[0], xy[1]));
+    centreMm = aim - distance * (R_world_camera * cv::Vec3d(0, 0, 1));
+  }
+};
+
+SyntheticCamera makeCamera(const cv::Mat& K, const cv::Mat& D, const cv::Matx33d& R_world_camera,
+                           const cv::Vec3d& centre, cv::Size size) {
+  SyntheticCamera camera;
+  camera.K = matx33(K);
+  for (int i = 0; i < 5 && !D.empty(); ++i) camera.distortion[i] = D.at<double>(i);
+  camera.R_world_camera = R_world_camera;
+  camera.centreWorldMm = centre;
+  camera.imageSize = size;
+  return camera;
+}
+
+}  // namespace
+
+void SyntheticScanOptions::validate() const {
+  requireRange(width, 64, 8192, "width");
+  requireRange(height, 64, 8192, "height");
+  requireRange(frames, 1, 100000, "frames");
+  requireRange(fps, 1, 1000, "fps");
+  requireRange(minWorkingDistanceMm, 20, 500, "minimum working distance (mm)");
+  requireRange(maxWorkingDistanceMm, minWorkingDistanceMm, 500, "maximum working distance (mm)");
+  requireRange(minSpeedMmPerS, 0, 1000, "minimum speed (mm/s)");
+  requireRange(maxSpeedMmPerS, minSpeedMmPerS, 1000, "maximum speed (mm/s)");
+  requireRange(rasterWidthMm, 1, 200, "raster width (mm)");
+  requireRange(rasterHeightMm, 1, 200, "raster height (mm)");
+  requireRange(rasterSweeps, 1, 50, "raster sweeps");
+  requireRange(maxTiltDeg, 0, 30, "maximum tilt (degrees)");
+  requireRange(maxRollDeg, 0, 45, "maximum roll (degrees)");
+  requireRange(reliefMm, 0, 20, "relief (mm)");
+  requireRange(baselineMm, 0.5, 100, "baseline (mm)");
+  requireRange(focalPx, 0, 1e5, "focal length (px, 0 = default)");
+  requireRange(noiseStdGrey, 0, 50, "noise (grey levels)");
+  requireRange(supersampling, 1, 4, "supersampling");
+}
+
+struct SyntheticScan::Impl {
+  SyntheticScanOptions options;
+  StereoCalibration calibration;
+  RectifiedGeometry geometry;
+  cv::Mat R1, R2, P1, P2;
+  std::unique_ptr<ScanPath> path;
+  std::unique_ptr<TissueSurface> surface;
+  std::unique_ptr<TissueTexture> texture;
+  cv::Rect2d domainMm;
+
+  struct Cameras {
+    SyntheticCamera leftRaw, rightRaw, leftRect, rightRect;
+    cv::Vec3d lightMm;
+  };
+
+  Cameras cameras(int index) const {
+    cv::Matx33d R_world_leftRect;
+    cv::Vec3d leftCentre;
+    path->pose(options, *surface, index / options.fps, R_world_leftRect, leftCentre);
+    const cv::Matx33d R = matx33(calibration.R);
+    const cv::Vec3d T(calibration.T.ptr<double>());
+    // X_rect = R1 X_raw; X_right = R X_left + T: the right eye's centre in the raw left frame is -R^T T.
+    const cv::Matx33d R_world_leftRaw = R_world_leftRect * matx33(R1);
+    const cv::Matx33d R_world_rightRaw = R_world_leftRaw * R.t();
+    const cv::Vec3d rightCentre = leftCentre + R_world_leftRaw * (-(R.t() * T));
+    const cv::Size size = calibration.imageSize;
+    Cameras c;
+    c.leftRaw = makeCamera(calibration.K1, calibration.D1, R_world_leftRaw, leftCentre, size);
+    c.rightRaw = makeCamera(calibration.K2, calibration.D2, R_world_rightRaw, rightCentre, size);
+    c.leftRect = makeCamera(P1, {}, R_world_leftRect, leftCentre, size);
+    c.rightRect = makeCamera(P2, {}, R_world_rightRaw * matx33(R2).t(), rightCentre, size);
+    // The light guide sits at the tip between the eyes, a little below them.
+    c.lightMm = 0.5 * (leftCentre + rightCentre) + R_world_leftRect * cv::Vec3d(0, 2.0, 0);
+    return c;
+  }
+};
+
+SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  Impl& s = *impl_;
+  s.options = options;
+  SyntheticStereoOptions rig;
+  rig.width = options.width;
+  rig.height = options.height;
+  rig.focalPx = options.focalPx;
+  rig.baselineMm = options.baselineMm;
+  s.calibration = syntheticStereoCalibration(rig);
+  const StereoRectifier rectifier(s.calibration);
+  s.geometry = rectifier.geometry();
+  s.R1 = rectifier.leftRectificationRotation().clone();
+  s.R2 = rectifier.rightRectificationRotation().clone();
+  s.P1 = rectifier.leftProjection().clone();
+  s.P2 = rectifier.rightProjection().clone();
+  s.path = std::make_unique<ScanPath>(options);
+
+  // Bumps cover the raster plus the widest footprint of the view around it.
+  TissueSurfaceParameters surfaceParameters;
+  surfaceParameters.reliefMm = options.reliefMm;
+  const double footprintMm = options.maxWorkingDistanceMm * 0.5 * options.width / s.geometry.focalPx;
+  surfaceParameters.extentMm =
+      std::max(70.0, 0.5 * std::max(options.rasterWidthMm, options.rasterHeightMm) + footprintMm + 10.0);
+  s.surface = std::make_unique<TissueSurface>(surfaceParameters, options.seed);
+
+  // What the frames see: border rays of every rectified view cast onto the surface.
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300, nearestMm = 1e300, maxTangent = 0;
+  for (int index = 0; index < options.frames; ++index) {
+    const Impl::Cameras c = s.cameras(index);
+    for (const SyntheticCamera* camera : {&c.leftRect, &c.rightRect}) {
+      const int w = camera->imageSize.width, h = camera->imageSize.height;
+      for (int i = 0; i <= 32; ++i) {
+        const double a = i / 32.0;
+        const cv::Vec2d border[4] = {
+            {a * w - 0.5, -0.5}, {a * w - 0.5, h - 0.5}, {-0.5, a * h - 0.5}, {w - 0.5, a * h - 0.5}};
+        for (const cv::Vec2d& pixel : border) {
+          const cv::Vec3d ray = camera->rayWorld(pixel[0], pixel[1]);
+          require(ray[2] > 0, "synthetic scan: a view looks away from the tissue; lower the tilt");
+          maxTangent = std::max(maxTangent, std::hypot(ray[0], ray[1]) / ray[2]);
+          const double t = s.surface->intersect(camera->centreWorldMm, ray);
+          require(std::isfinite(t), "synthetic scan: a view looks past the tissue; lower the tilt");
+          const cv::Vec3d p = camera->centreWorldMm + t * ray;
+          x0 = std::min(x0, p[0]);
+          x1 = std::max(x1, p[0]);
+          y0 = std::min(y0, p[1]);
+          y1 = std::max(y1, p[1]);
+          double depth = 0;
+          camera->project(p, &depth);
+          nearestMm = std::min(nearestMm, depth);
+        }
+      }
+    }
+  }
+  const double margin = 3.0;
+  s.domainMm = cv::Rect2d(x0 - margin, y0 - margin, x1 - x0 + 2 * margin, y1 - y0 + 2 * margin);
+  require(s.surface->maxSlope(s.domainMm) * maxTangent < 0.98,
+          "synthetic scan: the surface is too steep for these views and would hide parts of itself; lower the "
+          "relief or the tilt");
+  // About one texel per pixel where the tissue is nearest; coarser if the map would get huge.
+  double texelMm = 0.8 * nearestMm / s.geometry.focalPx;
+  texelMm = std::max(texelMm, std::sqrt(s.domainMm.area() / 16e6));
+  s.texture = std::make_unique<TissueTexture>(s.domainMm, texelMm, options.seed);
+}
+
+SyntheticScan::~SyntheticScan() = default;
+
+const SyntheticScanOptions& SyntheticScan::options() const { return impl_->options; }
+int SyntheticScan::frameCount() const { return impl_->options.frames; }
+const StereoCalibration& SyntheticScan::calibration() const { return impl_->calibration; }
+const RectifiedGeometry& SyntheticScan::geometry() const { return impl_->geometry; }
+const TissueSurface& SyntheticScan::surface() const { return *impl_->surface; }
+cv::Rect2d SyntheticScan::scannedDomainMm() const { return impl_->domainMm; }
+double SyntheticScan::timeS(int index) const { return index / impl_->options.fps; }
+
+Eigen::Matrix4d SyntheticScan::T_world_camera(int index) const {
+  require(index >= 0 && index < frameCount(), "synthetic scan: frame " + std::to_string(index) + " is outside [0, " +
+                                                  std::to_string(frameCount()) + ")");
+  cv::Matx33d R;
+  cv::Vec3d centre;
+  impl_->path->pose(impl_->options, *impl_->surface, timeS(index), R, centre);
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) T(r, c) = R(r, c);
+    T(r, 3) = centre[r];
+  }
+  return T;
+}
+
+SyntheticScanFrame SyntheticScan::renderFrame(int index) const {
+  SyntheticScanFrame frame;
+  frame.index = index;
+  frame.timeS = timeS(index);
+  frame.T_world_camera = T_world_camera(index);
+  const Impl& s = *impl_;
+  const Impl::Cameras c = s.cameras(index);
+  ShadingParameters shading;
+  shading.lightWorldMm = c.lightMm;
+  shading.lightReferenceMm = 0.5 * (s.options.minWorkingDistanceMm + s.options.maxWorkingDistanceMm);
+  shading.noiseStdGrey = s.options.noiseStdGrey;
+  shading.supersampling = s.options.supersampling;
+  // Each frame and eye has its own noise stream.
+  const auto stream = static_cast<uint32_t>(2 * index);
+  frame.leftRectified = renderView(c.leftRect, c.leftRaw, *s.surface, *s.texture, shading, s.options.seed, stream + 1);
+  frame.rightRectified = renderView(c.rightRect, c.rightRaw, *s.surface, *s.texture, shading, s.options.seed, stream + 2);
+  renderRectifiedGroundTruth(c.leftRect, c.rightRect, *s.surface, frame.disparityPx, frame.depthMm);
+  return frame;
+}
+
+TriangleMesh SyntheticScan::surfaceMesh(double spacingMm) const {
+  require(spacingMm > 0, "synthetic scan: mesh spacing must be positive");
+  const cv::Rect2d d = impl_->domainMm;
+  const int nx = static_cast<int>(std::ceil(d.width / spacingMm)) + 1;
+  const int ny = static_cast<int>(std::ceil(d.height / spacingMm)) + 1;
+  require(static_cast<double>(nx) * ny <= 2e7, "synthetic scan: mesh spacing too fine for the scanned area");
+  TriangleMesh mesh;
+  mesh.verticesMm.reserve(static_cast<std::size_t>(nx) * ny);
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const double x = d.x + i * spacingMm, y = d.y + j * spacingMm;
+      mesh.verticesMm.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                                   static_cast<float>(impl_->surface->heightMm(x, y)));
+    }
+  }
+  mesh.triangles.reserve(2 * static_cast<std::size_t>(nx - 1) * (ny - 1));
+  for (int j = 0; j + 1 < ny; ++j) {
+    for (int i = 0; i + 1 < nx; ++i) {
+      const int a = j * nx + i, b = a + 1, c = a + nx, e = c + 1;
+      mesh.triangles.emplace_back(a, c, b);  // both triangles wound the same way (normal toward -Z, the scope)
+      mesh.triangles.emplace_back(b, c, e);
+    }
+  }
+  return mesh;
+}
+
+}  // namespace tissuemosaic::synthetic

@@ -1,0 +1,94 @@
+#pragma once
+/// @file SyntheticScan.h
+/// @brief A synthetic scanning video with exact ground truth, deterministic from a seed: the stereo scope of
+/// SyntheticStereoScene sweeps the liver-like surface along a smooth lawn-mower path (a Lissajous raster: slow along
+/// X, back and forth along Y), 60-120 mm from the tissue, at a speed that varies smoothly within a band, with gentle
+/// tilt and roll. The texture's smooth patches give low-texture stretches. Frames are rendered on demand with the
+/// rectified cameras (as StereoRectifier would produce them from rig calibration()), so the ground truth is exact.
+///
+/// World frame: the tissue is Z = h(X, Y), +Z into the tissue (TissueSurface.h), millimetres. Poses are
+/// T_world_camera of the LEFT RECTIFIED camera (x right, y down, z forward).
+#include "Core/StereoRig.h"
+#include "IO/MeshPly.h"
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace tissuemosaic::synthetic {
+
+class TissueSurface;
+
+struct SyntheticScanOptions {
+  int width = 960, height = 540;     ///< image size in pixels
+  uint32_t seed = 1;                 ///< same seed and options: identical frames, bit for bit
+  int frames = 120;
+  double fps = 30.0;
+  double minWorkingDistanceMm = 70.0, maxWorkingDistanceMm = 100.0;  ///< along the optical axis to the tissue
+  double minSpeedMmPerS = 6.0, maxSpeedMmPerS = 24.0;                ///< speed of the left eye along the path
+  double rasterWidthMm = 50.0, rasterHeightMm = 30.0;  ///< the path's extent on the tissue (X x Y)
+  int rasterSweeps = 5;              ///< back-and-forth sweeps along Y per pass along X
+  double maxTiltDeg = 10.0;          ///< largest angle between the optical axis and world +Z
+  double maxRollDeg = 6.0;           ///< largest rotation about the optical axis
+  double reliefMm = 4.0;             ///< amplitude of the surface's random bumps
+  double baselineMm = 5.0;
+  double focalPx = 0;                ///< 0: 1000 px scaled by width / 960
+  double noiseStdGrey = 1.5;
+  int supersampling = 2;
+
+  /// Throws Error naming the first option out of range.
+  void validate() const;
+};
+
+struct SyntheticScanFrame {
+  int index = 0;
+  double timeS = 0;
+  cv::Mat leftRectified, rightRectified;  ///< CV_8UC3 BGR
+  cv::Mat disparityPx;                    ///< CV_32F left-view ground truth, NaN where not seen by both eyes
+  cv::Mat depthMm;                        ///< CV_32F along the left rectified optical axis, NaN as above
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();  ///< left rectified camera
+};
+
+class SyntheticScan {
+public:
+  /// Builds the rig, the path, the surface and its texture (a second or so at 960x540). Throws Error for invalid
+  /// options or a path that sees the surface too obliquely (self-occlusion, which the ground truth does not model).
+  explicit SyntheticScan(const SyntheticScanOptions& options);
+  ~SyntheticScan();
+  SyntheticScan(const SyntheticScan&) = delete;
+  SyntheticScan& operator=(const SyntheticScan&) = delete;
+
+  const SyntheticScanOptions& options() const;
+  int frameCount() const;
+  /// Raw rig (what rig.yml holds) and the rectified geometry the frames are rendered with.
+  const StereoCalibration& calibration() const;
+  const RectifiedGeometry& geometry() const;
+  /// Ground-truth pose of the left rectified camera at frame index (0 <= index < frameCount()).
+  Eigen::Matrix4d T_world_camera(int index) const;
+  double timeS(int index) const;
+  /// Renders frame index: both rectified views and ground-truth disparity and depth.
+  SyntheticScanFrame renderFrame(int index) const;
+
+  const TissueSurface& surface() const;
+  /// World XY rectangle seen by some frame (with a margin): where the texture and the surface mesh are defined.
+  cv::Rect2d scannedDomainMm() const;
+  /// The true surface over scannedDomainMm() as a grid of triangles (vertices exactly on h, world frame, mm).
+  TriangleMesh surfaceMesh(double spacingMm = 0.5) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Writes DIR/left/000000.png.., DIR/right/.. (rectified), DIR/rig.yml (raw rig calibration), and
+/// DIR/groundtruth/trajectory.txt (TUM, T_world_camera of the left rectified camera, mm), surface.ply (world frame
+/// triangle mesh) and depth_000000.pfm.. (mm, left rectified view). progress (optional) is called after each frame.
+/// Returns the number of files written. Throws Error when a file cannot be written.
+int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory,
+                       void (*progress)(int frame, int frames) = nullptr);
+
+}  // namespace tissuemosaic::synthetic
