@@ -32,7 +32,7 @@ options:
   --min-distance MM        nearest working distance along the optical axis (default 70)
   --max-distance MM        farthest working distance (default 100)
   --min-speed MM_S         slowest scope speed (default 6)
-  --max-speed MM_S         fastest scope speed (default 24)
+  --max-speed MM_S         fastest scope speed (default 20)
   --noise GREY             sensor read noise in grey levels (default 1.5)
   --supersampling N        N x N rays per pixel (default 2)
 )";

@@ -204,7 +204,7 @@ int runTrack(const Words& words) {
     std::cout << cv::format("absolute trajectory error (no alignment, %d frames): RMS %.3f mm, max %.3f mm\n",
                             errorCount, std::sqrt(errorSum2 / errorCount), errorMax);
   }
-  return lost == count - 0 && count > 1 ? 1 : 0;
+  return count > 1 && lost == count - 1 ? 1 : 0;  // nothing beyond the start tracked: a failed run
 }
 
 }  // namespace tissuemosaic::cli

@@ -65,7 +65,7 @@ struct ScanPath {
     }
     rollOmega = period(10, 16);
     rollPhase = uniform(generator, 0, 2 * pi);
-    distanceOmega = period(6, 12);
+    distanceOmega = period(12, 20);
     distancePhase = uniform(generator, 0, 2 * pi);
   }
 
@@ -87,7 +87,7 @@ struct ScanPath {
     return samples[i - 1] * (1 - a) + samples[i] * a;
   }
 
-  /// Left rectified camera at time t: aimed at the surface point above the path position from the working distance.
+  /// Left rectified camera at time t.
   void pose(const SyntheticScanOptions& o, const TissueSurface& surface, double t, cv::Matx33d& R_world_camera,
             cv::Vec3d& centreMm) const {
     const cv::Vec2d xy = positionMm(startMm + walkedMm(o, t));
@@ -99,8 +99,9 @@ struct ScanPath {
     const double mid = 0.5 * (o.minWorkingDistanceMm + o.maxWorkingDistanceMm);
     const double amplitude = 0.5 * (o.maxWorkingDistanceMm - o.minWorkingDistanceMm);
     const double distance = mid + amplitude * std::sin(distanceOmega * t + distancePhase);
-    const cv::Vec3d aim(xy[0], xy[1], surface.heightMm(xy[0], xy[1]));
-    centreMm = aim - distance * (R_world_camera * cv::Vec3d(0, 0, 1));
+    // The scope hovers at the working distance above the tissue under the path; tilting turns the view about the
+    // scope tip, as a hand does, instead of swinging the tip around a point on the tissue.
+    centreMm = cv::Vec3d(xy[0], xy[1], surface.heightMm(xy[0], xy[1]) - distance);
   }
 };
 

@@ -28,8 +28,8 @@ struct SyntheticScanOptions {
   uint32_t seed = 1;                 ///< same seed and options: identical frames, bit for bit
   int frames = 120;
   double fps = 30.0;
-  double minWorkingDistanceMm = 70.0, maxWorkingDistanceMm = 100.0;  ///< along the optical axis to the tissue
-  double minSpeedMmPerS = 6.0, maxSpeedMmPerS = 24.0;                ///< speed of the left eye along the path
+  double minWorkingDistanceMm = 70.0, maxWorkingDistanceMm = 100.0;  ///< height of the scope tip above the tissue
+  double minSpeedMmPerS = 6.0, maxSpeedMmPerS = 20.0;  ///< speed along the path (height changes add a little)
   double rasterWidthMm = 50.0, rasterHeightMm = 30.0;  ///< the path's extent on the tissue (X x Y)
   int rasterSweeps = 5;              ///< back-and-forth sweeps along Y per pass along X
   double maxTiltDeg = 10.0;          ///< largest angle between the optical axis and world +Z

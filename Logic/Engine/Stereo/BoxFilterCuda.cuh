@@ -19,18 +19,21 @@ namespace tissuemosaic::stereo {
 constexpr int kBoxTile = 32;
 constexpr int kBoxThreads = 256;
 
-TM_HOST_DEVICE inline std::size_t boxFilterSharedBytes(int radius) {
+/// Shared memory of one tile; Sum is the value type's exact tile accumulator (int32 where it cannot overflow).
+template <class Sum>
+inline std::size_t boxFilterSharedBytes(int radius) {
   const std::size_t span = kBoxTile + 2 * radius;
-  return span * span * (sizeof(int64_t) + sizeof(uint8_t)) + span * kBoxTile * (sizeof(int64_t) + sizeof(int16_t)) + 16;
+  return span * span * (sizeof(Sum) + sizeof(uint8_t)) + span * kBoxTile * (sizeof(Sum) + sizeof(int16_t)) + 16;
 }
 
 template <class Value, class Consumer>
 __global__ void __launch_bounds__(kBoxThreads) boxFilterKernel(Value value, Consumer consumer, int width, int height,
                                                                int radius) {
+  using Sum = typename Value::TileSum;
   extern __shared__ int64_t boxShared[];
   const int span = kBoxTile + 2 * radius;
-  int64_t* values = boxShared;                                      // [span][span]
-  int64_t* rowSums = values + span * span;                          // [span][kBoxTile]
+  Sum* values = reinterpret_cast<Sum*>(boxShared);                  // [span][span]
+  Sum* rowSums = values + span * span;                              // [span][kBoxTile]
   int16_t* rowCounts = reinterpret_cast<int16_t*>(rowSums + span * kBoxTile);  // [span][kBoxTile]
   uint8_t* valid = reinterpret_cast<uint8_t*>(rowCounts + span * kBoxTile);    // [span][span]
   const int x0 = blockIdx.x * kBoxTile, y0 = blockIdx.y * kBoxTile;
@@ -39,13 +42,13 @@ __global__ void __launch_bounds__(kBoxThreads) boxFilterKernel(Value value, Cons
     const int x = x0 - radius + k % span, y = y0 - radius + k / span;
     int64_t v = 0;
     const bool ok = x >= 0 && y >= 0 && x < width && y < height && value(x, y, v);
-    values[k] = ok ? v : 0;
+    values[k] = ok ? static_cast<Sum>(v) : Sum(0);
     valid[k] = ok;
   }
   __syncthreads();
   for (int k = threadIdx.x; k < span * kBoxTile; k += blockDim.x) {
     const int row = k / kBoxTile, c = k % kBoxTile;
-    int64_t sum = 0;
+    Sum sum = 0;
     int count = 0;
     for (int dx = 0; dx <= 2 * radius; ++dx) {
       sum += values[row * span + c + dx];
@@ -59,20 +62,22 @@ __global__ void __launch_bounds__(kBoxThreads) boxFilterKernel(Value value, Cons
     const int row = k / kBoxTile, c = k % kBoxTile;
     const int x = x0 + c, y = y0 + row;
     if (x >= width || y >= height) continue;
-    int64_t sum = 0;
+    Sum sum = 0;
     int count = 0;
     for (int dy = 0; dy <= 2 * radius; ++dy) {
       sum += rowSums[(row + dy) * kBoxTile + c];
       count += rowCounts[(row + dy) * kBoxTile + c];
     }
-    consumer(static_cast<int64_t>(y) * width + x, sum, count);
+    consumer(static_cast<int64_t>(y) * width + x, static_cast<int64_t>(sum), count);
   }
 }
 
 /// Returns false (and does nothing) when the radius's tile does not fit in the GPU's shared memory.
 template <class Value, class Consumer>
 bool boxFilterTiledCuda(const Value& value, int radius, const Consumer& consumer, int width, int height) {
-  const std::size_t bytes = boxFilterSharedBytes(radius);
+  // Windows above 41x41 could overflow an int32 tile sum: they take the direct int64 passes.
+  if (sizeof(typename Value::TileSum) < sizeof(int64_t) && radius > 20) return false;
+  const std::size_t bytes = boxFilterSharedBytes<typename Value::TileSum>(radius);
   static int limit = -1;
   if (limit < 0) {
     int device = 0, optIn = 0;

@@ -32,12 +32,14 @@ __global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in
   const int rightBegin = x0 - r - maxDisparity;
   float* leftRows = shared;
   float* rightRows = leftRows + cachedRows * columns;
-  float* columnEven = rightRows + cachedRows * rightColumns;  // [kRowsPerBlock][columns]
-  float* columnOdd = columnEven + kRowsPerBlock * columns;
+  // Column sums, double-buffered by disparity parity so that one barrier per disparity suffices: a thread that
+  // writes buffer (i & 1) has passed the barrier of disparity i - 1, after every read of disparity i - 2.
+  float* columnBuffers = rightRows + cachedRows * rightColumns;  // [2][2][kRowsPerBlock][columns]
+  const int bufferFloats = 2 * kRowsPerBlock * columns;
   // Right pixels x - d that this tile can reach: [x0 - maxDisparity, x0 + tileWidth - 1 - minDisparity].
   const int rightPixels = tileWidth + in.disparityCount - 1;
   const int rightPixelBegin = x0 - maxDisparity;
-  float* rightSum = columnOdd + kRowsPerBlock * columns;      // [kRowsPerBlock][rightPixels]
+  float* rightSum = columnBuffers + 2 * bufferFloats;          // [kRowsPerBlock][rightPixels]
   float* rightNorm = rightSum + kRowsPerBlock * rightPixels;
   uint32_t* rightWinner = reinterpret_cast<uint32_t*>(rightNorm + kRowsPerBlock * rightPixels);
 
@@ -75,6 +77,8 @@ __global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in
 
   for (int i = 0; i < in.disparityCount; ++i) {
     const int d = in.minDisparity + i;
+    float* columnEven = columnBuffers + (i & 1) * bufferFloats;
+    float* columnOdd = columnEven + kRowsPerBlock * columns;
     {
       const int rightOffset = t + maxDisparity - d;  // column (x0 - r + t) - d in the right cache
       const auto product = [&](int cachedRow) {
@@ -113,7 +117,10 @@ __global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in
               r);
           const int rightIndex = k * rightPixels + (x - d - rightPixelBegin);
           q = quantisedZncc(sumLR, sumL[k], rightSum[rightIndex], normL[k], rightNorm[rightIndex], n);
-          if (q != kNoZncc) atomicMax(&rightWinner[rightIndex], packRightWinner(q, i));
+          // Within one disparity every thread owns a different right pixel, and disparities are separated by a
+          // barrier: a plain compare-and-store merges the candidates.
+          const uint32_t key = packRightWinner(q, i);
+          if (q != kNoZncc && key > rightWinner[rightIndex]) rightWinner[rightIndex] = key;
         }
         in.volume[in.volumeIndex(i, x, y)] = q;
         if (q > best[k]) {
@@ -122,8 +129,8 @@ __global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in
         }
       }
     }
-    __syncthreads();
   }
+  __syncthreads();
   if (ownsColumn) {
 #pragma unroll
     for (int k = 0; k < kRowsPerBlock; ++k) {
@@ -159,7 +166,7 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs) {
   const std::size_t rightPixels = tileWidth + inputs.disparityCount - 1;
   const std::size_t sharedBytes =
       sizeof(float) * (static_cast<std::size_t>(cachedRows) * (2 * kThreads + inputs.disparityCount - 1) +
-                       2 * kRowsPerBlock * kThreads + 3 * kRowsPerBlock * rightPixels);
+                       4 * kRowsPerBlock * kThreads + 3 * kRowsPerBlock * rightPixels);
   static std::size_t raisedLimit = 48 * 1024;
   if (sharedBytes > raisedLimit) {
     const cudaError_t status =

@@ -429,6 +429,7 @@ struct StoreBoxSums {
 struct DiscreteDisparityValue {
   ImageView<const int16_t> disparity;
   static constexpr double kScale = 1.0;
+  using TileSum = int32_t;  ///< exact for |d| <= 1000 over windows up to 41x41 (GPU tiles keep it in shared memory)
   TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
     const int16_t d = disparity.at(x, y);
     value = d;
@@ -440,6 +441,7 @@ struct DiscreteDisparityValue {
 struct FloatValue {
   ImageView<const float> map;
   static constexpr double kScale = kFixedPointScale;
+  using TileSum = int64_t;
   TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
     const float v = map.at(x, y);
     const bool valid = isFiniteValue(v);
