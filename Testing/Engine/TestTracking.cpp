@@ -161,27 +161,3 @@ TEST(FrameTracker, ReportsABlankFrameAsLostAndResumes) {
   // Misuse throws: a frame of the wrong size.
   EXPECT_THROW(tracker.track(cv::Mat(10, 10, CV_8UC3, cv::Scalar(0)), cv::Mat(10, 10, CV_32F)), Error);
 }
-
-TEST(FrameTracker, DISABLED_ExperimentGtDisparity) {
-  synthetic::SyntheticScanOptions o = shortScan();
-  o.frames = 30;
-  for (uint32_t seed : {1u, 4u}) {
-    o.seed = seed;
-    const synthetic::SyntheticScan scan(o);
-    for (int useGt = 0; useGt < 2; ++useGt) {
-      StereoMatcher matcher(Device::Cpu, StereoParameters{});
-      FrameTracker tracker(scan.geometry(), FrameTrackerOptions{}, scan.T_world_camera(0));
-      double sum2 = 0, worst = 0, worstDeg = 0, depthErr = 0; int depthN = 0;
-      for (int k = 0; k < scan.frameCount(); ++k) {
-        const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
-        const cv::Mat disparity = useGt ? frame.disparityPx : matcher.computeDisparity(frame.leftRectified, frame.rightRectified);
-        if (!useGt) { cv::Mat d = cv::abs(disparity - frame.disparityPx); cv::Mat m = (d == d); depthErr += cv::mean(d, m)[0]; depthN++; }
-        const TrackResult r = tracker.track(frame.leftRectified, disparity);
-        const double e = (r.T_world_camera.block<3, 1>(0, 3) - frame.T_world_camera.block<3, 1>(0, 3)).norm();
-        const double deg = Eigen::AngleAxisd(Eigen::Matrix3d(frame.T_world_camera.block<3, 3>(0, 0).transpose() * r.T_world_camera.block<3, 3>(0, 0))).angle() * 180 / M_PI;
-        sum2 += e * e; worst = std::max(worst, e); worstDeg = std::max(worstDeg, deg);
-      }
-      std::printf("seed %u gt %d: ATE %.3f max %.3f maxdeg %.3f mean|dd| %.3f px\n", seed, useGt, std::sqrt(sum2 / o.frames), worst, worstDeg, depthN ? depthErr / depthN : 0.0);
-    }
-  }
-}

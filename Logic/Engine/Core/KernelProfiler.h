@@ -1,7 +1,7 @@
 #pragma once
 /// @file KernelProfiler.h
 /// @brief Optional per-kernel timing for performance work: with the environment variable TM_PROFILE_KERNELS=1,
-/// every parallelFor (and the hand-written kernels) is synchronised and timed, and report() lists the total
+/// every parallelFor (CPU or CUDA) and the hand-written kernels are timed (CUDA launches synchronised), and report() lists the total
 /// milliseconds per kernel. Off by default: it costs one getenv at start-up and one branch per launch.
 #include <chrono>
 #include <string>

@@ -10,11 +10,13 @@
 #include <algorithm>
 #include <cstdint>
 
-#if defined(__CUDACC__)
-#include "CudaRuntime.h"
 #include "KernelProfiler.h"
 
+#include <chrono>
 #include <typeinfo>
+
+#if defined(__CUDACC__)
+#include "CudaRuntime.h"
 #endif
 
 namespace tissuemosaic {
@@ -33,12 +35,18 @@ struct ParallelFor<CpuBackend> {
     if (count <= 0) return;
     grain = std::max<int64_t>(1, grain);
     const int64_t tasks = (count + grain - 1) / grain;
+    const bool profile = profiling::enabled();
+    const auto start = profile ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
     cv::parallel_for_(cv::Range(0, static_cast<int>(tasks)), [&](const cv::Range& range) {
       for (int64_t task = range.start; task < range.end; ++task) {
         const int64_t end = std::min(count, (task + 1) * grain);
         for (int64_t i = task * grain; i < end; ++i) functor(i);
       }
     });
+    if (profile) {
+      profiling::record(typeid(Functor).name(),
+                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
   }
 };
 

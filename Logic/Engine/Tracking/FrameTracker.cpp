@@ -4,6 +4,7 @@
 #include "Tracking/HistogramVoting.h"
 #include "Tracking/KeyFrameDecision.h"
 #include "Tracking/PnpSolver.h"
+#include "Tracking/SubPixelMatch.h"
 
 #include <Eigen/Geometry>
 #include <opencv2/features2d.hpp>
@@ -31,6 +32,7 @@ struct Reference {
   int frameIndex = -1;
   std::vector<cv::Point2f> pixelsPx;
   cv::Mat descriptors;
+  cv::Mat grey;
   Points3d pointsWorldMm;
   Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
 };
@@ -59,6 +61,7 @@ struct FrameTracker::Impl {
     reference = Reference();
     reference.frameIndex = frameIndex;
     reference.T_world_camera = T_world_camera;
+    reference.grey = features.grey;
     const Eigen::Matrix3d R = T_world_camera.block<3, 3>(0, 0);
     const Eigen::Vector3d t = T_world_camera.block<3, 1>(0, 3);
     std::vector<int> rows;
@@ -127,18 +130,26 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   Points3d points;
   Pixels2d pixels, fromPx;
   std::vector<std::vector<CandidateMatch>> candidates;
+  // With sub-pixel refinement, a match whose window does not lock onto the reference window is dropped: it is
+  // either wrong or too poorly textured to be located better than ORB's pixel grid.
+  const auto locate = [&](const cv::Point2f& from, cv::Point2f& to) {
+    return !fp.subPixelRefinement ||
+           refineMatchLucasKanade(s.reference.grey, features.grey, from, to, 5, fp.maxRefinementShiftPx);
+  };
   for (const std::vector<cv::DMatch>& list : knn) {
     if (list.empty() || list[0].distance > fp.maxHammingDistance) continue;
     const cv::Point2f from = s.reference.pixelsPx[list[0].queryIdx];
-    const cv::Point2f to = features.keypoints[list[0].trainIdx].pt;
+    cv::Point2f to = features.keypoints[list[0].trainIdx].pt;
+    if (!locate(from, to)) continue;
     points.push_back(s.reference.pointsWorldMm[list[0].queryIdx]);
     fromPx.emplace_back(from.x, from.y);
     pixels.emplace_back(to.x, to.y);
     std::vector<CandidateMatch> further;
     for (std::size_t j = 1; j < list.size(); ++j) {
       if (list[j].distance > fp.maxHammingDistance) break;
+      cv::Point2f p = features.keypoints[list[j].trainIdx].pt;
+      if (!locate(from, p)) continue;
       CandidateMatch candidate;
-      const cv::Point2f p = features.keypoints[list[j].trainIdx].pt;
       candidate.pixelPx = Eigen::Vector2d(p.x, p.y);
       further.push_back(candidate);
     }

@@ -43,6 +43,7 @@ void FeatureParameters::validate() const {
   requireRange(maxHammingDistance, 1, 256, "maxHammingDistance");
   requireRange(candidatesPerFeature, 0, 8, "candidatesPerFeature");
   requireRange(voteBinPx, 0.5, 1000, "voteBinPx");
+  requireRange(maxRefinementShiftPx, 0.1, 100, "maxRefinementShiftPx");
 }
 
 StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified, const cv::Mat& disparityPx,
@@ -52,10 +53,10 @@ StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified,
           "tracking: the left image must be 8-bit grey or BGR");
   require(disparityPx.type() == CV_32FC1 && disparityPx.size() == leftRectified.size(),
           "tracking: the disparity map must be CV_32F and of the left image's size");
-  cv::Mat grey;
-  if (leftRectified.channels() == 3) cv::cvtColor(leftRectified, grey, cv::COLOR_BGR2GRAY);
-  else grey = leftRectified;
   StereoFeatures features;
+  cv::Mat& grey = features.grey;
+  if (leftRectified.channels() == 3) cv::cvtColor(leftRectified, grey, cv::COLOR_BGR2GRAY);
+  else grey = leftRectified.clone();
   orb.detectAndCompute(grey, cv::noArray(), features.keypoints, features.descriptors);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   features.pointsCameraMm.assign(features.keypoints.size(), Eigen::Vector3d(nan, nan, nan));
