@@ -4,6 +4,7 @@
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
+#include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
 #include "SyntheticStereoScene.h"
 
@@ -34,23 +35,6 @@ double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   const std::size_t n = values.size();
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-struct Accuracy {
-  double density = 0, badOver1 = 0;
-};
-
-Accuracy accuracy(const cv::Mat& disparity, const cv::Mat& truth) {
-  long known = 0, estimated = 0, bad = 0;
-  for (int i = 0; i < truth.rows * truth.cols; ++i) {
-    const float t = truth.at<float>(i), d = disparity.at<float>(i);
-    if (!std::isfinite(t)) continue;
-    ++known;
-    if (!std::isfinite(d)) continue;
-    ++estimated;
-    bad += std::abs(d - t) > 1.0f;
-  }
-  return {known ? double(estimated) / known : 0.0, estimated ? double(bad) / estimated : 1.0};
 }
 
 }  // namespace
@@ -103,7 +87,7 @@ int runBenchStereo(const Words& words) {
     std::fprintf(stderr, "kernel profile over %d runs (TM_PROFILE_KERNELS; each launch synchronised):\n%s", repeats + 2,
                  profiling::report().c_str());
   }
-  const Accuracy ours = accuracy(disparity, pair.disparityPx);
+  const DisparityScore ours = scoreDisparity(disparity, pair.disparityPx);
 
   std::printf("{\"command\": \"bench stereo\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
@@ -133,7 +117,7 @@ int runBenchStereo(const Words& words) {
     cv::Mat sgbmFloat;
     sgbmDisparity.convertTo(sgbmFloat, CV_32F, 1.0 / 16.0);
     sgbmFloat.setTo(NAN, sgbmDisparity < (parameters.minDisparityPx - 1) * 16);
-    const Accuracy theirs = accuracy(sgbmFloat, pair.disparityPx);
+    const DisparityScore theirs = scoreDisparity(sgbmFloat, pair.disparityPx);
     const double oursMs = median(total), sgbmMedian = median(sgbmMs);
     std::printf(",\n \"opencv_sgbm_3way\": {\"median_ms\": %.4f, \"num_disparities\": %d, \"block_size\": %d, "
                 "\"density\": %.4f, \"bad1\": %.4f},\n \"total_over_sgbm\": %.4f",

@@ -6,6 +6,7 @@
 #include "IO/DisparityPfm.h"
 #include "IO/ImageFile.h"
 #include "IO/PointCloudPly.h"
+#include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
 
 #include <opencv2/core.hpp>
@@ -39,26 +40,11 @@ improved Laplacian refinement.
 )";
 
 void printScore(const cv::Mat& disparity, const cv::Mat& truth) {
-  require(truth.size() == disparity.size(), "the ground truth's size differs from the disparity's");
-  long evaluated = 0, estimated = 0, bad1 = 0, bad2 = 0;
-  double absError = 0;
-  for (int i = 0; i < disparity.rows * disparity.cols; ++i) {
-    const float t = truth.at<float>(i), d = disparity.at<float>(i);
-    if (!std::isfinite(t)) continue;
-    ++evaluated;
-    if (!std::isfinite(d)) continue;
-    ++estimated;
-    const double error = std::abs(d - t);
-    absError += error;
-    bad1 += error > 1.0;
-    bad2 += error > 2.0;
-  }
-  require(evaluated > 0, "the ground truth has no known pixel");
+  const DisparityScore score = scoreDisparity(disparity, truth);
+  require(score.evaluated > 0, "the ground truth has no known pixel");
   std::printf("accuracy against ground truth: density %.4f, bad-1 %.4f, bad-2 %.4f, mean abs error %.3f px "
               "(over %ld known pixels)\n",
-              static_cast<double>(estimated) / evaluated, estimated ? static_cast<double>(bad1) / estimated : 1.0,
-              estimated ? static_cast<double>(bad2) / estimated : 1.0, estimated ? absError / estimated : 0.0,
-              evaluated);
+              score.density, score.badOver1, score.badOver2, score.meanAbsError, score.evaluated);
 }
 
 }  // namespace

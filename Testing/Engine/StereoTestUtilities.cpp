@@ -34,29 +34,4 @@ cv::Mat shiftedView(const cv::Mat& left, double d0, double gx, double gy) {
   return right;
 }
 
-DisparityScore scoreDisparity(const cv::Mat& estimate, const cv::Mat& groundTruth, const cv::Mat& mask) {
-  DisparityScore score;
-  int estimated = 0, bad1 = 0, bad2 = 0;
-  double absSum = 0;
-  for (int y = 0; y < estimate.rows; ++y) {
-    for (int x = 0; x < estimate.cols; ++x) {
-      const float truth = groundTruth.at<float>(y, x);
-      if (!mask.at<uchar>(y, x) || !std::isfinite(truth)) continue;
-      ++score.evaluated;
-      const float value = estimate.at<float>(y, x);
-      if (!std::isfinite(value)) continue;
-      ++estimated;
-      const double error = std::abs(value - truth);
-      absSum += error;
-      bad1 += error > 1.0;
-      bad2 += error > 2.0;
-    }
-  }
-  score.density = score.evaluated ? static_cast<double>(estimated) / score.evaluated : 0;
-  score.badOver1 = estimated ? static_cast<double>(bad1) / estimated : 1;
-  score.badOver2 = estimated ? static_cast<double>(bad2) / estimated : 1;
-  score.meanAbsError = estimated ? absSum / estimated : 0;
-  return score;
-}
-
 }  // namespace tissuemosaic::test

@@ -1,5 +1,7 @@
 #pragma once
 // Helpers shared by the stereo tests: seeded textures, brute-force references, Middlebury loading and scoring.
+#include "Stereo/DisparityScore.h"
+
 #include <opencv2/core.hpp>
 
 #include <string>
@@ -13,16 +15,8 @@ cv::Mat randomTexture(int width, int height, unsigned seed, double blurSigma = 1
 /// left texture at x + d with linear interpolation; d = d0 + gx * x + gy * y.
 cv::Mat shiftedView(const cv::Mat& left, double d0, double gx = 0, double gy = 0);
 
-struct DisparityScore {
-  double density = 0;      ///< estimated pixels / evaluated pixels
-  double badOver1 = 0;     ///< share of estimated pixels with |error| > 1
-  double badOver2 = 0;     ///< share of estimated pixels with |error| > 2
-  double meanAbsError = 0; ///< over estimated pixels
-  int evaluated = 0;
-};
-
-/// Scores an estimate (CV_32F, NaN = none) against ground truth (CV_32F, NaN = unknown) over mask (8U, nonzero).
-DisparityScore scoreDisparity(const cv::Mat& estimate, const cv::Mat& groundTruth, const cv::Mat& mask);
+using tissuemosaic::DisparityScore;
+using tissuemosaic::scoreDisparity;
 
 struct MiddleburyScene {
   cv::Mat left, right;     ///< BGR

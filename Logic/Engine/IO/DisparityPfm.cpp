@@ -1,5 +1,6 @@
 #include "DisparityPfm.h"
 
+#include "ByteOrder.h"
 #include "Core/Error.h"
 
 #include <cmath>
@@ -9,13 +10,6 @@
 
 namespace tissuemosaic {
 namespace {
-
-bool hostIsLittleEndian() {
-  const std::uint16_t one = 1;
-  std::uint8_t first = 0;
-  std::memcpy(&first, &one, 1);
-  return first == 1;
-}
 
 void swapBytes(float* values, std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) {

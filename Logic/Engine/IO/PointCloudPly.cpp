@@ -1,5 +1,6 @@
 #include "PointCloudPly.h"
 
+#include "ByteOrder.h"
 #include "Core/Error.h"
 
 #include <algorithm>
@@ -14,13 +15,6 @@
 
 namespace tissuemosaic {
 namespace {
-
-bool hostIsLittleEndian() {
-  const std::uint16_t one = 1;
-  std::uint8_t first = 0;
-  std::memcpy(&first, &one, 1);
-  return first == 1;
-}
 
 template <class T>
 void appendLittleEndian(std::string& bytes, T value) {

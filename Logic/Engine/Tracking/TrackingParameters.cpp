@@ -1,11 +1,9 @@
 #include "TrackingParameters.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterChecks.h"
 
 #include <opencv2/core/persistence.hpp>
-
-#include <sstream>
-#include <type_traits>
 
 namespace tissuemosaic {
 
@@ -13,24 +11,12 @@ namespace {
 
 template <class T>
 void requireRange(const char* name, T value, T low, T high) {
-  if (!(value >= low && value <= high)) {
-    std::ostringstream message;
-    message << "tracking parameter " << name << " = " << value << " is out of range [" << low << ", " << high << "]";
-    throw Error(message.str());
-  }
+  parameters::requireRange("tracking", name, value, low, high);
 }
 
 template <class T>
 void readKey(const cv::FileNode& node, const char* name, T& value) {
-  const cv::FileNode entry = node[name];
-  if (entry.empty()) return;
-  if (!entry.isInt() && !entry.isReal()) throw Error(std::string("tracking parameter ") + name + " must be a number");
-  if constexpr (std::is_integral_v<T>) {
-    if (!entry.isInt()) throw Error(std::string("tracking parameter ") + name + " must be an integer");
-    value = static_cast<T>(static_cast<int>(entry));
-  } else {
-    value = static_cast<T>(static_cast<double>(entry));
-  }
+  parameters::readKey("tracking", node, name, value);
 }
 
 }  // namespace

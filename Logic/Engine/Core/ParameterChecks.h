@@ -1,0 +1,40 @@
+#pragma once
+/// @file ParameterChecks.h
+/// @brief The checks and file reading shared by every parameter struct (StereoParameters, TrackingParameters, ...):
+/// one wording for range errors and one rule for reading numbers from a cv::FileStorage node.
+#include "Error.h"
+
+#include <opencv2/core.hpp>
+
+#include <sstream>
+#include <string>
+#include <type_traits>
+
+namespace tissuemosaic::parameters {
+
+/// Throws Error "<group> parameter <name> = <value> is out of range [low, high]" unless low <= value <= high
+/// (NaN fails).
+template <class T>
+void requireRange(const char* group, const char* name, T value, T low, T high) {
+  if (!(value >= low && value <= high)) {
+    std::ostringstream message;
+    message << group << " parameter " << name << " = " << value << " is out of range [" << low << ", " << high << "]";
+    throw Error(message.str());
+  }
+}
+
+/// Reads node[name] into value when present (a missing key keeps the default); a value of the wrong type is an Error.
+template <class T>
+void readKey(const char* group, const cv::FileNode& node, const char* name, T& value) {
+  const cv::FileNode entry = node[name];
+  if (entry.empty()) return;
+  if (!entry.isInt() && !entry.isReal()) throw Error(std::string(group) + " parameter " + name + " must be a number");
+  if constexpr (std::is_integral_v<T>) {
+    if (!entry.isInt()) throw Error(std::string(group) + " parameter " + name + " must be an integer");
+    value = static_cast<T>(static_cast<int>(entry));
+  } else {
+    value = static_cast<T>(static_cast<double>(entry));
+  }
+}
+
+}  // namespace tissuemosaic::parameters
