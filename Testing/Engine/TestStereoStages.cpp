@@ -106,6 +106,26 @@ TEST(StereoStages, CostVolumeMatchesBruteForceZncc) {
   }
 }
 
+TEST(StereoStages, BandedCpuWindowStatisticsEqualThePerPixelFunctors) {
+  for (int radius : {2, 5, 8}) {
+    const cv::Mat texture = test::randomTexture(77, 45, 7 + radius);
+    cv::Mat grey;
+    texture.convertTo(grey, CV_32F);
+    const int w = grey.cols, h = grey.rows;
+    Image<float> image(Device::Cpu, w, h);
+    image.buffer().upload(grey.ptr<float>());
+    Image<float> ce(Device::Cpu, w, h), co(Device::Cpu, w, h), ce2(Device::Cpu, w, h), co2(Device::Cpu, w, h);
+    Image<float> sum(Device::Cpu, w, h), norm(Device::Cpu, w, h), bandSum(Device::Cpu, w, h), bandNorm(Device::Cpu, w, h);
+    parallelFor<CpuBackend>(w * h, WindowColumnSums{image.view(), ce.view(), co.view(), ce2.view(), co2.view(), radius});
+    parallelFor<CpuBackend>(w * h, WindowStatistics{ce.view(), co.view(), ce2.view(), co2.view(), sum.view(), norm.view(), radius, 1.0f});
+    computeWindowStatisticsCpu(image.view(), bandSum.view(), bandNorm.view(), radius, 1.0f);
+    for (int i = 0; i < w * h; ++i) {
+      ASSERT_EQ(bandSum.view()[i], sum.view()[i]) << "radius " << radius << " pixel " << i;
+      ASSERT_EQ(bandNorm.view()[i], norm.view()[i]) << "radius " << radius << " pixel " << i;
+    }
+  }
+}
+
 TEST(StereoStages, ZnccFindsIntegerShiftOfTexture) {
   const cv::Mat left = test::randomTexture(160, 100, 11);
   const cv::Mat right = test::shiftedView(left, 7);

@@ -27,6 +27,32 @@ struct PaddedRows {
   const float* row(int y) const { return values.data() + static_cast<std::size_t>(y - firstRow) * stride + margin; }
 };
 
+/// Chessboard window sums of one row for x in [xBegin, xEnd) from column sums (even/odd indexed by column c in
+/// [xBegin - r, xEnd + r)): S(x) = sum over dx of (dx even ? even : odd)[x + dx]. Grouped for fewer additions: with
+/// f the array of offset -r's parity and g the other, G(j) = f(j) + g(j + 1) pairs neighbouring offsets, H(j) =
+/// G(j) + G(j + 2) pairs those, and S(x) = H(x - r) + H(x - r + 4) + ... (+ G for odd r) + f(x + r). All values are
+/// integers below 2^24, so the grouping changes nothing.
+void chessboardWindowSumsRow(const float* even, const float* odd, int r, int xBegin, int xEnd, float* pairs,
+                             float* quads, float* sums) {
+  const float* __restrict f = (r & 1) ? odd : even;
+  const float* __restrict g = (r & 1) ? even : odd;
+  float* __restrict G = pairs;
+  float* __restrict H = quads;
+  const int cBegin = xBegin - r, cEnd = xEnd + r;
+  for (int c = cBegin; c < cEnd - 1; ++c) G[c] = f[c] + g[c + 1];
+  for (int c = cBegin; c < cEnd - 3; ++c) H[c] = G[c] + G[c + 2];
+  float* __restrict out = sums;
+  for (int x = xBegin; x < xEnd; ++x) out[x] = f[x + r];
+  for (int m = 0; m + 1 < r; m += 2) {
+    const float* __restrict term = H + (m * 2 - r);
+    for (int x = xBegin; x < xEnd; ++x) out[x] += term[x];
+  }
+  if (r & 1) {
+    const float* __restrict term = G + (2 * (r - 1) - r);
+    for (int x = xBegin; x < xEnd; ++x) out[x] += term[x];
+  }
+}
+
 /// Rows per CPU task of the cost volume: the column sums of each disparity are carried down the band.
 constexpr int kBandRows = 16;
 
@@ -46,6 +72,7 @@ struct ZnccVolumeBand {
     const PaddedRows right(in.right, y0 - r, rows + 2 * r, r + maxShift);
     const int n = chessboardPixelCount(r);
     std::vector<float> evenStore(width + 2 * r), oddStore(width + 2 * r), windowSum(width);
+    std::vector<float> pairs(width + 2 * r), quads(width + 2 * r);
     float* __restrict even = evenStore.data() + r;  // even[c] for c in [-r, width + r)
     float* __restrict odd = oddStore.data() + r;
     const std::size_t bandPixels = static_cast<std::size_t>(rows) * width;
@@ -88,13 +115,8 @@ struct ZnccVolumeBand {
             odd[c] = oddRadius ? e + entering : e - leaving;
           }
         }
-        // Window sums: columns x+dx with dx even add their even-row sums, dx odd their odd-row sums.
+        chessboardWindowSumsRow(even, odd, r, xBegin, xEnd, pairs.data() + r, quads.data() + r, windowSum.data());
         float* __restrict sums = windowSum.data();
-        std::fill(sums + xBegin, sums + xEnd, 0.0f);
-        for (int dx = -r; dx <= r; ++dx) {
-          const float* __restrict column = ((dx & 1) == 0 ? even : odd) + dx;
-          for (int x = xBegin; x < xEnd; ++x) sums[x] += column[x];
-        }
         int16_t* __restrict scores = in.volume + in.volumeIndex(i, 0, y);  // row y's slice for d
         std::fill(scores, scores + xBegin, kNoZncc);
         std::fill(scores + xEnd, scores + width, kNoZncc);
@@ -130,7 +152,78 @@ struct ZnccVolumeBand {
   }
 };
 
+/// Window statistics of one band of rows: chessboard sums of I and I^2 per pixel (column sums carried down the band
+/// as in ZnccVolumeBand, window sums vectorised over x), then the shared windowInverseNorm.
+struct WindowStatisticsBand {
+  ImageView<const float> image;
+  ImageView<float> sum, inverseNorm;
+  int radius;
+  float minStdDev;
+
+  void operator()(int64_t bandIndex) const {
+    const int width = image.width, height = image.height, r = radius;
+    const int y0 = static_cast<int>(bandIndex) * kBandRows;
+    const int rows = std::min(kBandRows, height - y0);
+    const PaddedRows padded(image, y0 - r, rows + 2 * r, r);
+    const int n = chessboardPixelCount(r);
+    const int columns = width + 2 * r;
+    std::vector<float> store(4 * static_cast<std::size_t>(columns)), sums(width), sumsSq(width);
+    float* __restrict even = store.data() + r;  // index c in [-r, width + r)
+    float* __restrict odd = even + columns;
+    float* __restrict evenSq = odd + columns;
+    float* __restrict oddSq = evenSq + columns;
+    for (int dy = -r; dy <= r; ++dy) {
+      const float* __restrict row = padded.row(y0 + dy);
+      float* __restrict target = (dy & 1) == 0 ? even : odd;
+      float* __restrict targetSq = (dy & 1) == 0 ? evenSq : oddSq;
+      for (int c = -r; c < width + r; ++c) {
+        target[c] += row[c];
+        targetSq[c] += row[c] * row[c];
+      }
+    }
+    const bool oddRadius = (r & 1) != 0;
+    for (int k = 0; k < rows; ++k) {
+      const int y = y0 + k;
+      if (k > 0) {
+        const float* __restrict leave = padded.row(y - 1 - r);
+        const float* __restrict enter = padded.row(y + r);
+        for (int c = -r; c < width + r; ++c) {
+          const float e = even[c], o = odd[c], e2 = evenSq[c], o2 = oddSq[c];
+          even[c] = oddRadius ? o - leave[c] : o + enter[c];
+          odd[c] = oddRadius ? e + enter[c] : e - leave[c];
+          evenSq[c] = oddRadius ? o2 - leave[c] * leave[c] : o2 + enter[c] * enter[c];
+          oddSq[c] = oddRadius ? e2 + enter[c] * enter[c] : e2 - leave[c] * leave[c];
+        }
+      }
+      float* __restrict s = sums.data();
+      float* __restrict s2 = sumsSq.data();
+      std::fill(s, s + width, 0.0f);
+      std::fill(s2, s2 + width, 0.0f);
+      for (int dx = -r; dx <= r; ++dx) {
+        const float* __restrict column = ((dx & 1) == 0 ? even : odd) + dx;
+        const float* __restrict columnSq = ((dx & 1) == 0 ? evenSq : oddSq) + dx;
+        for (int x = 0; x < width; ++x) {
+          s[x] += column[x];
+          s2[x] += columnSq[x];
+        }
+      }
+      float* __restrict outSum = &sum.at(0, y);
+      float* __restrict outNorm = &inverseNorm.at(0, y);
+      for (int x = 0; x < width; ++x) {
+        outSum[x] = s[x];
+        outNorm[x] = windowInverseNorm(s[x], s2[x], n, minStdDev);
+      }
+    }
+  }
+};
+
 }  // namespace
+
+void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,
+                                int radius, float minStdDev) {
+  parallelFor<CpuBackend>((image.height + kBandRows - 1) / kBandRows,
+                          WindowStatisticsBand{image, sum, inverseNorm, radius, minStdDev}, 1);
+}
 
 void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs) {
   parallelFor<CpuBackend>((inputs.left.height + kBandRows - 1) / kBandRows, ZnccVolumeBand{inputs}, 1);

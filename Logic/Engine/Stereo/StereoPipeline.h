@@ -42,6 +42,10 @@ void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& p
 /// Backend-specific ZNCC cost volume + winner (argmax, lowest disparity on ties) from the window statistics. The
 /// right-view winners are found in the same pass (rightBestDisparity).
 void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs);
+/// The CPU launcher of the window statistics (banded and vectorised; the same sums as WindowColumnSums +
+/// WindowStatistics, which the GPU runs).
+void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,
+                                int radius, float minStdDev);
 void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);
 
 }  // namespace tissuemosaic::stereo

@@ -20,11 +20,15 @@ struct PipelineSteps {
   int64_t pixels() const { return static_cast<int64_t>(w.width) * w.height; }
 
   void windowStatistics(Image<float>& image, Image<float>& sum, Image<float>& inverseNorm) {
-    parallelFor<Backend>(pixels(), WindowColumnSums{image.view(), w.columnEven.view(), w.columnOdd.view(),
-                                                    w.columnEvenSq.view(), w.columnOddSq.view(), p.znccRadiusPx()});
-    parallelFor<Backend>(pixels(), WindowStatistics{w.columnEven.view(), w.columnOdd.view(), w.columnEvenSq.view(),
-                                                    w.columnOddSq.view(), sum.view(), inverseNorm.view(),
-                                                    p.znccRadiusPx(), p.minWindowStdDev});
+    if constexpr (std::is_same_v<Backend, CpuBackend>) {
+      computeWindowStatisticsCpu(image.view(), sum.view(), inverseNorm.view(), p.znccRadiusPx(), p.minWindowStdDev);
+    } else {
+      parallelFor<Backend>(pixels(), WindowColumnSums{image.view(), w.columnEven.view(), w.columnOdd.view(),
+                                                      w.columnEvenSq.view(), w.columnOddSq.view(), p.znccRadiusPx()});
+      parallelFor<Backend>(pixels(), WindowStatistics{w.columnEven.view(), w.columnOdd.view(), w.columnEvenSq.view(),
+                                                      w.columnOddSq.view(), sum.view(), inverseNorm.view(),
+                                                      p.znccRadiusPx(), p.minWindowStdDev});
+    }
   }
 
   /// Box sums of value over radius, handed per pixel to consumer(index, sum, count): running sums on the CPU
