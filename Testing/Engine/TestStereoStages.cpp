@@ -194,6 +194,30 @@ TEST(StereoStages, RadialFillingInterpolatesARampAndSkipsEdges) {
   for (int y = 0; y < h; ++y) EXPECT_EQ(output.view().at(39, y), kNoDisparity);
 }
 
+TEST(StereoStages, CpuRadialSweepsEqualTheRayWalks) {
+  // Random hole patterns of several densities, with image borders and radii shorter than the holes.
+  for (int density : {2, 5, 9}) {
+    const int w = 83, h = 57;
+    Image<int16_t> input(Device::Cpu, w, h);
+    std::mt19937 random(density);
+    for (int64_t i = 0; i < w * h; ++i) {
+      input.view()[i] = static_cast<int>(random() % 10) < density ? kNoDisparity : static_cast<int16_t>(random() % 40);
+    }
+    for (int radius : {3, 12, 50}) {
+      Image<int16_t> walked(Device::Cpu, w, h), swept(Device::Cpu, w, h);
+      Buffer<int16_t> distance(Device::Cpu, 8 * w * h), value(Device::Cpu, 8 * w * h);
+      parallelFor<CpuBackend>(w * h, FillHolesRadial{input.view(), walked.view(), radius, 2, 2.5f});
+      fillHolesRadialCpu(input.view(), swept.view(), radius, 2, 2.5f, distance.data(), value.data());
+      int filled = 0;
+      for (int64_t i = 0; i < w * h; ++i) {
+        ASSERT_EQ(swept.view()[i], walked.view()[i]) << "density " << density << " radius " << radius << " pixel " << i;
+        filled += input.view()[i] == kNoDisparity && walked.view()[i] != kNoDisparity;
+      }
+      EXPECT_GT(filled, 0);
+    }
+  }
+}
+
 TEST(StereoStages, BoxSumsMatchBruteForce) {
   const int w = 37, h = 23, r = 4;
   Image<int16_t> input(Device::Cpu, w, h);

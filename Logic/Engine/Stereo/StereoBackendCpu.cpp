@@ -217,7 +217,57 @@ struct WindowStatisticsBand {
   }
 };
 
+/// Nearest estimate along ray direction k for every pixel, within radius steps and inside the image: the hit at p
+/// is p + delta itself when that carries an estimate, else the hit at p + delta one step further. One sweep in the
+/// order that visits p + delta before p gives every ray walk's answer at O(1) per pixel.
+struct NearestAlongRay {
+  ImageView<const int16_t> input;
+  int radius;
+  int16_t* hitDistance;  ///< [8][pixels]; 0 = none
+  int16_t* hitValue;
+
+  void operator()(int64_t direction) const {
+    const int k = static_cast<int>(direction);
+    int dx, dy;
+    radialDirection(k, dx, dy);
+    const int width = input.width, height = input.height;
+    const int64_t offset = static_cast<int64_t>(k) * input.pixelCount();
+    int16_t* __restrict distance = hitDistance + offset;
+    int16_t* __restrict value = hitValue + offset;
+    for (int step = 0; step < height; ++step) {
+      const int y = dy > 0 ? height - 1 - step : step;  // rows: the neighbour's row first
+      for (int i = 0; i < width; ++i) {
+        const int x = dx > 0 ? width - 1 - i : i;  // within a row, for dy == 0: the neighbour first
+        const int nx = x + dx, ny = y + dy;
+        const int64_t here = static_cast<int64_t>(y) * width + x;
+        if (nx < 0 || ny < 0 || nx >= width || ny >= height) {
+          distance[here] = 0;
+          continue;
+        }
+        const int64_t next = static_cast<int64_t>(ny) * width + nx;
+        const int16_t neighbour = input[next];
+        if (neighbour != kNoDisparity) {
+          distance[here] = 1;
+          value[here] = neighbour;
+        } else if (distance[next] > 0 && distance[next] < radius) {
+          distance[here] = static_cast<int16_t>(distance[next] + 1);
+          value[here] = value[next];
+        } else {
+          distance[here] = 0;
+        }
+      }
+    }
+  }
+};
+
 }  // namespace
+
+void fillHolesRadialCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, int minLines,
+                        float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue) {
+  parallelFor<CpuBackend>(8, NearestAlongRay{input, radius, hitDistance, hitValue}, 1);
+  parallelFor<CpuBackend>(input.pixelCount(),
+                          FillHolesRadialFromHits{input, output, hitDistance, hitValue, minLines, maxEndDifferencePx});
+}
 
 void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,
                                 int radius, float minStdDev) {

@@ -242,9 +242,30 @@ struct RemoveOutliers {
 /// depth edge jumps by several pixels at once.
 constexpr float kFillSlopeAllowance = 0.25f;
 
-/// II.B hole filling, method 1: along each of the 8 rays (up to radius px) find the nearest estimate; every pair
-/// of opposite rays that both hit gives a linear interpolation; with at least minLines such lines the hole takes
-/// their distance-weighted mean, rounded to the candidate disparities.
+/// II.B hole filling, method 1, given the nearest estimate along each of the 8 rays (distance 0 = none within the
+/// radius): every pair of opposite rays that both hit gives a linear interpolation, unless its two ends differ by
+/// more than maxEndDifferencePx plus the slope allowance (a depth edge); with at least minLines such lines the hole
+/// takes their distance-weighted mean, rounded to the candidate disparities.
+TM_HOST_DEVICE TM_FORCE_INLINE int16_t radialFillValue(const int* hitValue, const int* hitDistance, int minLines,
+                                                       float maxEndDifferencePx) {
+  int lines = 0;
+  float weightedSum = 0.0f, weightSum = 0.0f;
+  for (int k = 0; k < 4; ++k) {
+    const int a = hitDistance[k], b = hitDistance[k + 4];
+    if (a == 0 || b == 0) continue;
+    const int endDifference = hitValue[k] > hitValue[k + 4] ? hitValue[k] - hitValue[k + 4] : hitValue[k + 4] - hitValue[k];
+    if (static_cast<float>(endDifference) > maxEndDifferencePx + kFillSlopeAllowance * static_cast<float>(a + b)) continue;
+    const float interpolated = static_cast<float>(hitValue[k] * b + hitValue[k + 4] * a) / static_cast<float>(a + b);
+    const float weight = 1.0f / static_cast<float>(a + b);
+    weightedSum += weight * interpolated;
+    weightSum += weight;
+    ++lines;
+  }
+  return lines >= minLines ? static_cast<int16_t>(floorf(weightedSum / weightSum + 0.5f)) : kNoDisparity;
+}
+
+/// II.B hole filling, method 1 (the GPU's form): walks the 8 rays of each hole up to radius px for the nearest
+/// estimate, then radialFillValue.
 struct FillHolesRadial {
   ImageView<const int16_t> input;
   ImageView<int16_t> output;
@@ -281,20 +302,31 @@ struct FillHolesRadial {
         }
       }
     }
-    int lines = 0;
-    float weightedSum = 0.0f, weightSum = 0.0f;
-    for (int k = 0; k < 4; ++k) {
-      const int a = hitDistance[k], b = hitDistance[k + 4];
-      if (a == 0 || b == 0) continue;
-      const int endDifference = hitValue[k] > hitValue[k + 4] ? hitValue[k] - hitValue[k + 4] : hitValue[k + 4] - hitValue[k];
-      if (static_cast<float>(endDifference) > maxEndDifferencePx + kFillSlopeAllowance * static_cast<float>(a + b)) continue;
-      const float interpolated = static_cast<float>(hitValue[k] * b + hitValue[k + 4] * a) / static_cast<float>(a + b);
-      const float weight = 1.0f / static_cast<float>(a + b);
-      weightedSum += weight * interpolated;
-      weightSum += weight;
-      ++lines;
+    output[index] = radialFillValue(hitValue, hitDistance, minLines, maxEndDifferencePx);
+  }
+};
+
+/// II.B hole filling, method 1 (the CPU's form): the nearest estimates along each ray come from precomputed
+/// per-direction maps (StereoBackendCpu.cpp builds them with one sweep per direction), then radialFillValue.
+struct FillHolesRadialFromHits {
+  ImageView<const int16_t> input;
+  ImageView<int16_t> output;
+  const int16_t* hitDistance;  ///< [8][pixels]
+  const int16_t* hitValue;     ///< [8][pixels]
+  int minLines;
+  float maxEndDifferencePx;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int16_t centre = input[index];
+    output[index] = centre;
+    if (centre != kNoDisparity) return;
+    const int64_t pixels = input.pixelCount();
+    int value[8], distance[8];
+    for (int k = 0; k < 8; ++k) {
+      distance[k] = hitDistance[k * pixels + index];
+      value[k] = hitValue[k * pixels + index];
     }
-    if (lines >= minLines) output[index] = static_cast<int16_t>(floorf(weightedSum / weightSum + 0.5f));
+    output[index] = radialFillValue(value, distance, minLines, maxEndDifferencePx);
   }
 };
 
@@ -508,6 +540,7 @@ struct LaplacianStep {
 /// minimising 1/ZNCC + eta (o* - d)^2 (candidates without a positive ZNCC are skipped). A box-sum consumer of
 /// FloatValue (fixed point) over the corrections b.
 struct ReselectDiscrete {
+  const float* znccCost;  ///< [kZnccMax + 1]: znccCostTable's 1/ZNCC per quantised score (no division per candidate)
   const int16_t* volume;
   VolumeLayout layout;
   int minDisparity, disparityCount, search;
@@ -530,7 +563,7 @@ struct ReselectDiscrete {
       const int16_t q = volume[layout.index(x, y, i)];
       if (q <= 0) continue;  // kNoZncc or non-positive correlation: 1/ZNCC is not a cost
       const float offset = static_cast<float>(i + minDisparity) - d;
-      const float cost = kZnccScale / static_cast<float>(q) + eta * offset * offset;
+      const float cost = znccCost[q] + eta * offset * offset;
       if (cost < bestCost) {
         bestCost = cost;
         best = i;
@@ -539,6 +572,12 @@ struct ReselectDiscrete {
     if (best >= 0) discrete[index] = static_cast<int16_t>(best + minDisparity);
   }
 };
+
+/// The matching cost 1/ZNCC of each positive quantised score q (entry 0 unused): kZnccScale / q, computed once.
+inline void fillZnccCostTable(float* table) {
+  table[0] = INFINITY;
+  for (int q = 1; q <= kZnccMax; ++q) table[q] = kZnccScale / static_cast<float>(q);
+}
 
 /// Discrete map to float disparity (NaN where none), e.g. for inspecting intermediate stages.
 struct DiscreteToFloat {

@@ -30,6 +30,8 @@ struct StereoWorkspace {
   Image<int16_t> discrete, discreteScratch;        ///< o_i and a ping-pong partner
   Image<int16_t> filledDisparity;                  ///< o_i after outlier removal and hole filling
   Image<float> smoothed, smoothedPrevious, correction;
+  Buffer<int16_t> radialHitDistance, radialHitValue;  ///< CPU radial filling: nearest estimate per ray [8][pixels]
+  Buffer<float> znccCostTable;  ///< fillZnccCostTable, on the workspace's device
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)
   Buffer<int> rowCount;
 };
@@ -44,6 +46,10 @@ void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& p
 void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs);
 /// The CPU launcher of the window statistics (banded and vectorised; the same sums as WindowColumnSums +
 /// WindowStatistics, which the GPU runs).
+/// The CPU launcher of radial hole filling: per-direction sweeps for the nearest estimates (same answers as the
+/// ray walks of FillHolesRadial, which the GPU runs), then radialFillValue per hole.
+void fillHolesRadialCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, int minLines,
+                        float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue);
 void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,
                                 int radius, float minStdDev);
 void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);

@@ -69,8 +69,14 @@ struct PipelineSteps {
       discreteStep(RemoveOutliers{w.discrete.view(), w.discreteScratch.view(), radius, p.outlierSmoothnessPx});
       const float gate = p.holeMaxEdgeDifferencePx < 0 ? 1e9f : p.holeMaxEdgeDifferencePx;
       if (p.holeRadialRadiusPx > 0) {
-        discreteStep(FillHolesRadial{w.discrete.view(), w.discreteScratch.view(), p.holeRadialRadiusPx,
-                                     p.holeRadialMinLines, gate});
+        if constexpr (std::is_same_v<Backend, CpuBackend>) {
+          fillHolesRadialCpu(w.discrete.view(), w.discreteScratch.view(), p.holeRadialRadiusPx, p.holeRadialMinLines,
+                             gate, w.radialHitDistance.data(), w.radialHitValue.data());
+          std::swap(w.discrete, w.discreteScratch);
+        } else {
+          discreteStep(FillHolesRadial{w.discrete.view(), w.discreteScratch.view(), p.holeRadialRadiusPx,
+                                       p.holeRadialMinLines, gate});
+        }
       }
       if (p.holeDiscRadiusPx > 0) {
         boxSums(DiscreteDisparityValue{w.discrete.view()}, p.holeDiscRadiusPx,
@@ -89,7 +95,7 @@ struct PipelineSteps {
               LaplacianStep{w.discrete.view(), w.smoothedPrevious.view(), w.smoothed.view(), w.correction.view(),
                             p.refineAlpha});
       boxSums(FloatValue{w.correction.view()}, p.refineRadiusPx,
-              ReselectDiscrete{w.volume.data(), w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
+              ReselectDiscrete{w.znccCostTable.data(), w.volume.data(), w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
                                p.refineSearchPx, p.refineEta, w.smoothed.view(), w.discrete.view()});
     }
     if (p.refineMaxDeviationPx >= 0) {
