@@ -25,10 +25,16 @@ commands:
   track        --left-frames DIR --right-frames DIR --calib rig.yml --out trajectory.txt
                [--rectified] [--device cpu|cuda|auto] [--start-tum T.txt] [--groundtruth T.txt]
                camera tracking (ORB, histogram voting, DynamicR1PPnP) to a TUM trajectory
+  register     --model model.ply --target ct.stl --out-transform t.tfm --report report.json
+               [--landmarks pairs.mrk.json | --model-landmarks A --target-landmarks B] [--scale] [--icp]
+               [--max-icp-iterations N] [--out-model registered.vtp] [--distances d.csv] [--histogram h.png]
+               registration to a CT/MR surface model (landmarks, ICP) and its accuracy (RMSE, histogram)
   bench stereo [--width 960] [--height 540] [--device cpu|cuda] [--repeats N]
                median milliseconds per stereo stage as JSON
   bench pnp    [--repeats N]
                DynamicR1PPnP against OpenCV solvePnPRansac as JSON
+  bench orb    [--width 960] [--height 540] [--device cpu|cuda] [--repeats N]
+               median milliseconds of ORB extraction and Hamming matching as JSON
 
 Run a command with --help for its details.
 )";
@@ -44,11 +50,19 @@ int main(int argc, char** argv) {
   const std::map<std::string, std::function<int(const cli::Words&)>> commands = {
       {"bench stereo", cli::runBenchStereo},
       {"bench pnp", cli::runBenchPnp},
+      {"bench orb", cli::runBenchOrb},
 #if !defined(TM_BENCH_ONLY)
       {"stereo", cli::runStereo},
       {"synth pair", cli::runSynthPair},
       {"synth scan", cli::runSynthScan},
       {"track", cli::runTrack},
+#if defined(TM_WITH_REGISTRATION)
+      {"register", cli::runRegister},
+#else
+      {"register", [](const cli::Words&) -> int {
+         throw Error("this build has no registration: it needs VTK (configure with -DTM_WITH_GUI=ON)");
+       }},
+#endif
 #endif
   };
   std::string name = words[0];

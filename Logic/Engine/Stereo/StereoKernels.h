@@ -25,6 +25,14 @@ constexpr int kZnccMax = 32000;  ///< ZNCC = 1
 /// True for finite floats (NaN and infinities compare false), the same on host and device.
 TM_HOST_DEVICE TM_FORCE_INLINE bool isFiniteValue(float v) { return fabsf(v) <= 3.402823466e38f; }
 
+/// (x, y) of a pixel index with 32-bit arithmetic: images have fewer than 2^31 pixels, and a 64-bit division costs
+/// several times more on the CPU and is a long software routine on the GPU.
+TM_HOST_DEVICE TM_FORCE_INLINE void pixelCoordinates(int64_t index, int width, int& x, int& y) {
+  const int i = static_cast<int>(index);
+  y = i / width;
+  x = i - y * width;
+}
+
 TM_HOST_DEVICE TM_FORCE_INLINE int clampIndex(int i, int size) { return i < 0 ? 0 : (i >= size ? size - 1 : i); }
 
 /// Pixels in the chessboard window of radius r (side 2r+1) that contains its centre: offsets (dx, dy) with
@@ -91,8 +99,8 @@ struct WindowColumnSums {
   int radius;
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
-    const int x = static_cast<int>(index % image.width);
-    const int y = static_cast<int>(index / image.width);
+    int x, y;
+    pixelCoordinates(index, image.width, x, y);
     float e, o, e2, o2;
     chessboardColumnSums([&](int dy) { return image.at(x, clampIndex(y + dy, image.height)); }, radius, e, o);
     chessboardColumnSums(
@@ -117,8 +125,8 @@ struct WindowStatistics {
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const int width = sum.width;
-    const int x = static_cast<int>(index % width);
-    const int y = static_cast<int>(index / width);
+    int x, y;
+    pixelCoordinates(index, width, x, y);
     const float s = chessboardWindowSum(
         [&](int dx, float& e, float& o) {
           const int c = clampIndex(x + dx, width);
@@ -201,8 +209,8 @@ struct RemoveOutliers {
   float maxStepPx;
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
-    const int x = static_cast<int>(index % input.width);
-    const int y = static_cast<int>(index / input.width);
+    int x, y;
+    pixelCoordinates(index, input.width, x, y);
     const int16_t centre = input[index];
     output[index] = centre;
     if (centre == kNoDisparity) return;
@@ -277,8 +285,8 @@ struct FillHolesRadial {
     const int16_t centre = input[index];
     output[index] = centre;
     if (centre != kNoDisparity) return;
-    const int x = static_cast<int>(index % input.width);
-    const int y = static_cast<int>(index / input.width);
+    int x, y;
+    pixelCoordinates(index, input.width, x, y);
     int hitValue[8];
     int hitDistance[8];
     for (int k = 0; k < 8; ++k) {
@@ -369,8 +377,8 @@ struct BoxRowSumsDirect {
   int* rowCount;
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
-    const int x = static_cast<int>(index % width);
-    const int y = static_cast<int>(index / width);
+    int x, y;
+    pixelCoordinates(index, width, x, y);
     const int x0 = x - radius < 0 ? 0 : x - radius, x1 = x + radius >= width ? width - 1 : x + radius;
     int64_t sum = 0, v = 0;
     int count = 0;
@@ -434,8 +442,8 @@ struct BoxColumnSumsDirect {
   Consumer consumer;
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
-    const int x = static_cast<int>(index % width);
-    const int y = static_cast<int>(index / width);
+    int x, y;
+    pixelCoordinates(index, width, x, y);
     const int y0 = y - radius < 0 ? 0 : y - radius, y1 = y + radius >= height ? height - 1 : y + radius;
     int64_t sum = 0;
     int count = 0;
@@ -495,8 +503,8 @@ struct FillHolesDisc {
     const int16_t centre = input[index];
     output[index] = centre;
     if (centre != kNoDisparity) return;
-    const int x = static_cast<int>(index % input.width);
-    const int y = static_cast<int>(index / input.width);
+    int x, y;
+    pixelCoordinates(index, input.width, x, y);
     const int x0 = x - radius < 0 ? 0 : x - radius, x1 = x + radius >= input.width ? input.width - 1 : x + radius;
     const int y0 = y - radius < 0 ? 0 : y - radius, y1 = y + radius >= input.height ? input.height - 1 : y + radius;
     const int area = (x1 - x0 + 1) * (y1 - y0 + 1);
@@ -540,7 +548,10 @@ struct LaplacianStep {
 /// minimising 1/ZNCC + eta (o* - d)^2 (candidates without a positive ZNCC are skipped). A box-sum consumer of
 /// FloatValue (fixed point) over the corrections b.
 struct ReselectDiscrete {
-  const float* znccCost;  ///< [kZnccMax + 1]: znccCostTable's 1/ZNCC per quantised score (no division per candidate)
+  /// [kZnccMax + 1]: fillZnccCostTable's 1/ZNCC per quantised score, or null to divide. The table holds exactly
+  /// the quotients, so both give the same floats: the CPU saves 11 divisions per pixel, while on the GPU a
+  /// division is cheaper than a table load.
+  const float* znccCost;
   const int16_t* volume;
   VolumeLayout layout;
   int minDisparity, disparityCount, search;
@@ -550,8 +561,8 @@ struct ReselectDiscrete {
 
   TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int boxCount) const {
     if (discrete[index] == kNoDisparity || boxCount == 0) return;
-    const int x = static_cast<int>(index % current.width);
-    const int y = static_cast<int>(index / current.width);
+    int x, y;
+    pixelCoordinates(index, current.width, x, y);
     const float d =
         current[index] - static_cast<float>(static_cast<double>(boxSum) / (FloatValue::kScale * boxCount));
     current[index] = d;
@@ -563,7 +574,8 @@ struct ReselectDiscrete {
       const int16_t q = volume[layout.index(x, y, i)];
       if (q <= 0) continue;  // kNoZncc or non-positive correlation: 1/ZNCC is not a cost
       const float offset = static_cast<float>(i + minDisparity) - d;
-      const float cost = znccCost[q] + eta * offset * offset;
+      const float inverseZncc = znccCost ? znccCost[q] : kZnccScale / static_cast<float>(q);
+      const float cost = inverseZncc + eta * offset * offset;
       if (cost < bestCost) {
         bestCost = cost;
         best = i;
@@ -609,8 +621,8 @@ struct LeftRightCheck {
     const int16_t d = leftDisparity[index];
     output[index] = d;
     if (d == kNoDisparity) return;
-    const int x = static_cast<int>(index % leftDisparity.width);
-    const int y = static_cast<int>(index / leftDisparity.width);
+    int x, y;
+    pixelCoordinates(index, leftDisparity.width, x, y);
     const int xr = x - d;
     const int16_t other = xr >= 0 && xr < leftDisparity.width ? rightDisparity.at(xr, y) : kNoDisparity;
     const int difference = other == kNoDisparity ? maxDifferencePx + 1 : (other > d ? other - d : d - other);

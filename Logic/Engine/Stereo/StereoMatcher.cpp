@@ -25,12 +25,10 @@ StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int di
       smoothed(device, width, height), smoothedPrevious(device, width, height), correction(device, width, height),
       radialHitDistance(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
       radialHitValue(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
-      znccCostTable(device, kZnccMax + 1),
+      znccCostTable(device, device == Device::Cpu ? kZnccMax + 1 : 0),
       rowSum(device, static_cast<std::size_t>(width) * height), rowCount(device, static_cast<std::size_t>(width) * height) {
   rightWinnerKeys.setZero();  // the GPU launcher leaves them zero after each frame
-  std::vector<float> costs(kZnccMax + 1);
-  fillZnccCostTable(costs.data());
-  znccCostTable.upload(costs.data());
+  if (device == Device::Cpu) fillZnccCostTable(znccCostTable.data());
 }
 
 }  // namespace stereo

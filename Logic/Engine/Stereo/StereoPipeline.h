@@ -31,7 +31,7 @@ struct StereoWorkspace {
   Image<int16_t> filledDisparity;                  ///< o_i after outlier removal and hole filling
   Image<float> smoothed, smoothedPrevious, correction;
   Buffer<int16_t> radialHitDistance, radialHitValue;  ///< CPU radial filling: nearest estimate per ray [8][pixels]
-  Buffer<float> znccCostTable;  ///< fillZnccCostTable, on the workspace's device
+  Buffer<float> znccCostTable;  ///< fillZnccCostTable (CPU only: the GPU divides)
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)
   Buffer<int> rowCount;
 };

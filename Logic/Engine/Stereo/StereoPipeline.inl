@@ -95,7 +95,8 @@ struct PipelineSteps {
               LaplacianStep{w.discrete.view(), w.smoothedPrevious.view(), w.smoothed.view(), w.correction.view(),
                             p.refineAlpha});
       boxSums(FloatValue{w.correction.view()}, p.refineRadiusPx,
-              ReselectDiscrete{w.znccCostTable.data(), w.volume.data(), w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
+              ReselectDiscrete{std::is_same_v<Backend, CpuBackend> ? w.znccCostTable.data() : nullptr, w.volume.data(),
+                               w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
                                p.refineSearchPx, p.refineEta, w.smoothed.view(), w.discrete.view()});
     }
     if (p.refineMaxDeviationPx >= 0) {

@@ -1,0 +1,269 @@
+#include "Tracking/OrbFeatures.h"
+
+#include "Core/Error.h"
+#include "Tracking/OrbPipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+namespace tissuemosaic {
+
+namespace orb {
+
+OrbLevelWorkspace::OrbLevelWorkspace(Device device, int width, int height, const CellGrid& grid_, int budget_)
+    : grid(grid_), budget(budget_), scaleQ16(65536), image(device, width, height), smoothingRows(device, width, height),
+      smoothed(device, width, height), fastScores(device, width, height), responses(device, width, height),
+      slots(device, static_cast<std::size_t>(grid_.cellCount()) * grid_.perCell), histogram(device, kResponseBins),
+      cellAbove(device, grid_.cellCount()), cellAtThreshold(device, grid_.cellCount()),
+      cellOffsets(device, grid_.cellCount()), control(device, kControlCount), selected(device, budget_),
+      descriptors(device, static_cast<std::size_t>(budget_) * kDescriptorBytes) {}
+
+}  // namespace orb
+
+namespace {
+
+void requireRange(double value, double low, double high, const char* name) {
+  require(value >= low && value <= high, std::string("ORB parameters: ") + name + " must be in [" +
+                                             cv::format("%g", low) + ", " + cv::format("%g", high) + "], got " +
+                                             cv::format("%g", value));
+}
+
+void requireCuda(Device device, const char* what) {
+  if (device != Device::Cuda) return;
+  const std::string reason = cudaUnavailableReason();
+  if (!reason.empty()) throw Error(std::string(what) + " on CUDA was asked for, but " + reason);
+}
+
+/// splitmix64: a fixed integer generator, so the pattern is the same with every compiler and library.
+uint64_t nextRandom(uint64_t& state) {
+  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+/// One coordinate from N(0, (31/5)^2), approximated by the sum of 12 uniform 16-bit numbers (Irwin-Hall), rounded
+/// to an integer with integer arithmetic only.
+int gaussianOffset(uint64_t& state) {
+  int64_t sum = 0;
+  for (int i = 0; i < 12; ++i) sum += static_cast<int64_t>(nextRandom(state) & 0xFFFF);
+  const int64_t numerator = 31 * (sum - 6 * 65536), denominator = 5 * 65536;
+  return static_cast<int>((numerator >= 0 ? numerator + denominator / 2 : numerator - denominator / 2) / denominator);
+}
+
+std::vector<int8_t> makePattern() {
+  std::vector<int8_t> pattern;
+  pattern.reserve(orb::kPatternPairs * 4);
+  uint64_t state = 20240531;
+  const int r2 = orb::kPatchRadius * orb::kPatchRadius;
+  while (static_cast<int>(pattern.size()) < orb::kPatternPairs * 4) {
+    int p[4];
+    for (int& v : p) v = gaussianOffset(state);
+    if (p[0] * p[0] + p[1] * p[1] > r2 || p[2] * p[2] + p[3] * p[3] > r2) continue;  // keep rotations in the disc
+    if (p[0] == p[2] && p[1] == p[3]) continue;
+    bool duplicate = false;
+    for (std::size_t i = 0; i < pattern.size() && !duplicate; i += 4) {
+      duplicate = (pattern[i] == p[0] && pattern[i + 1] == p[1] && pattern[i + 2] == p[2] && pattern[i + 3] == p[3]) ||
+                  (pattern[i] == p[2] && pattern[i + 1] == p[3] && pattern[i + 2] == p[0] && pattern[i + 3] == p[1]);
+    }
+    if (duplicate) continue;
+    for (int v : p) pattern.push_back(static_cast<int8_t>(v));
+  }
+  return pattern;
+}
+
+}  // namespace
+
+void OrbParameters::validate() const {
+  requireRange(maxFeatures, 1, 100000, "maxFeatures");
+  requireRange(levels, 1, 8, "levels");
+  requireRange(scaleFactor, 1.01, 2.0, "scaleFactor");
+  requireRange(fastThreshold, 1, 254, "fastThreshold");
+  requireRange(edgeThresholdPx, orb::kPatchRadius + 1, 100, "edgeThresholdPx");
+  requireRange(cellSizePx, 4, 512, "cellSizePx");
+  requireRange(maxPerCell, 1, orb::kMaxPerCell, "maxPerCell");
+}
+
+std::vector<cv::KeyPoint> toCvKeyPoints(const OrbFeatures& features, double scaleFactor) {
+  std::vector<cv::KeyPoint> keypoints;
+  keypoints.reserve(features.keypoints.size());
+  for (const OrbKeypoint& k : features.keypoints) {
+    keypoints.emplace_back(k.xPx, k.yPx, static_cast<float>(31.0 * std::pow(scaleFactor, k.level)), k.angleDeg,
+                           static_cast<float>(k.response), k.level);
+  }
+  return keypoints;
+}
+
+struct OrbExtractor::Impl {
+  Device device;
+  OrbParameters parameters;
+  Buffer<int8_t> pattern;
+  std::vector<orb::OrbLevelWorkspace> levels;
+  int width = 0, height = 0;
+
+  void prepare(int w, int h) {
+    if (w == width && h == height) return;
+    levels.clear();
+    width = w;
+    height = h;
+    const OrbParameters& p = parameters;
+    const int border = p.edgeThresholdPx;
+    // Budgets as ORB: geometric in the level area ratio, the remainder to the last level that exists.
+    const double factor = 1.0 / p.scaleFactor;
+    std::vector<double> scales;
+    for (int l = 0; l < p.levels; ++l) {
+      const double scale = std::pow(p.scaleFactor, l);
+      const int lw = static_cast<int>(std::lround(w / scale)), lh = static_cast<int>(std::lround(h / scale));
+      if (lw <= 2 * border || lh <= 2 * border) break;
+      scales.push_back(scale);
+    }
+    require(!scales.empty(), "ORB: the image (" + std::to_string(w) + "x" + std::to_string(h) +
+                                 ") is too small for the feature border of " + std::to_string(border) + " px");
+    const int count = static_cast<int>(scales.size());
+    const double first = p.maxFeatures * (1 - factor) / (1 - std::pow(factor, count));
+    int assigned = 0;
+    levels.reserve(count);
+    for (int l = 0; l < count; ++l) {
+      const int budget = l + 1 < count ? std::max(1, static_cast<int>(std::lround(first * std::pow(factor, l))))
+                                       : std::max(1, p.maxFeatures - assigned);
+      assigned += budget;
+      const int lw = static_cast<int>(std::lround(w / scales[l])), lh = static_cast<int>(std::lround(h / scales[l]));
+      const orb::CellGrid grid{p.cellSizePx, (lw + p.cellSizePx - 1) / p.cellSizePx, (lh + p.cellSizePx - 1) / p.cellSizePx,
+                               p.maxPerCell};
+      levels.emplace_back(device, lw, lh, grid, budget);
+      levels.back().scaleQ16 = std::llround(scales[l] * 65536.0);
+    }
+  }
+};
+
+OrbExtractor::OrbExtractor(Device device, const OrbParameters& parameters) : impl_(new Impl{device, parameters, {}, {}}) {
+  parameters.validate();
+  requireCuda(device, "ORB extraction");
+  const std::vector<int8_t>& table = pattern();
+  impl_->pattern = Buffer<int8_t>(device, table.size());
+  impl_->pattern.upload(table.data());
+}
+
+OrbExtractor::~OrbExtractor() = default;
+Device OrbExtractor::device() const { return impl_->device; }
+const OrbParameters& OrbExtractor::parameters() const { return impl_->parameters; }
+
+const std::vector<int8_t>& OrbExtractor::pattern() {
+  static const std::vector<int8_t> table = makePattern();
+  return table;
+}
+
+OrbFeatures OrbExtractor::extract(const cv::Mat& grey) {
+  require(!grey.empty() && grey.type() == CV_8UC1, "ORB: the image must be 8-bit single-channel grey");
+  const cv::Mat input = grey.isContinuous() ? grey : grey.clone();
+  Impl& s = *impl_;
+  s.prepare(input.cols, input.rows);
+  s.levels[0].image.buffer().upload(input.ptr<uint8_t>());
+  const orb::OrbSettings settings{s.parameters.fastThreshold, s.parameters.edgeThresholdPx};
+  if (s.device == Device::Cuda) orb::runOrbPipelineCuda(s.levels.data(), static_cast<int>(s.levels.size()), settings, s.pattern.data());
+  else orb::runOrbPipelineCpu(s.levels.data(), static_cast<int>(s.levels.size()), settings, s.pattern.data());
+
+  struct Entry {
+    OrbKeypoint keypoint;
+    int64_t response;
+    const uint8_t* descriptor;
+  };
+  std::vector<Entry> entries;
+  std::vector<std::vector<uint8_t>> descriptorStore(s.levels.size());
+  for (std::size_t l = 0; l < s.levels.size(); ++l) {
+    const orb::OrbLevelWorkspace& w = s.levels[l];
+    const std::vector<int> control = w.control.toHost();
+    const int count = std::min(control[orb::kSelected], w.budget);
+    const std::vector<orb::LevelKeypoint> selected = w.selected.toHost();
+    descriptorStore[l] = w.descriptors.toHost();
+    const float scale = static_cast<float>(w.scaleQ16 / 65536.0);
+    for (int i = 0; i < count; ++i) {
+      const orb::LevelKeypoint& f = selected[i];
+      OrbKeypoint k;
+      k.xPx = f.x * scale;
+      k.yPx = f.y * scale;
+      double angle = (f.m10 == 0 && f.m01 == 0) ? 0.0 : std::atan2(double(f.m01), double(f.m10)) * 180.0 / M_PI;
+      if (angle < 0) angle += 360.0;
+      k.angleDeg = static_cast<float>(angle >= 360.0 ? 0.0 : angle);
+      k.response = static_cast<double>(f.response);
+      k.level = static_cast<int>(l);
+      k.levelX = f.x;
+      k.levelY = f.y;
+      entries.push_back({k, f.response, descriptorStore[l].data() + static_cast<std::size_t>(i) * orb::kDescriptorBytes});
+    }
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    if (a.response != b.response) return a.response > b.response;
+    if (a.keypoint.level != b.keypoint.level) return a.keypoint.level < b.keypoint.level;
+    if (a.keypoint.levelY != b.keypoint.levelY) return a.keypoint.levelY < b.keypoint.levelY;
+    return a.keypoint.levelX < b.keypoint.levelX;
+  });
+  OrbFeatures features;
+  features.keypoints.reserve(entries.size());
+  features.descriptors.create(static_cast<int>(entries.size()), orb::kDescriptorBytes, CV_8U);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    features.keypoints.push_back(entries[i].keypoint);
+    std::copy_n(entries[i].descriptor, orb::kDescriptorBytes, features.descriptors.ptr<uint8_t>(static_cast<int>(i)));
+  }
+  return features;
+}
+
+// ---- HammingMatcher -----------------------------------------------------------------------------------------------
+
+struct HammingMatcher::Impl {
+  Device device;
+  Buffer<uint64_t> a, b;
+  Buffer<int> indices, distances;
+};
+
+HammingMatcher::HammingMatcher(Device device) : impl_(new Impl{device, {}, {}, {}, {}}) {
+  requireCuda(device, "Hamming matching");
+}
+
+HammingMatcher::~HammingMatcher() = default;
+Device HammingMatcher::device() const { return impl_->device; }
+
+namespace {
+
+void uploadDescriptors(Buffer<uint64_t>& buffer, Device device, const cv::Mat& descriptors, const char* name) {
+  require(descriptors.type() == CV_8UC1 && descriptors.cols == orb::kDescriptorBytes,
+          std::string("Hamming matching: ") + name + " must be CV_8U with 32 bytes a row");
+  const cv::Mat rows = descriptors.isContinuous() ? descriptors : descriptors.clone();
+  const std::size_t words = static_cast<std::size_t>(rows.rows) * 4;
+  if (buffer.size() != words || buffer.device() != device) buffer = Buffer<uint64_t>(device, words);
+  std::vector<uint64_t> host(words);
+  std::memcpy(host.data(), rows.data, words * sizeof(uint64_t));
+  buffer.upload(host.data());
+}
+
+}  // namespace
+
+std::vector<std::vector<cv::DMatch>> HammingMatcher::match(const cv::Mat& descriptorsA, const cv::Mat& descriptorsB,
+                                                           int k) {
+  require(k >= 1 && k <= orb::kMaxMatchK, "Hamming matching: k must be in [1, 8], got " + std::to_string(k));
+  Impl& s = *impl_;
+  const int rowsA = descriptorsA.empty() ? 0 : descriptorsA.rows, rowsB = descriptorsB.empty() ? 0 : descriptorsB.rows;
+  std::vector<std::vector<cv::DMatch>> result(rowsA);
+  if (rowsA == 0 || rowsB == 0) return result;
+  uploadDescriptors(s.a, s.device, descriptorsA, "descriptorsA");
+  uploadDescriptors(s.b, s.device, descriptorsB, "descriptorsB");
+  const std::size_t outputs = static_cast<std::size_t>(rowsA) * k;
+  if (s.indices.size() != outputs) {
+    s.indices = Buffer<int>(s.device, outputs);
+    s.distances = Buffer<int>(s.device, outputs);
+  }
+  if (s.device == Device::Cuda) orb::hammingKnnCuda(s.a.data(), rowsA, s.b.data(), rowsB, k, s.indices.data(), s.distances.data());
+  else orb::hammingKnnCpu(s.a.data(), rowsA, s.b.data(), rowsB, k, s.indices.data(), s.distances.data());
+  const std::vector<int> indices = s.indices.toHost(), distances = s.distances.toHost();
+  for (int row = 0; row < rowsA; ++row) {
+    for (int j = 0; j < k; ++j) {
+      const int index = indices[static_cast<std::size_t>(row) * k + j];
+      if (index >= 0) result[row].emplace_back(row, index, static_cast<float>(distances[static_cast<std::size_t>(row) * k + j]));
+    }
+  }
+  return result;
+}
+
+}  // namespace tissuemosaic

@@ -1,0 +1,50 @@
+// The ORB extractor and matcher, written once and instantiated per backend (included by OrbBackendCpu.cpp and
+// OrbBackendCuda.cu only).
+#include "Core/ParallelFor.h"
+#include "OrbPipeline.h"
+
+namespace tissuemosaic::orb {
+
+namespace {
+
+template <class Backend>
+void runLevel(OrbLevelWorkspace& w, const OrbSettings& settings, const int8_t* pattern) {
+  const int64_t pixels = w.image.view().pixelCount();
+  const int cells = w.grid.cellCount();
+  parallelFor<Backend>(pixels, SmoothRows{w.image.view(), w.smoothingRows.view()});
+  parallelFor<Backend>(pixels, SmoothColumns{w.smoothingRows.view(), w.smoothed.view()});
+  parallelFor<Backend>(pixels, FastScores{w.image.view(), w.fastScores.view(), settings.fastThreshold, settings.border});
+  parallelFor<Backend>(pixels, MaximaResponses{w.image.view(), w.fastScores.view(), w.responses.view()});
+  parallelFor<Backend>(cells, CellBest{w.responses.view(), w.grid, w.slots.data()}, 1);
+  w.histogram.setZero();
+  parallelFor<Backend>(static_cast<int64_t>(w.slots.size()), ResponseHistogram{w.slots.data(), w.histogram.data()});
+  parallelFor<Backend>(1, ResponseThreshold{w.histogram.data(), w.control.data(), w.budget}, 1);
+  parallelFor<Backend>(cells, CellCounts{w.slots.data(), w.control.data(), w.grid.perCell, w.cellAbove.data(),
+                                         w.cellAtThreshold.data()}, 64);
+  parallelFor<Backend>(1, CellOffsets{w.cellAbove.data(), w.cellAtThreshold.data(), w.cellOffsets.data(),
+                                      w.control.data(), cells}, 1);
+  parallelFor<Backend>(cells, CellWrite{w.slots.data(), w.control.data(), w.cellAtThreshold.data(),
+                                        w.cellOffsets.data(), w.grid.perCell, w.selected.data()}, 64);
+  parallelFor<Backend>(w.budget, Describe{w.image.view(), w.smoothed.view(), pattern, w.control.data(),
+                                          w.selected.data(), w.descriptors.data()}, 16);
+}
+
+template <class Backend>
+void runOrbPipeline(OrbLevelWorkspace* levels, int levelCount, const OrbSettings& settings, const int8_t* pattern) {
+  for (int l = 0; l < levelCount; ++l) {
+    OrbLevelWorkspace& w = levels[l];
+    if (l > 0) {
+      parallelFor<Backend>(w.image.view().pixelCount(), ResizeBilinear{levels[0].image.view(), w.image.view(), w.scaleQ16});
+    }
+    runLevel<Backend>(w, settings, pattern);
+  }
+}
+
+template <class Backend>
+void hammingKnn(const uint64_t* a, int rowsA, const uint64_t* b, int rowsB, int k, int* indices, int* distances) {
+  parallelFor<Backend>(rowsA, HammingKnn{a, b, rowsB, k, indices, distances}, 16);
+}
+
+}  // namespace
+
+}  // namespace tissuemosaic::orb

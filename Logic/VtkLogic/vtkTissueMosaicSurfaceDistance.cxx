@@ -1,0 +1,128 @@
+#include "vtkTissueMosaicSurfaceDistance.h"
+
+#include "Core/Error.h"
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkGenericCell.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkStaticCellLocator.h>
+#include <vtkTriangleFilter.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace tissuemosaic {
+
+TargetSurface::TargetSurface(vtkPolyData* surfaceLps) {
+  require(surfaceLps != nullptr && surfaceLps->GetNumberOfPoints() > 0, "the target surface is empty");
+  require(surfaceLps->GetNumberOfPolys() + surfaceLps->GetNumberOfStrips() > 0,
+          "the target model has no polygons: it must be a surface mesh (e.g. a segmentation exported as STL), not a "
+          "point cloud");
+  vtkNew<vtkTriangleFilter> triangulate;
+  triangulate->SetInputData(surfaceLps);
+  triangulate->PassVertsOff();
+  triangulate->PassLinesOff();
+  // Face normals only: point normals would be unused, splitting would duplicate points.
+  vtkNew<vtkPolyDataNormals> normals;
+  normals->SetInputConnection(triangulate->GetOutputPort());
+  normals->ComputeCellNormalsOn();
+  normals->ComputePointNormalsOff();
+  normals->SplittingOff();
+  normals->ConsistencyOn();
+  normals->AutoOrientNormalsOff();
+  normals->Update();
+  triangles_ = normals->GetOutput();
+  require(triangles_->GetNumberOfCells() > 0, "the target model has no non-degenerate triangles");
+  normals_ = triangles_->GetCellData()->GetNormals();
+  require(normals_ != nullptr, "could not compute the target surface's normals");
+  locator_ = vtkSmartPointer<vtkStaticCellLocator>::New();
+  locator_->SetDataSet(triangles_);
+  locator_->BuildLocator();
+  scratch_ = vtkSmartPointer<vtkGenericCell>::New();
+}
+
+TargetSurface::~TargetSurface() = default;
+
+vtkPolyData* TargetSurface::triangles() const { return triangles_; }
+
+TargetSurface::Closest TargetSurface::closest(const Eigen::Vector3d& queryLps) const {
+  Closest result;
+  vtkIdType cellId = -1;
+  int subId = 0;
+  double distance2 = 0;
+  locator_->FindClosestPoint(queryLps.data(), result.pointLps.data(), scratch_, cellId, subId, distance2);
+  double normal[3] = {0, 0, 1};
+  if (cellId >= 0) normals_->GetTuple(cellId, normal);
+  result.normal = Eigen::Vector3d(normal[0], normal[1], normal[2]).normalized();
+  result.distanceMm = std::sqrt(distance2);
+  result.signedDistanceMm = result.normal.dot(queryLps - result.pointLps) < 0 ? -result.distanceMm : result.distanceMm;
+  return result;
+}
+
+std::vector<double> distancesToSurface(const TargetSurface& surface, const std::vector<Eigen::Vector3d>& pointsLps,
+                                       std::vector<double>* signedDistancesMm) {
+  std::vector<double> distances(pointsLps.size());
+  if (signedDistancesMm) signedDistancesMm->resize(pointsLps.size());
+  for (std::size_t i = 0; i < pointsLps.size(); ++i) {
+    const auto closest = surface.closest(pointsLps[i]);
+    distances[i] = closest.distanceMm;
+    if (signedDistancesMm) (*signedDistancesMm)[i] = closest.signedDistanceMm;
+  }
+  return distances;
+}
+
+double percentile(std::vector<double> values, double q) {
+  require(!values.empty(), "percentile of an empty list");
+  require(q >= 0 && q <= 100, "percentile must be within 0..100");
+  const double position = q / 100.0 * static_cast<double>(values.size() - 1);
+  const auto below = static_cast<std::size_t>(std::floor(position));
+  const auto above = std::min(below + 1, values.size() - 1);
+  std::nth_element(values.begin(), values.begin() + static_cast<long>(below), values.end());
+  const double low = values[below];
+  const double high = above == below ? low : *std::min_element(values.begin() + static_cast<long>(below) + 1, values.end());
+  return low + (position - static_cast<double>(below)) * (high - low);
+}
+
+DistanceStatistics distanceStatistics(const std::vector<double>& distancesMm) {
+  require(!distancesMm.empty(), "no distances to evaluate: the model has no points");
+  DistanceStatistics statistics;
+  statistics.count = distancesMm.size();
+  double sum = 0, sumSquares = 0;
+  for (double d : distancesMm) {
+    require(std::isfinite(d), "a distance is not finite");
+    sum += d;
+    sumSquares += d * d;
+    statistics.maxMm = std::max(statistics.maxMm, d);
+  }
+  const auto n = static_cast<double>(distancesMm.size());
+  statistics.meanMm = sum / n;
+  statistics.rmseMm = std::sqrt(sumSquares / n);
+  statistics.medianMm = percentile(distancesMm, 50);
+  statistics.p95Mm = percentile(distancesMm, 95);
+  return statistics;
+}
+
+DistanceHistogram distanceHistogram(const std::vector<double>& distancesMm, double binWidthMm, int maxBins) {
+  require(binWidthMm > 0 && std::isfinite(binWidthMm), "the histogram bin width must be a positive number of mm");
+  require(maxBins >= 1, "the histogram needs at least one bin");
+  DistanceHistogram histogram;
+  histogram.binWidthMm = binWidthMm;
+  double largest = 0;
+  for (double d : distancesMm) largest = std::max(largest, d);
+  const auto needed = static_cast<long>(std::floor(largest / binWidthMm)) + 1;
+  histogram.counts.assign(static_cast<std::size_t>(std::min<long>(needed, maxBins)), 0);
+  for (double d : distancesMm) {
+    const auto bin = static_cast<std::size_t>(std::floor(std::max(d, 0.0) / binWidthMm));
+    if (bin < histogram.counts.size()) {
+      ++histogram.counts[bin];
+    } else {
+      ++histogram.overflow;
+    }
+  }
+  return histogram;
+}
+
+}  // namespace tissuemosaic
