@@ -1,6 +1,7 @@
 #include "SyntheticScan.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterChecks.h"
 #include "SyntheticCamera.h"
 #include "SyntheticRandom.h"
 #include "SyntheticRenderer.h"
@@ -22,8 +23,7 @@ constexpr double pi = 3.141592653589793;
 constexpr double degree = pi / 180.0;
 
 void requireRange(double value, double low, double high, const std::string& name) {
-  require(value >= low && value <= high, "synthetic scan: " + name + " must be in [" + cv::format("%g", low) + ", " +
-                                             cv::format("%g", high) + "], got " + cv::format("%g", value));
+  parameters::requireRange("synthetic scan", name.c_str(), value, low, high);
 }
 
 cv::Matx33d rotationX(double a) { return {1, 0, 0, 0, std::cos(a), -std::sin(a), 0, std::sin(a), std::cos(a)}; }

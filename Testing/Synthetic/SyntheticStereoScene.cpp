@@ -1,6 +1,7 @@
 #include "SyntheticStereoScene.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterChecks.h"
 #include "SyntheticCamera.h"
 #include "SyntheticRenderer.h"
 #include "TissueSurface.h"
@@ -19,8 +20,7 @@ namespace {
 constexpr double degree = 3.141592653589793 / 180.0;
 
 void requireRange(double value, double low, double high, const std::string& name) {
-  require(value >= low && value <= high, "synthetic scene: " + name + " must be in [" + cv::format("%g", low) + ", " +
-                                             cv::format("%g", high) + "], got " + cv::format("%g", value));
+  parameters::requireRange("synthetic stereo", name.c_str(), value, low, high);
 }
 
 /// The raw rig: slightly different lenses, a small relative rotation, the right eye baselineMm to the right.

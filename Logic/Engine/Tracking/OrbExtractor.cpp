@@ -1,6 +1,7 @@
 #include "Tracking/OrbFeatures.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterChecks.h"
 #include "Tracking/OrbPipeline.h"
 
 #include <algorithm>
@@ -25,9 +26,7 @@ OrbLevelWorkspace::OrbLevelWorkspace(Device device, int width, int height, const
 namespace {
 
 void requireRange(double value, double low, double high, const char* name) {
-  require(value >= low && value <= high, std::string("ORB parameters: ") + name + " must be in [" +
-                                             cv::format("%g", low) + ", " + cv::format("%g", high) + "], got " +
-                                             cv::format("%g", value));
+  parameters::requireRange("ORB", name, value, low, high);
 }
 
 void requireCuda(Device device, const char* what) {

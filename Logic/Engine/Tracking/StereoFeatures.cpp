@@ -1,6 +1,7 @@
 #include "Tracking/StereoFeatures.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterChecks.h"
 
 #include <opencv2/imgproc.hpp>
 
@@ -12,9 +13,7 @@ namespace tissuemosaic {
 namespace {
 
 void requireRange(double value, double low, double high, const char* name) {
-  require(value >= low && value <= high, std::string("feature parameters: ") + name + " must be in [" +
-                                             cv::format("%g", low) + ", " + cv::format("%g", high) + "], got " +
-                                             cv::format("%g", value));
+  parameters::requireRange("feature", name, value, low, high);
 }
 
 /// Disparity at a sub-pixel position: bilinear where the 4 neighbours are estimates, else the nearest pixel's.
