@@ -12,6 +12,7 @@ using Words = std::vector<std::string>;
 int runStereo(const Words& words);      ///< tissuemosaic stereo ...        (StereoCommand.cpp)
 int runBenchStereo(const Words& words); ///< tissuemosaic bench stereo ...  (BenchStereoCommand.cpp)
 int runBenchPnp(const Words& words);    ///< tissuemosaic bench pnp ...     (BenchPnpCommand.cpp)
+int runBenchTrack(const Words& words);  ///< tissuemosaic bench track ...   (BenchTrackCommand.cpp)
 int runBenchOrb(const Words& words);    ///< tissuemosaic bench orb ...     (BenchOrbCommand.cpp)
 int runSynthPair(const Words& words);   ///< tissuemosaic synth pair ...    (SynthCommand.cpp)
 int runSynthScan(const Words& words);   ///< tissuemosaic synth scan ...    (SynthScanCommand.cpp)

@@ -43,7 +43,10 @@ options:
   --groundtruth T.txt      also print the absolute trajectory error against this TUM file (poses matched by order of
                            time; no alignment: give --start-tum the same file for a common start)
   --fps F                  frame rate for the time stamps (default 30)
-  --device cpu|cuda|auto   where the stereo stage runs (default auto); features and pose run on the CPU
+  --device cpu|cuda|auto   where stereo and features run (default auto); the pose solver runs on the CPU
+  --features opencv|tissuemosaic
+                           ORB implementation: OpenCV's (CPU only) or TissueMosaic's single-source extractor and
+                           matcher (CPU or CUDA, identical results); default: tissuemosaic on cuda, opencv on cpu
   --params p.yml           parameters file: nodes "stereo" and "tracking" (missing keys keep the paper's defaults)
   --min-disparity A --max-disparity B   override the stereo disparity range
   --quiet                  no per-frame progress line
@@ -89,7 +92,7 @@ int runTrack(const Words& words) {
   }
   const Arguments arguments(words);
   arguments.allowOnly({"left-frames", "right-frames", "calib", "out", "rectified", "start-tum", "groundtruth", "fps",
-                       "device", "params", "min-disparity", "max-disparity", "quiet"});
+                       "device", "features", "params", "min-disparity", "max-disparity", "quiet"});
   require(arguments.positional().empty(), "unexpected argument '" +
                                               (arguments.positional().empty() ? "" : arguments.positional()[0]) +
                                               "' (options are written --name value)");
@@ -117,6 +120,16 @@ int runTrack(const Words& words) {
   stereoParameters.minDisparityPx = arguments.integer("min-disparity", stereoParameters.minDisparityPx);
   stereoParameters.maxDisparityPx = arguments.integer("max-disparity", stereoParameters.maxDisparityPx);
   const Device device = parseDevice(arguments.text("device", "auto"));
+  const std::string featureChoice =
+      arguments.text("features", device == Device::Cuda ? "tissuemosaic" : "opencv");
+  if (featureChoice == "tissuemosaic") {
+    trackerOptions.extractor = FeatureExtractor::TissueMosaicOrb;
+    trackerOptions.featureDevice = device;
+  } else if (featureChoice == "opencv") {
+    trackerOptions.extractor = FeatureExtractor::OpenCvOrb;
+  } else {
+    throw Error("unknown --features '" + featureChoice + "': expected opencv or tissuemosaic");
+  }
 
   Eigen::Matrix4d T_world_start = Eigen::Matrix4d::Identity();
   if (arguments.has("start-tum")) {

@@ -31,6 +31,8 @@ commands:
                registration to a CT/MR surface model (landmarks, ICP) and its accuracy (RMSE, histogram)
   bench stereo [--width 960] [--height 540] [--device cpu|cuda] [--repeats N]
                median milliseconds per stereo stage as JSON
+  bench track  [--width 960] [--height 540] [--frames 20] [--device cpu|cuda] [--features opencv|tissuemosaic]
+               median milliseconds per frame of ORB + voting and DynamicR1PPnP as JSON
   bench pnp    [--repeats N]
                DynamicR1PPnP against OpenCV solvePnPRansac as JSON
   bench orb    [--width 960] [--height 540] [--device cpu|cuda] [--repeats N]
@@ -50,6 +52,7 @@ int main(int argc, char** argv) {
   const std::map<std::string, std::function<int(const cli::Words&)>> commands = {
       {"bench stereo", cli::runBenchStereo},
       {"bench pnp", cli::runBenchPnp},
+      {"bench track", cli::runBenchTrack},
       {"bench orb", cli::runBenchOrb},
 #if !defined(TM_BENCH_ONLY)
       {"stereo", cli::runStereo},

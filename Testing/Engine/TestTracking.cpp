@@ -99,10 +99,13 @@ TEST(KeyFrameDecision, PoseDifferenceFollowsThePaper) {
   EXPECT_TRUE(isKeyFrame(50, 9, 10.5, p));
 }
 
-TEST(FrameTracker, TracksASyntheticScanWithSubMillimetreError) {
+namespace {
+
+/// Tracks the short synthetic scan with CPU stereo and checks the trajectory against its ground truth.
+void trackShortScan(const FrameTrackerOptions& options, const char* label) {
   const synthetic::SyntheticScan scan(shortScan());
   StereoMatcher matcher(Device::Cpu, StereoParameters{});
-  FrameTracker tracker(scan.geometry(), FrameTrackerOptions{}, scan.T_world_camera(0));
+  FrameTracker tracker(scan.geometry(), options, scan.T_world_camera(0));
   double sum2 = 0, worstMm = 0, worstDeg = 0, pathMm = 0;
   int keyFrames = 0;
   for (int k = 0; k < scan.frameCount(); ++k) {
@@ -126,12 +129,23 @@ TEST(FrameTracker, TracksASyntheticScanWithSubMillimetreError) {
     worstDeg = std::max(worstDeg, deg);
   }
   const double ateMm = std::sqrt(sum2 / scan.frameCount());
-  std::printf("[ tracking ] %d frames, path %.1f mm: ATE RMS %.3f mm, max %.3f mm, max rotation error %.3f deg, "
-              "%d key frames\n", scan.frameCount(), pathMm, ateMm, worstMm, worstDeg, keyFrames);
+  std::printf("[ tracking, %s ] %d frames, path %.1f mm: ATE RMS %.3f mm, max %.3f mm, max rotation error %.3f deg, "
+              "%d key frames\n", label, scan.frameCount(), pathMm, ateMm, worstMm, worstDeg, keyFrames);
   EXPECT_GT(pathMm, 5.0) << "the camera should actually move";
   EXPECT_LE(ateMm, 1.0);
   EXPECT_LE(worstDeg, 0.5);
   EXPECT_EQ(keyFrames, 2);  // the first frame and frame 10 (min gap 10)
+}
+
+}  // namespace
+
+TEST(FrameTracker, TracksASyntheticScanWithSubMillimetreError) { trackShortScan(FrameTrackerOptions{}, "OpenCV ORB"); }
+
+// The extractor that the GPU runs, here on the CPU (CPU and CUDA give identical features: TestOrbCuda.cpp).
+TEST(FrameTracker, TracksASyntheticScanWithTheSingleSourceOrb) {
+  FrameTrackerOptions options;
+  options.extractor = FeatureExtractor::TissueMosaicOrb;
+  trackShortScan(options, "TissueMosaic ORB");
 }
 
 TEST(FrameTracker, ReportsABlankFrameAsLostAndResumes) {

@@ -3,6 +3,7 @@
 #include "Core/Error.h"
 #include "Tracking/HistogramVoting.h"
 #include "Tracking/KeyFrameDecision.h"
+#include "Tracking/OrbFeatures.h"
 #include "Tracking/PnpSolver.h"
 #include "Tracking/SubPixelMatch.h"
 
@@ -52,6 +53,27 @@ struct FrameTracker::Impl {
   Eigen::Matrix4d T_world_start;
   cv::Ptr<cv::ORB> orb;
   cv::BFMatcher matcher{cv::NORM_HAMMING, false};
+  std::unique_ptr<OrbExtractor> ownExtractor;  ///< FeatureExtractor::TissueMosaicOrb
+  std::unique_ptr<HammingMatcher> ownMatcher;
+
+  StereoFeatures extract(const cv::Mat& leftRectified, const cv::Mat& disparityPx) {
+    if (!ownExtractor) return extractStereoFeatures(*orb, leftRectified, disparityPx, geometry);
+    const double scaleFactor = options.features.scaleFactor;
+    return extractStereoFeatures(
+        [&](const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
+          const OrbFeatures found = ownExtractor->extract(grey);
+          keypoints = toCvKeyPoints(found, scaleFactor);
+          descriptors = found.descriptors;
+        },
+        leftRectified, disparityPx, geometry);
+  }
+
+  std::vector<std::vector<cv::DMatch>> match(const cv::Mat& from, const cv::Mat& to, int k) {
+    std::vector<std::vector<cv::DMatch>> knn;
+    if (ownMatcher) knn = ownMatcher->match(from, to, k);
+    else matcher.knnMatch(from, to, knn, k);
+    return knn;
+  }
   int frames = 0;
   Reference reference;
   int lastKeyFrameIndex = -1;
@@ -89,8 +111,20 @@ FrameTracker::FrameTracker(const RectifiedGeometry& geometry, const FrameTracker
   impl_->options = options;
   impl_->T_world_start = T_world_startCamera;
   const FeatureParameters& f = options.features;
-  impl_->orb = cv::ORB::create(f.maxFeatures, static_cast<float>(f.scaleFactor), f.levels, f.edgeThresholdPx, 0, 2,
-                               cv::ORB::HARRIS_SCORE, 31, f.fastThreshold);
+  if (options.extractor == FeatureExtractor::TissueMosaicOrb) {
+    OrbParameters orbParameters;
+    orbParameters.maxFeatures = f.maxFeatures;
+    orbParameters.levels = f.levels;
+    orbParameters.scaleFactor = f.scaleFactor;
+    orbParameters.fastThreshold = f.fastThreshold;
+    orbParameters.edgeThresholdPx = f.edgeThresholdPx;
+    impl_->ownExtractor = std::make_unique<OrbExtractor>(options.featureDevice, orbParameters);
+    impl_->ownMatcher = std::make_unique<HammingMatcher>(options.featureDevice);
+  } else {
+    require(options.featureDevice == Device::Cpu, "tracker: OpenCV's ORB runs on the CPU only");
+    impl_->orb = cv::ORB::create(f.maxFeatures, static_cast<float>(f.scaleFactor), f.levels, f.edgeThresholdPx, 0, 2,
+                                 cv::ORB::HARRIS_SCORE, 31, f.fastThreshold);
+  }
 }
 
 FrameTracker::~FrameTracker() = default;
@@ -107,7 +141,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   TrackResult result;
   result.frameIndex = s.frames++;
   const auto start = std::chrono::steady_clock::now();
-  const StereoFeatures features = extractStereoFeatures(*s.orb, leftRectified, disparityPx, s.geometry);
+  const StereoFeatures features = s.extract(leftRectified, disparityPx);
   result.features = static_cast<int>(features.keypoints.size());
   result.featuresWithDepth = features.withDepth;
 
@@ -126,7 +160,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   const FeatureParameters& fp = s.options.features;
   std::vector<std::vector<cv::DMatch>> knn;
   if (!s.reference.descriptors.empty() && !features.descriptors.empty())
-    s.matcher.knnMatch(s.reference.descriptors, features.descriptors, knn, 1 + fp.candidatesPerFeature);
+    knn = s.match(s.reference.descriptors, features.descriptors, 1 + fp.candidatesPerFeature);
   Points3d points;
   Pixels2d pixels, fromPx;
   std::vector<std::vector<CandidateMatch>> candidates;

@@ -8,6 +8,7 @@
 /// Lost tracking is a state, never a guessed pose: when there are too few matches, the solver fails, or the pose
 /// jumps implausibly far, track() reports tracked = false with a reason, and the next frame is matched against
 /// the last tracked frame again.
+#include "Core/Device.h"
 #include "Core/StereoRig.h"
 #include "Tracking/StereoFeatures.h"
 #include "Tracking/TrackingParameters.h"
@@ -20,9 +21,17 @@
 
 namespace tissuemosaic {
 
+/// Which ORB implementation finds and matches the features.
+enum class FeatureExtractor {
+  OpenCvOrb,        ///< cv::ORB and cv::BFMatcher (CPU only)
+  TissueMosaicOrb,  ///< OrbExtractor and HammingMatcher (Tracking/OrbFeatures.h) on featureDevice: CPU or CUDA
+};
+
 struct FrameTrackerOptions {
   TrackingParameters tracking;  ///< DynamicR1PPnP and key-frame parameters (the paper's)
   FeatureParameters features;   ///< ORB, matching and voting
+  FeatureExtractor extractor = FeatureExtractor::OpenCvOrb;
+  Device featureDevice = Device::Cpu;  ///< where TissueMosaicOrb runs
   double maxStepMm = 30.0;      ///< a camera moving farther than this per frame since the reference is lost, not fast
   double maxStepDeg = 20.0;     ///< ... and the same for rotation per frame
 

@@ -47,6 +47,15 @@ void FeatureParameters::validate() const {
 
 StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified, const cv::Mat& disparityPx,
                                      const RectifiedGeometry& geometry) {
+  return extractStereoFeatures(
+      [&orb](const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
+        orb.detectAndCompute(grey, cv::noArray(), keypoints, descriptors);
+      },
+      leftRectified, disparityPx, geometry);
+}
+
+StereoFeatures extractStereoFeatures(const FeatureDetector& detect, const cv::Mat& leftRectified,
+                                     const cv::Mat& disparityPx, const RectifiedGeometry& geometry) {
   require(!leftRectified.empty(), "tracking: the left image is empty");
   require(leftRectified.depth() == CV_8U && (leftRectified.channels() == 1 || leftRectified.channels() == 3),
           "tracking: the left image must be 8-bit grey or BGR");
@@ -56,7 +65,7 @@ StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified,
   cv::Mat& grey = features.grey;
   if (leftRectified.channels() == 3) cv::cvtColor(leftRectified, grey, cv::COLOR_BGR2GRAY);
   else grey = leftRectified.clone();
-  orb.detectAndCompute(grey, cv::noArray(), features.keypoints, features.descriptors);
+  detect(grey, features.keypoints, features.descriptors);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   features.pointsCameraMm.assign(features.keypoints.size(), Eigen::Vector3d(nan, nan, nan));
   for (std::size_t i = 0; i < features.keypoints.size(); ++i) {

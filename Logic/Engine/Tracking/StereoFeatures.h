@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
 
+#include <functional>
 #include <vector>
 
 namespace tissuemosaic {
@@ -41,9 +42,15 @@ struct StereoFeatures {
   int withDepth = 0;      ///< keypoints that have a 3D point
 };
 
-/// Detects ORB features on the (grey or BGR, 8-bit) rectified left image and lifts each with the disparity
+/// Finds keypoints and 32-byte binary descriptors (one CV_8U row each) in an 8-bit grey image.
+using FeatureDetector = std::function<void(const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors)>;
+
+/// Detects features on the (grey or BGR, 8-bit) rectified left image and lifts each with the disparity
 /// (CV_32F, NaN = none, same size) sampled bilinearly at the keypoint when its 4 neighbours have estimates, else at
 /// the nearest pixel. Throws Error on empty or mismatched inputs.
+StereoFeatures extractStereoFeatures(const FeatureDetector& detect, const cv::Mat& leftRectified,
+                                     const cv::Mat& disparityPx, const RectifiedGeometry& geometry);
+/// The same with OpenCV's ORB as the detector.
 StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified, const cv::Mat& disparityPx,
                                      const RectifiedGeometry& geometry);
 
