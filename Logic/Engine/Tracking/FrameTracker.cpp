@@ -1,6 +1,7 @@
 #include "Tracking/FrameTracker.h"
 
 #include "Core/Error.h"
+#include "Core/ParallelFor.h"
 #include "Tracking/HistogramVoting.h"
 #include "Tracking/KeyFrameDecision.h"
 #include "Tracking/OrbFeatures.h"
@@ -170,19 +171,41 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
     return !fp.subPixelRefinement ||
            refineMatchLucasKanade(s.reference.grey, features.grey, from, to, 5, fp.maxRefinementShiftPx);
   };
-  for (const std::vector<cv::DMatch>& list : knn) {
-    if (list.empty() || list[0].distance > fp.maxHammingDistance) continue;
-    const cv::Point2f from = s.reference.pixelsPx[list[0].queryIdx];
-    cv::Point2f to = features.keypoints[list[0].trainIdx].pt;
-    if (!locate(from, to)) continue;
-    points.push_back(s.reference.pointsWorldMm[list[0].queryIdx]);
-    fromPx.emplace_back(from.x, from.y);
-    pixels.emplace_back(to.x, to.y);
+  // The refinements are independent: run them in parallel, then assemble in match order (the same result as a
+  // serial loop).
+  struct Located {
+    bool usable = false;
+    cv::Point2f from, to;
+    std::vector<std::pair<bool, cv::Point2f>> further;
+  };
+  std::vector<Located> located(knn.size());
+  parallelFor<CpuBackend>(
+      static_cast<int64_t>(knn.size()),
+      [&](int64_t i) {
+        const std::vector<cv::DMatch>& list = knn[static_cast<std::size_t>(i)];
+        Located& entry = located[static_cast<std::size_t>(i)];
+        if (list.empty() || list[0].distance > fp.maxHammingDistance) return;
+        entry.from = s.reference.pixelsPx[list[0].queryIdx];
+        entry.to = features.keypoints[list[0].trainIdx].pt;
+        if (!locate(entry.from, entry.to)) return;
+        entry.usable = true;
+        for (std::size_t j = 1; j < list.size(); ++j) {
+          if (list[j].distance > fp.maxHammingDistance) break;
+          cv::Point2f p = features.keypoints[list[j].trainIdx].pt;
+          const bool ok = locate(entry.from, p);
+          entry.further.emplace_back(ok, p);
+        }
+      },
+      16);
+  for (std::size_t i = 0; i < knn.size(); ++i) {
+    const Located& entry = located[i];
+    if (!entry.usable) continue;
+    points.push_back(s.reference.pointsWorldMm[knn[i][0].queryIdx]);
+    fromPx.emplace_back(entry.from.x, entry.from.y);
+    pixels.emplace_back(entry.to.x, entry.to.y);
     std::vector<CandidateMatch> further;
-    for (std::size_t j = 1; j < list.size(); ++j) {
-      if (list[j].distance > fp.maxHammingDistance) break;
-      cv::Point2f p = features.keypoints[list[j].trainIdx].pt;
-      if (!locate(from, p)) continue;
+    for (const auto& [ok, p] : entry.further) {
+      if (!ok) continue;
       CandidateMatch candidate;
       candidate.pixelPx = Eigen::Vector2d(p.x, p.y);
       further.push_back(candidate);
