@@ -31,6 +31,13 @@ Arguments::Arguments(const std::vector<std::string>& words) {
   }
 }
 
+bool helpRequested(const std::vector<std::string>& words) {
+  for (const std::string& word : words) {
+    if (word == "--help" || word == "-h") return true;
+  }
+  return false;
+}
+
 bool Arguments::has(const std::string& name) const { return values_.count(name) != 0; }
 
 std::string Arguments::required(const std::string& name) const {

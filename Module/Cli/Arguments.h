@@ -8,6 +8,9 @@
 
 namespace tissuemosaic::cli {
 
+/// True when the words ask for a command's help (--help or -h anywhere), before any other checking.
+bool helpRequested(const std::vector<std::string>& words);
+
 class Arguments {
 public:
   /// words: everything after the command (and sub-command) names. `--name value` pairs and bare `--flag`s

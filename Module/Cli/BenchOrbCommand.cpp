@@ -52,11 +52,11 @@ double medianMs(int repeats, const std::function<void()>& work) {
 }  // namespace
 
 int runBenchOrb(const Words& words) {
-  const Arguments arguments(words);
-  if (arguments.has("help")) {
+  if (helpRequested(words)) {
     std::cout << help;
     return 0;
   }
+  const Arguments arguments(words);
   arguments.allowOnly({"width", "height", "device", "repeats", "features", "levels", "seed", "help"});
   synthetic::SyntheticScanOptions options;
   options.width = arguments.integer("width", 960);

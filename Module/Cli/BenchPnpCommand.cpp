@@ -24,11 +24,11 @@ the success rate (rotation error < 1 deg, camera-centre error < 2 mm) and the me
 }  // namespace
 
 int runBenchPnp(const Words& words) {
-  const Arguments arguments(words);
-  if (arguments.has("help")) {
+  if (helpRequested(words)) {
     std::cout << help;
     return 0;
   }
+  const Arguments arguments(words);
   arguments.allowOnly({"repeats", "seed", "quick"});
   if (!arguments.positional().empty()) throw Error("unexpected argument '" + arguments.positional().front() + "'");
   PnpBenchmarkOptions options;

@@ -40,11 +40,11 @@ double median(std::vector<double> values) {
 }  // namespace
 
 int runBenchStereo(const Words& words) {
-  const Arguments arguments(words);
-  if (arguments.has("help")) {
+  if (helpRequested(words)) {
     std::cout << help;
     return 0;
   }
+  const Arguments arguments(words);
   arguments.allowOnly({"width", "height", "device", "repeats", "disparities", "seed", "help"});
   synthetic::SyntheticStereoOptions options = synthetic::SyntheticStereoOptions::wideDisparity();
   options.width = arguments.integer("width", 960);

@@ -37,11 +37,11 @@ double median(std::vector<double> values) {
 }  // namespace
 
 int runBenchTrack(const Words& words) {
-  const Arguments arguments(words);
-  if (arguments.has("help")) {
+  if (helpRequested(words)) {
     std::cout << help;
     return 0;
   }
+  const Arguments arguments(words);
   arguments.allowOnly({"width", "height", "frames", "device", "features", "seed", "help"});
   synthetic::SyntheticScanOptions options;
   options.width = arguments.integer("width", 960);

@@ -74,11 +74,11 @@ SurfaceModelFile readModel(const Arguments& arguments, const std::string& pathOp
 }  // namespace
 
 int runRegister(const Words& words) {
-  const Arguments arguments(words);
-  if (arguments.has("help")) {
+  if (helpRequested(words)) {
     std::cout << help;
     return 0;
   }
+  const Arguments arguments(words);
   arguments.allowOnly({"model", "target", "model-frame", "target-frame", "landmarks", "model-landmarks",
                        "target-landmarks", "landmarks-frame", "initial-transform", "scale", "icp",
                        "max-icp-iterations", "icp-inlier-fraction", "icp-max-distance", "out-transform", "report",

@@ -50,11 +50,11 @@ void printScore(const cv::Mat& disparity, const cv::Mat& truth) {
 }  // namespace
 
 int runStereo(const Words& words) {
-  const Arguments arguments(words);
-  if (arguments.has("help")) {
+  if (helpRequested(words)) {
     std::cout << help;
     return 0;
   }
+  const Arguments arguments(words);
   arguments.allowOnly({"left", "right", "out", "min-disparity", "max-disparity", "calib", "cloud", "params", "device",
                        "ground-truth", "rectified-left", "help"});
   const std::string leftPath = arguments.required("left");

@@ -35,11 +35,9 @@ options:
 }  // namespace
 
 int runSynthPair(const Words& words) {
-  for (const std::string& word : words) {
-    if (word == "--help" || word == "-h") {
-      std::cout << help;
-      return 0;
-    }
+  if (helpRequested(words)) {
+    std::cout << help;
+    return 0;
   }
   const Arguments arguments(words);
   arguments.allowOnly({"out", "seed", "width", "height", "preset", "working-distance", "tilt", "relief", "baseline",

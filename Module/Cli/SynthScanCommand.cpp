@@ -44,11 +44,9 @@ void printProgress(int frame, int frames) {
 }  // namespace
 
 int runSynthScan(const Words& words) {
-  for (const std::string& word : words) {
-    if (word == "--help" || word == "-h") {
-      std::cout << help;
-      return 0;
-    }
+  if (helpRequested(words)) {
+    std::cout << help;
+    return 0;
   }
   const Arguments arguments(words);
   arguments.allowOnly({"out", "frames", "seed", "width", "height", "fps", "min-distance", "max-distance", "min-speed",

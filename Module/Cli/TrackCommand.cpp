@@ -84,11 +84,9 @@ double mean(const std::vector<double>& values) {
 }  // namespace
 
 int runTrack(const Words& words) {
-  for (const std::string& word : words) {
-    if (word == "--help" || word == "-h") {
-      std::cout << help;
-      return 0;
-    }
+  if (helpRequested(words)) {
+    std::cout << help;
+    return 0;
   }
   const Arguments arguments(words);
   arguments.allowOnly({"left-frames", "right-frames", "calib", "out", "rectified", "start-tum", "groundtruth", "fps",
