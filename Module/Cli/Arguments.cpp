@@ -71,6 +71,9 @@ double Arguments::number(const std::string& name, double fallback) const {
 }
 
 void Arguments::allowOnly(const std::set<std::string>& known) const {
+  if (!positional_.empty()) {
+    throw Error("unexpected argument '" + positional_.front() + "' (options are written --name value)");
+  }
   for (const auto& [name, value] : values_) {
     if (!known.count(name)) throw Error("unknown option --" + name);
   }

@@ -23,8 +23,8 @@ public:
   std::string text(const std::string& name, const std::string& fallback) const;
   int integer(const std::string& name, int fallback) const;
   double number(const std::string& name, double fallback) const;
-  const std::vector<std::string>& positional() const { return positional_; }
-  /// Throws Error naming the first option not in `known` (catches typos such as --min-disparty).
+  /// Throws Error naming the first option not in `known` (catches typos such as --min-disparty), or the first
+  /// positional word (no command takes any: a stray word is a mistyped option value).
   void allowOnly(const std::set<std::string>& known) const;
 
 private:

@@ -30,7 +30,6 @@ int runBenchPnp(const Words& words) {
   }
   const Arguments arguments(words);
   arguments.allowOnly({"repeats", "seed", "quick"});
-  if (!arguments.positional().empty()) throw Error("unexpected argument '" + arguments.positional().front() + "'");
   PnpBenchmarkOptions options;
   options.repeats = arguments.integer("repeats", options.repeats);
   const int seed = arguments.integer("seed", 1);

@@ -42,9 +42,6 @@ int runSynthPair(const Words& words) {
   const Arguments arguments(words);
   arguments.allowOnly({"out", "seed", "width", "height", "preset", "working-distance", "tilt", "relief", "baseline",
                        "focal", "noise", "distortion", "eye-rotation", "supersampling"});
-  require(arguments.positional().empty(), "unexpected argument '" +
-                                              (arguments.positional().empty() ? "" : arguments.positional()[0]) +
-                                              "' (options are written --name value)");
   const std::string out = arguments.required("out");
   const std::string preset = arguments.text("preset", "default");
   require(preset == "default" || preset == "wide", "--preset must be 'default' or 'wide', got '" + preset + "'");

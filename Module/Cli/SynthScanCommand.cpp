@@ -51,9 +51,6 @@ int runSynthScan(const Words& words) {
   const Arguments arguments(words);
   arguments.allowOnly({"out", "frames", "seed", "width", "height", "fps", "min-distance", "max-distance", "min-speed",
                        "max-speed", "noise", "supersampling"});
-  require(arguments.positional().empty(), "unexpected argument '" +
-                                              (arguments.positional().empty() ? "" : arguments.positional()[0]) +
-                                              "' (options are written --name value)");
   const std::string out = arguments.required("out");
   synthetic::SyntheticScanOptions options;
   const int seed = arguments.integer("seed", static_cast<int>(options.seed));

@@ -91,9 +91,6 @@ int runTrack(const Words& words) {
   const Arguments arguments(words);
   arguments.allowOnly({"left-frames", "right-frames", "calib", "out", "rectified", "start-tum", "groundtruth", "fps",
                        "device", "features", "params", "min-disparity", "max-disparity", "quiet"});
-  require(arguments.positional().empty(), "unexpected argument '" +
-                                              (arguments.positional().empty() ? "" : arguments.positional()[0]) +
-                                              "' (options are written --name value)");
   const std::vector<std::filesystem::path> leftFrames = framesIn(arguments.required("left-frames"), "left-frames");
   const std::vector<std::filesystem::path> rightFrames = framesIn(arguments.required("right-frames"), "right-frames");
   require(leftFrames.size() == rightFrames.size(), "--left-frames has " + std::to_string(leftFrames.size()) +
