@@ -28,6 +28,12 @@ std::string deviceName() {
   return properties.name;
 }
 
+std::size_t deviceBytesInUse() {
+  std::size_t freeBytes = 0, totalBytes = 0;
+  check(cudaMemGetInfo(&freeBytes, &totalBytes), "cudaMemGetInfo");
+  return totalBytes - freeBytes;
+}
+
 void* allocate(std::size_t bytes) {
   void* pointer = nullptr;
   if (bytes == 0) return nullptr;

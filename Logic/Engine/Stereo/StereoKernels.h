@@ -490,6 +490,60 @@ struct FloatValue {
   }
 };
 
+/// Box-sum inputs: 1 where the grey level is at or above minGrey (a specular highlight), else 0; always valid.
+struct BrightValue {
+  ImageView<const float> grey;
+  float minGrey;
+  static constexpr double kScale = 1.0;
+  using TileSum = int32_t;
+  TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
+    value = grey.at(x, y) >= minGrey ? 1 : 0;
+    return true;
+  }
+};
+
+/// A box-sum consumer of BrightValue: mask = 1 where at least minPixels highlight pixels lie within the box (a
+/// highlight is a blob; a few bright texture pixels are not one).
+struct MarkNearBright {
+  ImageView<uint8_t> mask;
+  int minPixels;
+  TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int) const { mask[index] = boxSum >= minPixels ? 1 : 0; }
+};
+
+/// Not in the paper: a specular highlight sits at a different surface point in each eye, so ZNCC matches it
+/// consistently but wrongly (a blob of false depth that outlier removal keeps). A disparity is dropped where the
+/// left pixel is near a left highlight or its match x - d is near a right one.
+TM_HOST_DEVICE TM_FORCE_INLINE bool nearSpecular(ImageView<const uint8_t> leftMask, ImageView<const uint8_t> rightMask,
+                                                 int x, int y, int disparity) {
+  if (leftMask.at(x, y)) return true;
+  const int xr = x - disparity;
+  return xr >= 0 && xr < rightMask.width && rightMask.at(xr, y);
+}
+
+struct DropSpecularDiscrete {
+  ImageView<const uint8_t> leftMask, rightMask;
+  ImageView<int16_t> disparity;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int16_t d = disparity[index];
+    if (d == kNoDisparity) return;
+    int x, y;
+    pixelCoordinates(index, disparity.width, x, y);
+    if (nearSpecular(leftMask, rightMask, x, y, d)) disparity[index] = kNoDisparity;
+  }
+};
+
+struct DropSpecularFloat {
+  ImageView<const uint8_t> leftMask, rightMask;
+  ImageView<float> disparity;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const float d = disparity[index];
+    if (!isFiniteValue(d)) return;
+    int x, y;
+    pixelCoordinates(index, disparity.width, x, y);
+    if (nearSpecular(leftMask, rightMask, x, y, static_cast<int>(floorf(d + 0.5f)))) disparity[index] = NAN;
+  }
+};
+
 /// II.B hole filling, method 2: a hole whose square neighbourhood of radius r (inside the image) is at least
 /// minValidFraction valid takes the neighbourhood's mean, rounded to the candidate disparities.
 /// A box-sum consumer: sum and count are those of DiscreteDisparityValue (scale 1) over the radius.

@@ -23,6 +23,7 @@ StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int di
       rightWinnerKeys(device, device == Device::Cuda ? static_cast<std::size_t>(width) * height : 0), discrete(device, width, height), discreteScratch(device, width, height),
       filledDisparity(device, width, height),
       smoothed(device, width, height), smoothedPrevious(device, width, height), correction(device, width, height),
+      leftSpecularMask(device, width, height), rightSpecularMask(device, width, height),
       radialHitDistance(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
       radialHitValue(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
       znccCostTable(device, device == Device::Cpu ? kZnccMax + 1 : 0),

@@ -35,6 +35,9 @@ void StereoParameters::validate() const {
   requireRange("leftRightMaxDifferencePx", leftRightMaxDifferencePx, -1, 1000);
   requireRange("refineMaxDeviationPx", refineMaxDeviationPx, -1.0f, 1000.0f);
   requireRange("holeMaxEdgeDifferencePx", holeMaxEdgeDifferencePx, -1.0f, 1000.0f);
+  requireRange("specularMinGrey", specularMinGrey, 1.0f, 256.0f);
+  requireRange("specularMarginPx", specularMarginPx, 0, 20);
+  requireRange("specularMinPixels", specularMinPixels, 1, 1681);
   requireRange("outlierIterations", outlierIterations, 0, 10);
   requireRange("outlierRadiusStartPx", outlierRadiusStartPx, 1, 200);
   requireRange("outlierRadiusStepPx", outlierRadiusStepPx, 0, 200);
@@ -56,6 +59,8 @@ void StereoParameters::write(cv::FileStorage& storage) const {
   storage << "znccWindowPx" << znccWindowPx << "minWindowStdDev" << minWindowStdDev;
   storage << "leftRightMaxDifferencePx" << leftRightMaxDifferencePx << "refineMaxDeviationPx" << refineMaxDeviationPx;
   storage << "holeMaxEdgeDifferencePx" << holeMaxEdgeDifferencePx;
+  storage << "specularMinGrey" << specularMinGrey << "specularMarginPx" << specularMarginPx;
+  storage << "specularMinPixels" << specularMinPixels;
   storage << "outlierIterations" << outlierIterations << "outlierRadiusStartPx" << outlierRadiusStartPx;
   storage << "outlierRadiusStepPx" << outlierRadiusStepPx << "outlierSmoothnessPx" << outlierSmoothnessPx;
   storage << "holeRadialRadiusPx" << holeRadialRadiusPx << "holeRadialMinLines" << holeRadialMinLines;
@@ -76,6 +81,9 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
   readKey(node, "leftRightMaxDifferencePx", p.leftRightMaxDifferencePx);
   readKey(node, "refineMaxDeviationPx", p.refineMaxDeviationPx);
   readKey(node, "holeMaxEdgeDifferencePx", p.holeMaxEdgeDifferencePx);
+  readKey(node, "specularMinGrey", p.specularMinGrey);
+  readKey(node, "specularMarginPx", p.specularMarginPx);
+  readKey(node, "specularMinPixels", p.specularMinPixels);
   readKey(node, "outlierIterations", p.outlierIterations);
   readKey(node, "outlierRadiusStartPx", p.outlierRadiusStartPx);
   readKey(node, "outlierRadiusStepPx", p.outlierRadiusStepPx);

@@ -23,6 +23,11 @@ struct StereoParameters {
   int leftRightMaxDifferencePx = 1;   ///< ZNCC winners failing the left-right check by more are dropped
   float refineMaxDeviationPx = 2.0f;  ///< output o_i instead of d_i where they differ by more than this
   float holeMaxEdgeDifferencePx = 2.5f;  ///< radial filling skips lines whose ends differ by more (depth edges)
+  /// Specular highlights differ between the eyes and give consistent but false matches: no estimate within
+  /// specularMarginPx of at least specularMinPixels grey levels >= specularMinGrey in either eye (256: off).
+  float specularMinGrey = 240.0f;
+  int specularMarginPx = 14;
+  int specularMinPixels = 16;
 
   // Iterative outlier removal and hole filling (II.B).
   int outlierIterations = 3;          ///< removal + filling rounds

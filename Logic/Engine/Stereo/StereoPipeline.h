@@ -30,6 +30,7 @@ struct StereoWorkspace {
   Image<int16_t> discrete, discreteScratch;        ///< o_i and a ping-pong partner
   Image<int16_t> filledDisparity;                  ///< o_i after outlier removal and hole filling
   Image<float> smoothed, smoothedPrevious, correction;
+  Image<uint8_t> leftSpecularMask, rightSpecularMask;  ///< 1 near a specular highlight (see DropSpecularDiscrete)
   Buffer<int16_t> radialHitDistance, radialHitValue;  ///< CPU radial filling: nearest estimate per ray [8][pixels]
   Buffer<float> znccCostTable;  ///< fillZnccCostTable (CPU only: the GPU divides)
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)

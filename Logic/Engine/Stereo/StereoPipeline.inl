@@ -58,11 +58,25 @@ struct PipelineSteps {
     std::swap(w.discrete, w.discreteScratch);
   }
 
+  bool specularMasking() const { return p.specularMinGrey <= 255.0f; }
+
+  /// The highlight masks of both eyes (pixels with at least specularMinPixels grey levels >= specularMinGrey within
+  /// specularMarginPx).
+  void specularMasks() {
+    boxSums(BrightValue{w.left.view(), p.specularMinGrey}, p.specularMarginPx, MarkNearBright{w.leftSpecularMask.view(), p.specularMinPixels});
+    boxSums(BrightValue{w.right.view(), p.specularMinGrey}, p.specularMarginPx, MarkNearBright{w.rightSpecularMask.view(), p.specularMinPixels});
+  }
+
   void outliersAndHoles() {
     w.discrete.buffer().copyFrom(w.znccDisparity.buffer());
     if (p.leftRightMaxDifferencePx >= 0) {
       parallelFor<Backend>(pixels(), LeftRightCheck{w.znccDisparity.view(), w.rightZnccDisparity.view(),
                                                     w.discrete.view(), p.leftRightMaxDifferencePx});
+    }
+    if (specularMasking()) {
+      specularMasks();
+      parallelFor<Backend>(pixels(), DropSpecularDiscrete{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
+                                                          w.discrete.view()});
     }
     for (int iteration = 0; iteration < p.outlierIterations; ++iteration) {
       const int radius = p.outlierRadiusStartPx + iteration * p.outlierRadiusStepPx;
@@ -101,6 +115,11 @@ struct PipelineSteps {
     }
     if (p.refineMaxDeviationPx >= 0) {
       parallelFor<Backend>(pixels(), FinalDisparity{w.discrete.view(), w.smoothed.view(), p.refineMaxDeviationPx});
+    }
+    // Filling and smoothing reach into the highlights from their rims: the output has no estimate there.
+    if (specularMasking()) {
+      parallelFor<Backend>(pixels(), DropSpecularFloat{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
+                                                       w.smoothed.view()});
     }
   }
 };

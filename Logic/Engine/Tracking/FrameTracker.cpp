@@ -76,6 +76,8 @@ struct FrameTracker::Impl {
     return knn;
   }
   int frames = 0;
+  StereoFeatures lastFeatures;     ///< of the last track() call
+  bool lastTracked = false;
   Reference reference;
   int lastKeyFrameIndex = -1;
   Eigen::Matrix4d T_world_lastKeyFrame = Eigen::Matrix4d::Identity();
@@ -142,7 +144,9 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   TrackResult result;
   result.frameIndex = s.frames++;
   const auto start = std::chrono::steady_clock::now();
-  const StereoFeatures features = s.extract(leftRectified, disparityPx);
+  s.lastFeatures = s.extract(leftRectified, disparityPx);
+  s.lastTracked = false;
+  const StereoFeatures& features = s.lastFeatures;
   result.features = static_cast<int>(features.keypoints.size());
   result.featuresWithDepth = features.withDepth;
 
@@ -153,6 +157,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
     s.setReference(features, s.T_world_start, result.frameIndex);
     s.lastKeyFrameIndex = result.frameIndex;
     s.T_world_lastKeyFrame = s.T_world_start;
+    s.lastTracked = true;
     return result;
   }
 
@@ -255,7 +260,22 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
     s.T_world_lastKeyFrame = T_world_camera;
   }
   s.setReference(features, T_world_camera, result.frameIndex);
+  s.lastTracked = true;
   return result;
+}
+
+const StereoFeatures& FrameTracker::lastFeatures() const { return impl_->lastFeatures; }
+
+void FrameTracker::correctLastPose(const Eigen::Matrix4d& T_world_camera) {
+  Impl& s = *impl_;
+  require(s.lastTracked && s.reference.frameIndex == s.frames - 1,
+          "tracker: only the pose of a just-tracked frame can be corrected");
+  require(T_world_camera.allFinite() &&
+              (T_world_camera.block<3, 3>(0, 0) * T_world_camera.block<3, 3>(0, 0).transpose() -
+               Eigen::Matrix3d::Identity()).norm() < 1e-6,
+          "tracker: the corrected pose is not a rigid transform");
+  if (s.lastKeyFrameIndex == s.reference.frameIndex) s.T_world_lastKeyFrame = T_world_camera;
+  s.setReference(s.lastFeatures, T_world_camera, s.reference.frameIndex);
 }
 
 }  // namespace tissuemosaic

@@ -71,6 +71,12 @@ public:
 
   /// Frames given to track() so far.
   int frameCount() const;
+  /// The features of the frame last given to track() (empty before the first call), for key-frame refinement.
+  const StereoFeatures& lastFeatures() const;
+  /// Replaces the pose of the last tracked frame (e.g. after key-frame refinement): later frames are tracked
+  /// relative to the corrected pose, and a corrected key frame is the new reference of the key-frame decision.
+  /// Throws Error when the last frame was not tracked or the pose is not rigid.
+  void correctLastPose(const Eigen::Matrix4d& T_world_camera);
   const FrameTrackerOptions& options() const;
 
 private:

@@ -45,6 +45,38 @@ void FeatureParameters::validate() const {
   requireRange(maxRefinementShiftPx, 0.1, 100, "maxRefinementShiftPx");
 }
 
+void FeatureParameters::write(cv::FileStorage& storage) const {
+  storage << "features" << "{";
+  storage << "maxFeatures" << maxFeatures << "scaleFactor" << scaleFactor << "levels" << levels;
+  storage << "fastThreshold" << fastThreshold << "edgeThresholdPx" << edgeThresholdPx;
+  storage << "maxHammingDistance" << maxHammingDistance << "candidatesPerFeature" << candidatesPerFeature;
+  storage << "voteBinPx" << voteBinPx << "subPixelRefinement" << static_cast<int>(subPixelRefinement);
+  storage << "maxRefinementShiftPx" << maxRefinementShiftPx;
+  storage << "}";
+}
+
+FeatureParameters FeatureParameters::read(const cv::FileNode& node) {
+  FeatureParameters p;
+  if (node.empty()) return p;
+  if (!node.isMap()) throw Error("the 'features' parameter node must be a map");
+  const auto key = [&node](const char* name, auto& value) { parameters::readKey("feature", node, name, value); };
+  key("maxFeatures", p.maxFeatures);
+  key("scaleFactor", p.scaleFactor);
+  key("levels", p.levels);
+  key("fastThreshold", p.fastThreshold);
+  key("edgeThresholdPx", p.edgeThresholdPx);
+  key("maxHammingDistance", p.maxHammingDistance);
+  key("candidatesPerFeature", p.candidatesPerFeature);
+  key("voteBinPx", p.voteBinPx);
+  int subPixel = p.subPixelRefinement ? 1 : 0;
+  key("subPixelRefinement", subPixel);
+  if (subPixel != 0 && subPixel != 1) throw Error("feature parameter subPixelRefinement must be 0 or 1");
+  p.subPixelRefinement = subPixel == 1;
+  key("maxRefinementShiftPx", p.maxRefinementShiftPx);
+  p.validate();
+  return p;
+}
+
 StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified, const cv::Mat& disparityPx,
                                      const RectifiedGeometry& geometry) {
   return extractStereoFeatures(

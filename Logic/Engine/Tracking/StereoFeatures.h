@@ -31,6 +31,10 @@ struct FeatureParameters {
 
   /// Throws Error naming the first parameter that is out of range.
   void validate() const;
+  /// Writes the parameters under the node name "features".
+  void write(cv::FileStorage& storage) const;
+  /// Reads a "features" node; missing keys keep their defaults, keys of the wrong type are an error. Validates.
+  static FeatureParameters read(const cv::FileNode& featuresNode);
 };
 
 /// One frame's features. pointsCameraMm[i] is NaN where keypoint i has no depth.

@@ -1,0 +1,85 @@
+#pragma once
+/// @file SurfaceKernels.h
+/// @brief measureSurface's per-pixel steps, written once for both backends, and the template that runs them
+/// (instantiated in SurfaceMeasurement.cpp for the CPU and SurfaceMeasurementCuda.cu for CUDA).
+#include "Float3.h"
+#include "Image.h"
+#include "ParallelFor.h"
+
+namespace tissuemosaic::surface {
+
+/// cv::stereoRectify's Q, in doubles as the host's disparityToPointCloud uses it.
+struct Reprojection {
+  double q[4][4];
+};
+
+/// Pixel -> 3D point in the left rectified camera frame: Q * [x y d 1], the same double operations as
+/// disparityToPointCloud (so the same floats); NaN where it skips the pixel (no disparity, at or behind the camera).
+struct DisparityToPoints {
+  ImageView<const float> disparityPx;
+  ImageView<Float3> pointsMm;
+  Reprojection reprojection;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int i = static_cast<int>(index);
+    const int y = i / disparityPx.width, x = i - y * disparityPx.width;
+    const double d = disparityPx[index];
+    pointsMm[index] = nanFloat3();
+    if (!(fabs(d) <= 1.7976931348623157e308)) return;
+    const double(&q)[4][4] = reprojection.q;
+    double h[4];
+    for (int r = 0; r < 4; ++r) h[r] = q[r][0] * x + q[r][1] * y + q[r][2] * d + q[r][3];
+    if (!(h[3] != 0)) return;
+    const double px = h[0] / h[3], py = h[1] / h[3], pz = h[2] / h[3];
+    const double big = 1.7976931348623157e308;
+    if (!(pz > 0 && pz <= big && fabs(px) <= big && fabs(py) <= big)) return;
+    pointsMm[index] = {static_cast<float>(px), static_cast<float>(py), static_cast<float>(pz)};
+  }
+};
+
+/// Normal from the cross product of the central differences of the points radiusPx away in x and y, turned toward
+/// the camera (n . p < 0); NaN where the point or a neighbour is missing or outside the image, or a neighbour's
+/// depth differs from the centre's by more than maxDepthJumpMm (a depth edge, not a surface).
+struct PointNormals {
+  ImageView<const Float3> pointsMm;
+  ImageView<Float3> normals;
+  int radiusPx;
+  float maxDepthJumpMm;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int i = static_cast<int>(index);
+    const int y = i / pointsMm.width, x = i - y * pointsMm.width;
+    normals[index] = nanFloat3();
+    const int r = radiusPx;
+    if (x < r || y < r || x + r >= pointsMm.width || y + r >= pointsMm.height) return;
+    const Float3 p = pointsMm[index];
+    const Float3 left = pointsMm.at(x - r, y), right = pointsMm.at(x + r, y);
+    const Float3 up = pointsMm.at(x, y - r), down = pointsMm.at(x, y + r);
+    if (!isFinite(p) || !isFinite(left) || !isFinite(right) || !isFinite(up) || !isFinite(down)) return;
+    if (fabsf(left.z - p.z) > maxDepthJumpMm || fabsf(right.z - p.z) > maxDepthJumpMm ||
+        fabsf(up.z - p.z) > maxDepthJumpMm || fabsf(down.z - p.z) > maxDepthJumpMm)
+      return;
+    Float3 n = cross(right - left, down - up);
+    const float norm = length(n);
+    if (!(norm > 0)) return;
+    n = ((dot(n, p) > 0 ? -1.0f : 1.0f) / norm) * n;
+    normals[index] = n;
+  }
+};
+
+/// Points, then normals, on the backend that owns the images (all of one device).
+template <class Backend>
+void measureSurfaceOn(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
+                      const Reprojection& reprojection, int normalRadiusPx, float maxDepthJumpMm) {
+  parallelFor<Backend>(disparityPx.pixelCount(), DisparityToPoints{disparityPx, pointsMm, reprojection});
+  parallelFor<Backend>(pointsMm.pixelCount(), PointNormals{pointsMm, normals, normalRadiusPx, maxDepthJumpMm});
+}
+
+/// The backend entry points (SurfaceMeasurement.cpp, SurfaceMeasurementCuda.cu; SurfaceMeasurementCudaAbsent.cpp
+/// throws Error without CUDA).
+void measureSurfaceCpu(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
+                       const Reprojection& reprojection, int normalRadiusPx, float maxDepthJumpMm);
+void measureSurfaceCuda(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
+                        const Reprojection& reprojection, int normalRadiusPx, float maxDepthJumpMm);
+
+}  // namespace tissuemosaic::surface

@@ -1,0 +1,11 @@
+// The CUDA instantiation of measureSurface's kernels (SurfaceKernels.h).
+#include "SurfaceKernels.h"
+
+namespace tissuemosaic::surface {
+
+void measureSurfaceCuda(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
+                        const Reprojection& reprojection, int normalRadiusPx, float maxDepthJumpMm) {
+  measureSurfaceOn<CudaBackend>(disparityPx, pointsMm, normals, reprojection, normalRadiusPx, maxDepthJumpMm);
+}
+
+}  // namespace tissuemosaic::surface

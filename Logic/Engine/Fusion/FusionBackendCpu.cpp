@@ -1,0 +1,22 @@
+// The CPU instantiation of the point fusion, and its prefix sum.
+#include "FusionPipeline.inl"
+
+#include <numeric>
+
+namespace tissuemosaic::fusion {
+
+int exclusiveScanCpu(const int* flags, int* offsets, int count) {
+  if (count <= 0) return 0;
+  std::exclusive_scan(flags, flags + count, offsets, 0);
+  return offsets[count - 1] + flags[count - 1];
+}
+
+IntegrateCounts integrateCpu(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxPoints) {
+  return integrateOn<CpuBackend>(model, pose, settings, maxPoints);
+}
+
+int sampleVisibleCpu(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxSamples) {
+  return sampleVisibleOn<CpuBackend>(model, pose, settings, maxSamples);
+}
+
+}  // namespace tissuemosaic::fusion

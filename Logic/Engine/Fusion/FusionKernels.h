@@ -1,0 +1,353 @@
+#pragma once
+/// @file FusionKernels.h
+/// @brief The per-point and per-pixel steps of the point-based TSDF fusion (paper III.E), written once for both
+/// backends (TM_HOST_DEVICE). Backend differences are confined to the atomic primitives at the top of this file and
+/// to the prefix sum (FusionPipeline.inl).
+///
+/// Determinism: every model point is updated by its own thread only (merging is point-centric), the coverage mask
+/// is an order-independent union, new points are compacted by a prefix sum in pixel order and the z-buffer keeps
+/// the minimum of a (depth, index) key. With -ffp-contract=off / -fmad=false the CPU and CUDA models agree bit for bit.
+#include "Core/Float3.h"
+#include "Core/HostDevice.h"
+#include "Core/Image.h"
+
+#include <cstdint>
+#include <cstring>
+
+namespace tissuemosaic::fusion {
+
+// ---- the backend-specific primitives ------------------------------------------------------------------------------
+
+TM_HOST_DEVICE TM_FORCE_INLINE void atomicAddInt(int* target, int value) {
+#if defined(__CUDA_ARCH__)
+  atomicAdd(target, value);
+#else
+  __atomic_fetch_add(target, value, __ATOMIC_RELAXED);
+#endif
+}
+
+TM_HOST_DEVICE TM_FORCE_INLINE void atomicMinU64(uint64_t* target, uint64_t value) {
+#if defined(__CUDA_ARCH__)
+  atomicMin(reinterpret_cast<unsigned long long*>(target), static_cast<unsigned long long>(value));
+#else
+  uint64_t current = __atomic_load_n(target, __ATOMIC_RELAXED);
+  while (value < current &&
+         !__atomic_compare_exchange_n(target, &current, value, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+  }
+#endif
+}
+
+/// Sets a flag that several threads may set at once (all to the same value).
+TM_HOST_DEVICE TM_FORCE_INLINE void setFlag(uint8_t* flag) {
+#if defined(__CUDA_ARCH__)
+  *flag = 1;
+#else
+  __atomic_store_n(flag, static_cast<uint8_t>(1), __ATOMIC_RELAXED);
+#endif
+}
+
+TM_HOST_DEVICE TM_FORCE_INLINE uint32_t floatBits(float value) {
+#if defined(__CUDA_ARCH__)
+  return __float_as_uint(value);
+#else
+  uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+#endif
+}
+
+// ---- data -----------------------------------------------------------------------------------------------------------
+
+/// Four floats, 16-byte aligned so a GPU thread loads one in a single transaction.
+struct alignas(16) Float4 {
+  float x, y, z, w;
+};
+
+TM_HOST_DEVICE TM_FORCE_INLINE Float3 xyz(Float4 a) { return {a.x, a.y, a.z}; }
+
+/// The model on the device, structure of arrays indexed by point.
+struct ModelArrays {
+  Float4* positionWeight;  ///< world position (mm); w = TSDF weight (merged observations, capped)
+  Float4* normal;          ///< world unit normal; w unused (0)
+  Float4* colourWeight;    ///< RGB 0..255 (running average); w = accumulated colour weight (capped)
+};
+
+/// One key frame's measurement on the device (left rectified camera frame, NaN = none).
+struct MeasurementView {
+  ImageView<const Float3> pointsMm;
+  ImageView<const Float3> normals;
+  const uint8_t* colourBgr;  ///< 3 bytes per pixel, row-major
+};
+
+/// The left rectified pinhole camera: pixel centres at integer coordinates.
+struct PinholeCamera {
+  float focalPx, cxPx, cyPx;
+  int width, height;
+
+  /// Pixel nearest to the projection of pc (camera frame), false behind the camera or outside the image.
+  TM_HOST_DEVICE TM_FORCE_INLINE bool project(Float3 pc, int& x, int& y) const {
+    if (!(pc.z > 1e-3f)) return false;
+    const float u = focalPx * pc.x / pc.z + cxPx, v = focalPx * pc.y / pc.z + cyPx;
+    if (!(u > -0.5f && u < width - 0.5f && v > -0.5f && v < height - 0.5f)) return false;
+    x = static_cast<int>(floorf(u + 0.5f));
+    y = static_cast<int>(floorf(v + 0.5f));
+    return x >= 0 && y >= 0 && x < width && y < height;
+  }
+};
+
+/// One key frame's pose in the forms the kernels need.
+struct FramePose {
+  RigidTransformF worldToCamera, cameraToWorld;
+  Float3 cameraCentreWorld;
+};
+
+/// FusionParameters and the geometry as the kernels use them.
+struct FusionSettings {
+  PinholeCamera camera;
+  float truncationMm;
+  float maxWeight;
+  float minNormalCosine;          ///< cos(maxNormalAngleDeg)
+  int coverageRadiusPx;
+  int newPointStepPx;
+  float colourFullWeightFraction, colourMinWeight;
+};
+
+constexpr uint64_t kEmptyDepthKey = ~uint64_t(0);
+/// Below this cosine between a measured normal and the viewing ray, the ray-plane intersection is ill-conditioned
+/// and the measured depth is used instead.
+constexpr float kMinRayPlaneCosine = 0.2f;
+
+// ---- shared per-point rules ---------------------------------------------------------------------------------------
+
+/// The colour weight of a measurement at pixel (x, y): 1 within colourFullWeightFraction of the half-diagonal from
+/// the image centre, falling linearly to colourMinWeight at the corners (the scope's light is brightest in the
+/// centre; paper III.E).
+TM_HOST_DEVICE TM_FORCE_INLINE float colourWeightAt(int x, int y, const FusionSettings& s) {
+  const float centreX = 0.5f * (s.camera.width - 1), centreY = 0.5f * (s.camera.height - 1);
+  const float halfDiagonal = sqrtf(centreX * centreX + centreY * centreY);
+  if (s.colourFullWeightFraction >= 1.0f || !(halfDiagonal > 0)) return 1.0f;
+  const float dx = x - centreX, dy = y - centreY;
+  const float radius = sqrtf(dx * dx + dy * dy) / halfDiagonal;
+  if (radius <= s.colourFullWeightFraction) return 1.0f;
+  const float t = fminf(1.0f, (radius - s.colourFullWeightFraction) / (1.0f - s.colourFullWeightFraction));
+  return 1.0f - (1.0f - s.colourMinWeight) * t;
+}
+
+/// Where the viewing ray of the model point pc (camera frame) meets the measured surface at one pixel, as a scale
+/// of pc: the tangent plane through the measured point q with normal n, or q's depth where the normal is missing
+/// or the ray grazes the plane.
+TM_HOST_DEVICE TM_FORCE_INLINE float measuredRayScale(Float3 pc, Float3 q, Float3 n, bool hasNormal) {
+  if (hasNormal) {
+    const float np = dot(n, pc);
+    if (np < -kMinRayPlaneCosine * length(pc)) return dot(n, q) / np;
+  }
+  return q.z / pc.z;
+}
+
+/// True when the measurement at pixel (x, y) sees the surface of the model point pc (normal nc, camera frame):
+/// within the truncation distance along the viewing ray and with a compatible normal. rayScale: where the ray meets
+/// the measured surface (measuredRayScale).
+TM_HOST_DEVICE TM_FORCE_INLINE bool measurementAgrees(const MeasurementView& m, int x, int y, Float3 pc, Float3 nc,
+                                                      const FusionSettings& s, float& rayScale) {
+  const Float3 q = m.pointsMm.at(x, y);
+  if (!isFinite(q)) return false;
+  const Float3 n = m.normals.at(x, y);
+  const bool hasNormal = isFinite(n);
+  if (hasNormal && dot(n, nc) < s.minNormalCosine) return false;
+  rayScale = measuredRayScale(pc, q, n, hasNormal);
+  const float alongRayMm = (rayScale - 1.0f) * length(pc);
+  return fabsf(alongRayMm) <= s.truncationMm;
+}
+
+// ---- kernels ------------------------------------------------------------------------------------------------------
+
+/// Per model point: project it into the key frame; every pixel of its (2r+1)^2 neighbourhood whose measurement
+/// agrees with it counts as covered (so a revisit from nearer or farther adds no second layer); when its own pixel
+/// agrees, the point merges: TSDF running average of its position along its viewing ray, of its normal, and of its
+/// colour weighted by the centre-to-edge colour weight; weights capped at maxWeight.
+struct MergeModelPoints {
+  ModelArrays model;
+  MeasurementView measurement;
+  FramePose pose;
+  FusionSettings settings;
+  uint8_t* covered;  ///< per pixel
+  int* mergedCount;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const Float4 positionWeight = model.positionWeight[index];
+    const Float3 p = xyz(positionWeight);
+    const Float3 pc = pose.worldToCamera(p);
+    int px, py;
+    if (!settings.camera.project(pc, px, py)) return;
+    const Float3 nc = pose.worldToCamera.rotate(xyz(model.normal[index]));
+    const int r = settings.coverageRadiusPx, width = settings.camera.width, height = settings.camera.height;
+    float ownRayScale = 1.0f;
+    bool ownAgrees = false;
+    for (int y = py - r; y <= py + r; ++y) {
+      if (y < 0 || y >= height) continue;
+      for (int x = px - r; x <= px + r; ++x) {
+        if (x < 0 || x >= width) continue;
+        float rayScale;
+        if (!measurementAgrees(measurement, x, y, pc, nc, settings, rayScale)) continue;
+        setFlag(covered + static_cast<int64_t>(y) * width + x);
+        if (x == px && y == py) {
+          ownAgrees = true;
+          ownRayScale = rayScale;
+        }
+      }
+    }
+    if (!ownAgrees) return;
+
+    const float weight = positionWeight.w;
+    const float averagedScale = 1.0f + (ownRayScale - 1.0f) / (weight + 1.0f);
+    const Float3 centre = pose.cameraCentreWorld;
+    const Float3 moved = centre + averagedScale * (p - centre);
+    model.positionWeight[index] = {moved.x, moved.y, moved.z, fminf(weight + 1.0f, settings.maxWeight)};
+
+    const int64_t pixel = static_cast<int64_t>(py) * width + px;
+    const Float3 measuredNormal = measurement.normals[pixel];
+    if (isFinite(measuredNormal)) {
+      const Float3 sum = weight * xyz(model.normal[index]) + pose.cameraToWorld.rotate(measuredNormal);
+      const float norm = length(sum);
+      if (norm > 0) {
+        const Float3 n = (1.0f / norm) * sum;
+        model.normal[index] = {n.x, n.y, n.z, 0.0f};
+      }
+    }
+
+    const Float4 colour = model.colourWeight[index];
+    const float w = colourWeightAt(px, py, settings);
+    const uint8_t* bgr = measurement.colourBgr + pixel * 3;
+    const float total = colour.w + w;
+    model.colourWeight[index] = {(colour.w * colour.x + w * bgr[2]) / total, (colour.w * colour.y + w * bgr[1]) / total,
+                                 (colour.w * colour.z + w * bgr[0]) / total, fminf(total, settings.maxWeight)};
+    atomicAddInt(mergedCount, 1);
+  }
+};
+
+/// Per pixel: 1 where the measurement (point and normal) is new, i.e. not covered by the model, on the sub-sampling
+/// grid; 0 elsewhere. The prefix sum of these flags places the new points.
+struct FlagNewPixels {
+  MeasurementView measurement;
+  const uint8_t* covered;
+  int* flags;
+  int stepPx;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int width = measurement.pointsMm.width;
+    const int i = static_cast<int>(index);
+    const int y = i / width, x = i - y * width;
+    flags[index] = (x % stepPx == 0 && y % stepPx == 0 && !covered[index] && isFinite(measurement.pointsMm[index]) &&
+                    isFinite(measurement.normals[index]))
+                       ? 1
+                       : 0;
+  }
+};
+
+/// Per pixel: appends the flagged measurement at firstIndex + its prefix-sum offset, for the first `toAdd` of them
+/// in pixel order (the rest are refused for the budget).
+struct AppendNewPoints {
+  ModelArrays model;
+  MeasurementView measurement;
+  FramePose pose;
+  FusionSettings settings;
+  const int* flags;
+  const int* offsets;
+  int64_t firstIndex;
+  int toAdd;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    if (!flags[index] || offsets[index] >= toAdd) return;
+    const int width = measurement.pointsMm.width;
+    const int i = static_cast<int>(index);
+    const int y = i / width, x = i - y * width;
+    const int64_t target = firstIndex + offsets[index];
+    const Float3 p = pose.cameraToWorld(measurement.pointsMm[index]);
+    const Float3 n = pose.cameraToWorld.rotate(measurement.normals[index]);
+    const uint8_t* bgr = measurement.colourBgr + index * 3;
+    model.positionWeight[target] = {p.x, p.y, p.z, 1.0f};
+    model.normal[target] = {n.x, n.y, n.z, 0.0f};
+    model.colourWeight[target] = {static_cast<float>(bgr[2]), static_cast<float>(bgr[1]), static_cast<float>(bgr[0]),
+                                  colourWeightAt(x, y, settings)};
+  }
+};
+
+/// Copies the first points of one model store into another (the stores grow by doubling).
+struct CopyModelPoints {
+  ModelArrays from, to;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    to.positionWeight[index] = from.positionWeight[index];
+    to.normal[index] = from.normal[index];
+    to.colourWeight[index] = from.colourWeight[index];
+  }
+};
+
+struct ClearDepthKeys {
+  uint64_t* keys;
+  TM_HOST_DEVICE void operator()(int64_t index) const { keys[index] = kEmptyDepthKey; }
+};
+
+/// Per model point: the z-buffer. A point in front of the camera, inside the image and facing it competes for its
+/// pixel with the key (depth bits << 32 | index): positive floats order as their bits, so the minimum is the
+/// nearest point (lowest index on ties) whatever the order of the threads.
+struct ProjectToDepthKeys {
+  const Float4* positionWeight;
+  const Float4* normal;
+  FramePose pose;
+  PinholeCamera camera;
+  uint64_t* keys;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const Float3 pc = pose.worldToCamera(xyz(positionWeight[index]));
+    int x, y;
+    if (!camera.project(pc, x, y)) return;
+    if (dot(pose.worldToCamera.rotate(xyz(normal[index])), pc) >= 0) return;  // back-facing: hidden
+    const uint64_t key = (static_cast<uint64_t>(floatBits(pc.z)) << 32) | static_cast<uint32_t>(index);
+    atomicMinU64(keys + static_cast<int64_t>(y) * camera.width + x, key);
+  }
+};
+
+/// A regular grid of sample pixels, one per stride x stride cell (its centre, clamped into the image).
+struct SampleGrid {
+  int width, height, stride;
+
+  TM_HOST_DEVICE int columns() const { return (width + stride - 1) / stride; }
+  TM_HOST_DEVICE int rows() const { return (height + stride - 1) / stride; }
+  TM_HOST_DEVICE int64_t cellCount() const { return static_cast<int64_t>(columns()) * rows(); }
+  TM_HOST_DEVICE int64_t pixelOf(int64_t cell) const {
+    const int c = static_cast<int>(cell);
+    const int gy = c / columns(), gx = c - gy * columns();
+    const int x = gx * stride + stride / 2, y = gy * stride + stride / 2;
+    return static_cast<int64_t>(y < height ? y : height - 1) * width + (x < width ? x : width - 1);
+  }
+};
+
+/// Per grid cell: 1 where its sample pixel holds a visible model point.
+struct FlagGridSamples {
+  const uint64_t* keys;
+  SampleGrid grid;
+  int* flags;
+  TM_HOST_DEVICE void operator()(int64_t cell) const { flags[cell] = keys[grid.pixelOf(cell)] != kEmptyDepthKey; }
+};
+
+/// Per grid cell: writes the visible model point of a flagged cell at its prefix-sum offset.
+struct GatherGridSamples {
+  const uint64_t* keys;
+  SampleGrid grid;
+  const int* flags;
+  const int* offsets;
+  const Float4* positionWeight;
+  const Float4* normal;
+  Float4* samplePositions;
+  Float4* sampleNormals;
+
+  TM_HOST_DEVICE void operator()(int64_t cell) const {
+    if (!flags[cell]) return;
+    const uint32_t point = static_cast<uint32_t>(keys[grid.pixelOf(cell)] & 0xffffffffu);
+    samplePositions[offsets[cell]] = positionWeight[point];
+    sampleNormals[offsets[cell]] = normal[point];
+  }
+};
+
+}  // namespace tissuemosaic::fusion

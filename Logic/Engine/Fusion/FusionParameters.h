@@ -1,0 +1,42 @@
+#pragma once
+/// @file FusionParameters.h
+/// @brief Every parameter of the point-based TSDF fusion (paper III.E) and of the surface measurement it reads, in
+/// one validated struct. The command line, the parameter files and the GUI panel all edit this object.
+namespace cv {
+class FileStorage;
+class FileNode;
+}  // namespace cv
+
+namespace tissuemosaic {
+
+struct FusionParameters {
+  // Merging (TSDF running average, no voxel grid).
+  double truncationMm = 1.5;          ///< a measurement within this distance along the ray of a model point merges
+  double maxWeight = 64.0;            ///< running-average cap: older observations keep at most this weight
+  double maxNormalAngleDeg = 75.0;    ///< a model point merges only if its normal and the measured one differ less
+  int coverageRadiusPx = 1;           ///< a measured pixel counts as covered when an agreeing model point lands
+                                      ///< within this many pixels (Chebyshev), so a revisit adds no second layer
+
+  // Colour weight: 1 in the image centre, falling toward the edges (paper III.E).
+  double colourFullWeightFraction = 0.5;  ///< full weight within this fraction of the half-diagonal from the centre
+  double colourMinWeight = 0.1;           ///< the weight at the image corners (linear fall between)
+
+  // Model size.
+  int maxPoints = 20000000;  ///< point budget: new points are refused once the model holds this many
+  int newPointStepPx = 1;             ///< new points only at every k-th pixel in x and y (1 = every pixel)
+
+  // Surface measurement (measureSurface).
+  int normalRadiusPx = 2;             ///< normals from neighbours this many pixels away
+  double maxDepthJumpMm = 2.0;        ///< no normal where a neighbour's depth differs by more than this
+
+  /// Throws Error naming the first parameter that is out of range.
+  void validate() const;
+
+  /// Writes the parameters under the node name "fusion".
+  void write(cv::FileStorage& storage) const;
+  /// Reads the parameters from a "fusion" node; keys that are missing keep their defaults, keys of the wrong type
+  /// are an error. Validates the result.
+  static FusionParameters read(const cv::FileNode& fusionNode);
+};
+
+}  // namespace tissuemosaic

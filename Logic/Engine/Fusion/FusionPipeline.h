@@ -1,0 +1,68 @@
+#pragma once
+/// @file FusionPipeline.h
+/// @brief The device-resident state of the point fusion and the backend entry points that run it. The steps are one
+/// template (FusionPipeline.inl) instantiated for the CPU (FusionBackendCpu.cpp) and for CUDA (FusionBackendCuda.cu);
+/// only the prefix sum has a launcher per backend. FusionBackendCudaAbsent.cpp stands in without CUDA.
+#include "Core/Buffer.h"
+#include "Core/Image.h"
+#include "FusionKernels.h"
+
+#include <cstddef>
+
+namespace tissuemosaic::fusion {
+
+/// The model's arrays on one device; capacity() points, of which FusionModel::count are used.
+struct ModelStore {
+  ModelStore() = default;
+  ModelStore(Device device, std::size_t capacity)
+      : positionWeight(device, capacity), normal(device, capacity), colourWeight(device, capacity) {}
+  std::size_t capacity() const { return positionWeight.size(); }
+  ModelArrays arrays() { return {positionWeight.data(), normal.data(), colourWeight.data()}; }
+
+  Buffer<Float4> positionWeight, normal, colourWeight;
+};
+
+struct FusionModel {
+  FusionModel(Device device, int width, int height);
+  /// Bytes of every buffer (the caller reports 0 on the CPU).
+  std::size_t bytes() const;
+
+  Device device;
+  int width, height;
+  std::size_t count = 0;       ///< model points in use
+  bool budgetReached = false;  ///< new points were refused for the budget
+  ModelStore store;            ///< grows by doubling up to the budget (allocated at the first integrate)
+
+  // Per key frame, one pixel each.
+  Image<Float3> pointsMm, normals;  ///< the uploaded measurement
+  Buffer<uint8_t> colourBgr;        ///< 3 per pixel
+  Buffer<uint8_t> covered;          ///< pixels an agreeing model point lands in or next to
+  Buffer<int> flags, offsets;       ///< prefix-sum compaction (new pixels, sample cells)
+  Buffer<uint64_t> depthKeys;       ///< z-buffer of sampleVisible
+  Buffer<int> counters;             ///< [0] merged points
+  Buffer<uint8_t> scanScratch;      ///< CUDA prefix-sum scratch
+  Buffer<Float4> samplePositions, sampleNormals;  ///< sampleVisible's output
+
+  MeasurementView measurement() const {
+    return {pointsMm.view(), normals.view(), colourBgr.data()};
+  }
+};
+
+struct IntegrateCounts {
+  int merged = 0, added = 0, refused = 0;
+};
+
+/// Merges the uploaded measurement into the model and appends its uncovered pixels while maxPoints allows.
+IntegrateCounts integrateCpu(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxPoints);
+IntegrateCounts integrateCuda(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxPoints);
+
+/// Fills model.samplePositions/sampleNormals with up to maxSamples visible model points spread over the image;
+/// returns how many.
+int sampleVisibleCpu(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxSamples);
+int sampleVisibleCuda(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxSamples);
+
+/// Backend prefix sums: offsets[i] = flags[0] + ... + flags[i - 1]; returns the total of all count flags.
+int exclusiveScanCpu(const int* flags, int* offsets, int count);
+int exclusiveScanCuda(const int* flags, int* offsets, int count, Buffer<uint8_t>& scratch);
+
+}  // namespace tissuemosaic::fusion

@@ -1,0 +1,178 @@
+#include "PointFusion.h"
+
+#include "Core/Error.h"
+#include "FusionPipeline.h"
+
+#include <Eigen/LU>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace tissuemosaic {
+
+namespace fusion {
+
+FusionModel::FusionModel(Device device_, int width_, int height_)
+    : device(device_), width(width_), height(height_), pointsMm(device_, width_, height_),
+      normals(device_, width_, height_), colourBgr(device_, std::size_t(3) * width_ * height_),
+      covered(device_, std::size_t(width_) * height_), flags(device_, std::size_t(width_) * height_),
+      offsets(device_, std::size_t(width_) * height_), depthKeys(device_, std::size_t(width_) * height_),
+      counters(device_, 1) {}
+
+std::size_t FusionModel::bytes() const {
+  return 3 * store.capacity() * sizeof(Float4) + 2 * pointsMm.buffer().size() * sizeof(Float3) + colourBgr.size() +
+         covered.size() + (flags.size() + offsets.size() + counters.size()) * sizeof(int) +
+         depthKeys.size() * sizeof(uint64_t) + scanScratch.size() +
+         (samplePositions.size() + sampleNormals.size()) * sizeof(Float4);
+}
+
+}  // namespace fusion
+
+namespace {
+
+fusion::FramePose framePose(const Eigen::Matrix4d& T_world_camera) {
+  require(T_world_camera.allFinite(), "PointFusion: the camera pose has non-finite entries");
+  const Eigen::Matrix3d R = T_world_camera.topLeftCorner<3, 3>();
+  const Eigen::Vector3d t = T_world_camera.topRightCorner<3, 1>();
+  require((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-6 && R.determinant() > 0 &&
+              T_world_camera.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1)),
+          "PointFusion: T_world_camera must be a rigid transform (rotation and translation)");
+  const Eigen::Matrix3d Rt = R.transpose();
+  const Eigen::Vector3d tInverse = -Rt * t;
+  fusion::FramePose pose{};
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      pose.cameraToWorld.r[3 * r + c] = static_cast<float>(R(r, c));
+      pose.worldToCamera.r[3 * r + c] = static_cast<float>(Rt(r, c));
+    }
+    pose.cameraToWorld.t[r] = static_cast<float>(t(r));
+    pose.worldToCamera.t[r] = static_cast<float>(tInverse(r));
+  }
+  pose.cameraCentreWorld = {static_cast<float>(t(0)), static_cast<float>(t(1)), static_cast<float>(t(2))};
+  return pose;
+}
+
+fusion::FusionSettings fusionSettings(const RectifiedGeometry& geometry, const FusionParameters& p) {
+  constexpr double kPi = 3.14159265358979323846;
+  fusion::FusionSettings s{};
+  s.camera = {static_cast<float>(geometry.focalPx), static_cast<float>(geometry.cxLeftPx),
+              static_cast<float>(geometry.cyPx), geometry.imageSize.width, geometry.imageSize.height};
+  s.truncationMm = static_cast<float>(p.truncationMm);
+  s.maxWeight = static_cast<float>(p.maxWeight);
+  s.minNormalCosine = static_cast<float>(std::cos(p.maxNormalAngleDeg * kPi / 180.0));
+  s.coverageRadiusPx = p.coverageRadiusPx;
+  s.newPointStepPx = p.newPointStepPx;
+  s.colourFullWeightFraction = static_cast<float>(p.colourFullWeightFraction);
+  s.colourMinWeight = static_cast<float>(p.colourMinWeight);
+  return s;
+}
+
+/// Copies the first `count` elements of a device buffer to host memory.
+template <class T>
+void downloadPrefix(const Buffer<T>& buffer, std::size_t count, T* host) {
+  if (count == 0) return;
+  if (buffer.device() == Device::Cuda) cuda::copyDeviceToHost(host, buffer.data(), count * sizeof(T));
+  else std::copy_n(buffer.data(), count, host);
+}
+
+cv::Mat continuous(const cv::Mat& image) { return image.isContinuous() ? image : image.clone(); }
+
+}  // namespace
+
+PointFusion::PointFusion(const RectifiedGeometry& geometry, const FusionParameters& parameters, Device device)
+    : geometry_(geometry), parameters_(parameters), device_(device) {
+  parameters_.validate();
+  require(geometry.imageSize.width > 0 && geometry.imageSize.height > 0 && geometry.focalPx > 0,
+          "PointFusion: the rectified geometry has no image size or focal length");
+  if (device == Device::Cuda) {
+    const std::string reason = cudaUnavailableReason();
+    if (!reason.empty()) throw Error("CUDA point fusion was asked for, but " + reason);
+  }
+  model_ = std::make_unique<fusion::FusionModel>(device, geometry.imageSize.width, geometry.imageSize.height);
+}
+
+PointFusion::~PointFusion() = default;
+PointFusion::PointFusion(PointFusion&&) noexcept = default;
+PointFusion& PointFusion::operator=(PointFusion&&) noexcept = default;
+
+FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const Eigen::Matrix4d& T_world_camera) {
+  const auto start = std::chrono::steady_clock::now();
+  const cv::Size size = geometry_.imageSize;
+  require(measurement.pointsCameraMm.type() == CV_32FC3 && measurement.pointsCameraMm.size() == size &&
+              measurement.normalsCamera.type() == CV_32FC3 && measurement.normalsCamera.size() == size &&
+              measurement.colourBgr.type() == CV_8UC3 && measurement.colourBgr.size() == size,
+          "PointFusion::integrate: the measurement must hold CV_32FC3 points and normals and a CV_8UC3 colour image "
+          "of the rectified size " + std::to_string(size.width) + "x" + std::to_string(size.height));
+  const fusion::FramePose pose = framePose(T_world_camera);
+  fusion::FusionModel& model = *model_;
+  model.pointsMm.buffer().upload(continuous(measurement.pointsCameraMm).ptr<Float3>());
+  model.normals.buffer().upload(continuous(measurement.normalsCamera).ptr<Float3>());
+  model.colourBgr.upload(continuous(measurement.colourBgr).ptr<uint8_t>());
+
+  const fusion::FusionSettings settings = fusionSettings(geometry_, parameters_);
+  const fusion::IntegrateCounts counts = device_ == Device::Cuda
+                                             ? fusion::integrateCuda(model, pose, settings, parameters_.maxPoints)
+                                             : fusion::integrateCpu(model, pose, settings, parameters_.maxPoints);
+  synchronize(device_);
+  FusionStats stats;
+  stats.merged = counts.merged;
+  stats.added = counts.added;
+  stats.refusedForBudget = counts.refused;
+  stats.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+std::size_t PointFusion::pointCount() const { return model_->count; }
+
+bool PointFusion::budgetReached() const { return model_->budgetReached; }
+
+ModelPoints PointFusion::download() const {
+  const std::size_t n = model_->count;
+  std::vector<fusion::Float4> positions(n), normals(n), colours(n);
+  downloadPrefix(model_->store.positionWeight, n, positions.data());
+  downloadPrefix(model_->store.normal, n, normals.data());
+  downloadPrefix(model_->store.colourWeight, n, colours.data());
+  ModelPoints model;
+  model.cloud.pointsMm.resize(n);
+  model.cloud.normals.resize(n);
+  model.cloud.colorsRgb.resize(n);
+  model.weights.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    model.cloud.pointsMm[i] = {positions[i].x, positions[i].y, positions[i].z};
+    model.cloud.normals[i] = {normals[i].x, normals[i].y, normals[i].z};
+    model.cloud.colorsRgb[i] = {cv::saturate_cast<uchar>(colours[i].x), cv::saturate_cast<uchar>(colours[i].y),
+                                cv::saturate_cast<uchar>(colours[i].z)};
+    model.weights[i] = positions[i].w;
+  }
+  return model;
+}
+
+void PointFusion::sampleVisible(const Eigen::Matrix4d& T_world_camera, int maxPoints,
+                                std::vector<Eigen::Vector3f>& pointsWorldMm,
+                                std::vector<Eigen::Vector3f>& normalsWorld) const {
+  pointsWorldMm.clear();
+  normalsWorld.clear();
+  const fusion::FramePose pose = framePose(T_world_camera);
+  const fusion::FusionSettings settings = fusionSettings(geometry_, parameters_);
+  fusion::FusionModel& model = *model_;  // scratch buffers only: the model's points are not changed
+  const int n = device_ == Device::Cuda ? fusion::sampleVisibleCuda(model, pose, settings, maxPoints)
+                                        : fusion::sampleVisibleCpu(model, pose, settings, maxPoints);
+  std::vector<fusion::Float4> positions(n), normals(n);
+  downloadPrefix(model.samplePositions, n, positions.data());
+  downloadPrefix(model.sampleNormals, n, normals.data());
+  pointsWorldMm.reserve(n);
+  normalsWorld.reserve(n);
+  for (int i = 0; i < n; ++i) {
+    pointsWorldMm.emplace_back(positions[i].x, positions[i].y, positions[i].z);
+    normalsWorld.emplace_back(normals[i].x, normals[i].y, normals[i].z);
+  }
+}
+
+std::size_t PointFusion::deviceBytes() const { return device_ == Device::Cuda ? model_->bytes() : 0; }
+
+void PointFusion::reset() {
+  model_ = std::make_unique<fusion::FusionModel>(device_, geometry_.imageSize.width, geometry_.imageSize.height);
+}
+
+}  // namespace tissuemosaic

@@ -1,0 +1,81 @@
+#pragma once
+/// @file PointFusion.h
+/// @brief Point-based TSDF fusion (paper III.E): the model is a growing set of points (position, colour, normal,
+/// weights) in device memory, no voxel grid. Each key frame's surface measurement is merged into the model points
+/// it sees, and its uncovered pixels are appended as new points, up to a point budget.
+///
+/// integrate(): every model point is projected into the key frame; the measurement at its pixel "agrees" when the
+/// measured surface (the tangent plane of the measured point) crosses the point's viewing ray within truncationMm
+/// and the normals differ by less than maxNormalAngleDeg. An agreeing point merges (running averages of its position
+/// along its viewing ray, its normal and its colour, the colour weighted by the centre-to-edge weight; weights
+/// capped at maxWeight) and marks the agreeing pixels within coverageRadiusPx as covered. Merging is per model point,
+/// so every point that agrees merges, not only the z-buffer's nearest (a model denser than the pixels, seen again
+/// from farther away, is averaged whole), and an occluded point fails the depth test by itself. Measured pixels
+/// (with a normal) left uncovered are appended in pixel order while the budget lasts.
+#include "Core/Device.h"
+#include "Core/StereoRig.h"
+#include "Core/SurfaceMeasurement.h"
+#include "FusionParameters.h"
+#include "PointModel.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace tissuemosaic {
+
+/// What one integrate() call did.
+struct FusionStats {
+  int merged = 0;            ///< model points updated by a measurement
+  int added = 0;             ///< new points appended
+  int refusedForBudget = 0;  ///< new points not appended because the budget was reached
+  double milliseconds = 0;   ///< wall time of the call (device synchronised)
+};
+
+namespace fusion {
+struct FusionModel;  // device-resident state (FusionPipeline.h)
+}
+
+class PointFusion {
+public:
+  /// Throws Error on invalid parameters or geometry, or when `device` is Cuda in a build/machine without CUDA.
+  PointFusion(const RectifiedGeometry& geometry, const FusionParameters& parameters, Device device);
+  ~PointFusion();
+  PointFusion(PointFusion&&) noexcept;
+  PointFusion& operator=(PointFusion&&) noexcept;
+  PointFusion(const PointFusion&) = delete;
+  PointFusion& operator=(const PointFusion&) = delete;
+
+  /// Fuses one key frame seen from T_world_camera (left rectified camera -> world, mm). The measurement must have
+  /// the geometry's image size (Error otherwise).
+  FusionStats integrate(const SurfaceMeasurement& measurement, const Eigen::Matrix4d& T_world_camera);
+  std::size_t pointCount() const;
+  /// True once new points were refused for the budget (until reset()).
+  bool budgetReached() const;
+  /// Host copy of the whole model.
+  ModelPoints download() const;
+  /// The model seen from a camera: up to maxPoints model points (world mm) and their normals (world) that project
+  /// inside the image in front of the camera and pass the z-buffer (nearest per pixel), spread evenly over the
+  /// image. For the refinement's ICP term (p_i of the paper's eq. ICPterm). The samples are the z-buffer's pixels
+  /// on a regular grid whose stride is the smallest that keeps them within maxPoints. Uses the fusion's scratch
+  /// buffers: do not call concurrently with other members.
+  void sampleVisible(const Eigen::Matrix4d& T_world_camera, int maxPoints,
+                     std::vector<Eigen::Vector3f>& pointsWorldMm, std::vector<Eigen::Vector3f>& normalsWorld) const;
+  /// Bytes held on the device (0 on the CPU).
+  std::size_t deviceBytes() const;
+  /// Empties the model (keeps the parameters and the device).
+  void reset();
+
+  Device device() const { return device_; }
+  const FusionParameters& parameters() const { return parameters_; }
+
+private:
+  RectifiedGeometry geometry_;
+  FusionParameters parameters_;
+  Device device_;
+  std::unique_ptr<fusion::FusionModel> model_;
+};
+
+}  // namespace tissuemosaic

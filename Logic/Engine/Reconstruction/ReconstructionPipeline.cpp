@@ -1,0 +1,190 @@
+#include "Reconstruction/ReconstructionPipeline.h"
+
+#include "Core/CudaRuntime.h"
+#include "Core/Error.h"
+#include "Core/SurfaceMeasurement.h"
+#include "Fusion/PointFusion.h"
+#include "Refinement/KeyFrameRefiner.h"
+#include "Stereo/StereoMatcher.h"
+#include "Tracking/FrameTracker.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+
+namespace tissuemosaic {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+cv::Mat toBgr(const cv::Mat& image) {
+  if (image.type() == CV_8UC3) return image;
+  require(image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 4),
+          "reconstruction: frames must be 8-bit grey, BGR or BGRA");
+  cv::Mat bgr;
+  cv::cvtColor(image, bgr, image.channels() == 4 ? cv::COLOR_BGRA2BGR : cv::COLOR_GRAY2BGR);
+  return bgr;
+}
+
+FrameTrackerOptions trackerOptions(const ReconstructionParameters& p, Device device) {
+  FrameTrackerOptions options;
+  options.tracking = p.tracking;
+  options.features = p.features;
+  options.extractor = p.extractor;
+  options.featureDevice = p.extractor == FeatureExtractor::TissueMosaicOrb ? device : Device::Cpu;
+  return options;
+}
+
+}  // namespace
+
+struct ReconstructionPipeline::Impl {
+  RectifiedGeometry geometry;
+  std::optional<StereoRectifier> rectifier;
+  ReconstructionParameters parameters;
+  Device device;
+  StereoMatcher matcher;
+  FrameTracker tracker;
+  KeyFrameRefiner refiner;
+  PointFusion fusion;
+  std::vector<KeyFramePose> keyFrames;
+  std::size_t peakDeviceBytes = 0;
+  std::string lastRefinementMessage;
+
+  Impl(const RectifiedGeometry& g, std::optional<StereoRectifier> r, const ReconstructionParameters& p, Device d,
+       const Eigen::Matrix4d& T_world_start)
+      : geometry(g), rectifier(std::move(r)), parameters(p), device(d), matcher(d, p.stereo),
+        tracker(g, trackerOptions(p, d), T_world_start), refiner(g, p.refinement, p.tracking, p.features, d),
+        fusion(g, p.fusion, d) {}
+
+  void samplePeakDeviceMemory() {
+    if (device == Device::Cuda) peakDeviceBytes = std::max(peakDeviceBytes, cuda::deviceBytesInUse());
+  }
+};
+
+namespace {
+
+RectifiedGeometry checkedGeometry(const RectifiedGeometry& geometry) {
+  require(geometry.imageSize.width > 0 && geometry.imageSize.height > 0 && geometry.focalPx > 0 &&
+              geometry.baselineMm > 0,
+          "reconstruction: the rectified geometry needs an image size, a focal length and a baseline");
+  return geometry;
+}
+
+const ReconstructionParameters& validated(const ReconstructionParameters& parameters) {
+  parameters.validate();
+  return parameters;
+}
+
+}  // namespace
+
+ReconstructionPipeline::ReconstructionPipeline(const RectifiedGeometry& geometry,
+                                               const ReconstructionParameters& parameters, Device device,
+                                               const Eigen::Matrix4d& T_world_startCamera)
+    : impl_(std::make_unique<Impl>(checkedGeometry(geometry), std::nullopt, validated(parameters), device,
+                                   T_world_startCamera)) {}
+
+ReconstructionPipeline::ReconstructionPipeline(const StereoCalibration& calibration,
+                                               const ReconstructionParameters& parameters, Device device,
+                                               const Eigen::Matrix4d& T_world_startCamera) {
+  StereoRectifier rectifier(calibration);
+  const RectifiedGeometry geometry = checkedGeometry(rectifier.geometry());
+  impl_ = std::make_unique<Impl>(geometry, std::move(rectifier), validated(parameters), device, T_world_startCamera);
+}
+
+ReconstructionPipeline::~ReconstructionPipeline() = default;
+
+FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& right, double timeS) {
+  Impl& s = *impl_;
+  const cv::Size size = s.geometry.imageSize;
+  require(!left.empty() && !right.empty(), "reconstruction: empty frame");
+  require(left.size() == size && right.size() == size,
+          "reconstruction: frame sizes " + std::to_string(left.cols) + "x" + std::to_string(left.rows) + " and " +
+              std::to_string(right.cols) + "x" + std::to_string(right.rows) + " differ from the rig's " +
+              std::to_string(size.width) + "x" + std::to_string(size.height));
+  FrameResult result;
+  result.frameIndex = s.tracker.frameCount();
+  const auto start = Clock::now();
+
+  cv::Mat leftBgr = toBgr(left), rightBgr = toBgr(right);
+  if (s.rectifier) {
+    s.rectifier->rectify(leftBgr, rightBgr, result.leftRectified, result.rightRectified);
+  } else {
+    result.leftRectified = leftBgr;
+    result.rightRectified = rightBgr;
+  }
+  result.timesMs.videoReading = millisecondsSince(start);
+
+  auto stageStart = Clock::now();
+  result.disparityPx = s.matcher.computeDisparity(result.leftRectified, result.rightRectified);
+  result.timesMs.stereo = millisecondsSince(stageStart);
+
+  const TrackResult track = s.tracker.track(result.leftRectified, result.disparityPx);
+  result.timesMs.orbVoting = track.orbVotingMs;
+  result.timesMs.pnp = track.pnpMs;
+  result.tracked = track.tracked;
+  result.keyFrame = track.tracked && track.keyFrame;
+  result.trackingMessage = track.failureReason;
+  result.inliers = track.inliers;
+  result.T_world_camera = track.T_world_camera;
+
+  if (result.tracked && !result.keyFrame) {
+    s.refiner.addIntermediateFrame(result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera);
+  }
+  if (result.keyFrame) {
+    stageStart = Clock::now();
+    const SurfaceMeasurement measurement =
+        measureSurface(result.disparityPx, result.leftRectified, s.geometry, s.device, s.parameters.fusion.normalRadiusPx,
+                       s.parameters.fusion.maxDepthJumpMm);
+    std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;
+    if (s.fusion.pointCount() > 0) {
+      s.fusion.sampleVisible(result.T_world_camera, s.parameters.refinement.icpSamples, modelPointsWorldMm,
+                             modelNormalsWorld);
+    }
+    const RefinementResult refinement = s.refiner.refineKeyFrame(
+        result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera, measurement, modelPointsWorldMm,
+        modelNormalsWorld);
+    s.lastRefinementMessage = refinement.message;
+    result.refined = refinement.refined;
+    result.matchedKeyFrames = refinement.matchedKeyFrames;
+    if (refinement.refined) {
+      result.T_world_camera = refinement.T_world_camera;
+      s.tracker.correctLastPose(result.T_world_camera);
+    }
+    result.timesMs.refinement = millisecondsSince(stageStart);
+
+    stageStart = Clock::now();
+    const FusionStats fused = s.fusion.integrate(measurement, result.T_world_camera);
+    result.fusedMerged = fused.merged;
+    result.fusedAdded = fused.added;
+    result.timesMs.tsdf = millisecondsSince(stageStart);
+
+    KeyFramePose pose;
+    pose.frameIndex = result.frameIndex;
+    pose.timeS = timeS;
+    pose.T_world_camera = result.T_world_camera;
+    s.keyFrames.push_back(pose);
+  }
+  result.modelPoints = s.fusion.pointCount();
+  result.pointBudgetReached = s.fusion.budgetReached();
+  result.timesMs.total = millisecondsSince(start);
+  s.samplePeakDeviceMemory();
+  return result;
+}
+
+const RectifiedGeometry& ReconstructionPipeline::geometry() const { return impl_->geometry; }
+const ReconstructionParameters& ReconstructionPipeline::parameters() const { return impl_->parameters; }
+Device ReconstructionPipeline::device() const { return impl_->device; }
+int ReconstructionPipeline::frameCount() const { return impl_->tracker.frameCount(); }
+const std::vector<KeyFramePose>& ReconstructionPipeline::keyFrames() const { return impl_->keyFrames; }
+ModelPoints ReconstructionPipeline::modelSnapshot() const { return impl_->fusion.download(); }
+std::size_t ReconstructionPipeline::modelPointCount() const { return impl_->fusion.pointCount(); }
+std::size_t ReconstructionPipeline::peakDeviceBytes() const { return impl_->peakDeviceBytes; }
+const std::string& ReconstructionPipeline::lastRefinementMessage() const { return impl_->lastRefinementMessage; }
+
+}  // namespace tissuemosaic

@@ -1,0 +1,95 @@
+#pragma once
+/// @file ReconstructionPipeline.h
+/// @brief The whole per-frame reconstruction of the paper: rectification (when calibrated), stereo (section II),
+/// tracking (III.A-C), and at key frames the refinement (III.D) and the point-based TSDF fusion (III.E).
+///
+/// Not thread-safe: one thread calls process(); the logic layer runs it off the GUI thread and reads results
+/// through the FrameResult it returns and modelSnapshot().
+#include "Core/Device.h"
+#include "Core/StereoRig.h"
+#include "Fusion/PointModel.h"
+#include "Reconstruction/ReconstructionParameters.h"
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tissuemosaic {
+
+/// Milliseconds per stage of one frame, named as the paper's runtime table. Stages that did not run are 0.
+struct StageTimesMs {
+  double videoReading = 0;  ///< decoding and rectification (filled by the caller that reads the video)
+  double stereo = 0;
+  double orbVoting = 0;
+  double pnp = 0;           ///< DynamicR1PPnP
+  double refinement = 0;    ///< key frames only
+  double tsdf = 0;          ///< key frames only
+  double total = 0;
+};
+
+struct FrameResult {
+  int frameIndex = 0;
+  bool tracked = false;
+  bool keyFrame = false;
+  std::string trackingMessage;  ///< why tracking was lost (empty when tracked)
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();  ///< left rectified camera to world, mm; refined at key frames
+  int inliers = 0;
+  bool refined = false;         ///< key frame: the refinement improved the tracked pose
+  int matchedKeyFrames = 0;     ///< key frame: earlier key frames matched for the refinement
+  int fusedMerged = 0, fusedAdded = 0;  ///< key frame: model points merged with / added from this frame
+  std::size_t modelPoints = 0;
+  bool pointBudgetReached = false;
+  StageTimesMs timesMs;
+  cv::Mat leftRectified, rightRectified;  ///< 8-bit BGR
+  cv::Mat disparityPx;                    ///< CV_32F, NaN = none
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+struct KeyFramePose {
+  int frameIndex = 0;
+  double timeS = 0;
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+class ReconstructionPipeline {
+public:
+  /// geometry: of the rectified frames process() receives, or computed from `calibration` (then process() rectifies
+  /// the raw frames). T_world_startCamera: the first frame's pose (identity: the world is the first left rectified
+  /// camera). Throws Error for invalid parameters or geometry, or CUDA asked for where there is none.
+  ReconstructionPipeline(const RectifiedGeometry& geometry, const ReconstructionParameters& parameters, Device device,
+                         const Eigen::Matrix4d& T_world_startCamera = Eigen::Matrix4d::Identity());
+  ReconstructionPipeline(const StereoCalibration& calibration, const ReconstructionParameters& parameters, Device device,
+                         const Eigen::Matrix4d& T_world_startCamera = Eigen::Matrix4d::Identity());
+  ~ReconstructionPipeline();
+  ReconstructionPipeline(const ReconstructionPipeline&) = delete;
+  ReconstructionPipeline& operator=(const ReconstructionPipeline&) = delete;
+
+  /// Processes the next stereo frame (8-bit grey or BGR, both the rig's size). timeS: its time stamp (TUM output).
+  /// Throws Error only for misuse (empty or mismatched frames); lost tracking is reported in the result.
+  FrameResult process(const cv::Mat& left, const cv::Mat& right, double timeS);
+
+  const RectifiedGeometry& geometry() const;
+  const ReconstructionParameters& parameters() const;
+  Device device() const;
+  int frameCount() const;
+  /// Key frames so far with their refined poses, in order.
+  const std::vector<KeyFramePose>& keyFrames() const;
+  /// A host copy of the fused model (world frame = the first left rectified camera, mm).
+  ModelPoints modelSnapshot() const;
+  std::size_t modelPointCount() const;
+  /// Peak device memory in use, sampled after every frame (cudaMemGetInfo: includes the CUDA context; 0 on the CPU).
+  std::size_t peakDeviceBytes() const;
+  /// What the last key frame's refinement did (for logs and the GUI).
+  const std::string& lastRefinementMessage() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tissuemosaic

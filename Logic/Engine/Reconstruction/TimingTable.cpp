@@ -1,0 +1,96 @@
+#include "Reconstruction/TimingTable.h"
+
+#include <opencv2/core.hpp>
+
+#include <algorithm>
+#include <numeric>
+#include <sstream>
+
+namespace tissuemosaic {
+namespace {
+
+std::vector<double> stageValues(const StageTimesMs& t) {
+  return {t.videoReading, t.stereo, t.orbVoting, t.pnp, t.refinement, t.tsdf, t.total};
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  const std::size_t middle = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(middle), values.end());
+  const double upper = values[middle];
+  if (values.size() % 2 == 1) return upper;
+  return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(middle)));
+}
+
+std::vector<std::vector<double>> byStage(const std::vector<StageTimesMs>& frames) {
+  std::vector<std::vector<double>> stages(TimingTable::stageNames().size());
+  for (const StageTimesMs& frame : frames) {
+    const std::vector<double> values = stageValues(frame);
+    for (std::size_t i = 0; i < values.size(); ++i) stages[i].push_back(values[i]);
+  }
+  return stages;
+}
+
+std::string jsonGroup(const std::vector<std::string>& names, const std::vector<double>& values) {
+  std::ostringstream out;
+  out << "{";
+  for (std::size_t i = 0; i < names.size(); ++i) out << (i ? ", " : "") << "\"" << names[i] << "\": " << cv::format("%.4f", values[i]);
+  out << "}";
+  return out.str();
+}
+
+}  // namespace
+
+const std::vector<std::string>& TimingTable::stageNames() {
+  static const std::vector<std::string> names = {"video_reading", "stereo",    "orb_voting", "dynamic_r1ppnp",
+                                                 "refinement",    "tsdf",      "total"};
+  return names;
+}
+
+void TimingTable::add(const FrameResult& frame) { add(frame.timesMs, frame.keyFrame); }
+
+void TimingTable::add(const StageTimesMs& times, bool keyFrame) {
+  (keyFrame ? keyFrameTimes_ : otherFrameTimes_).push_back(times);
+}
+
+std::vector<double> TimingTable::medians(bool keyFrames) const {
+  std::vector<double> result;
+  for (const auto& values : byStage(keyFrames ? keyFrameTimes_ : otherFrameTimes_)) result.push_back(median(values));
+  return result;
+}
+
+std::vector<double> TimingTable::means(bool keyFrames) const {
+  std::vector<double> result;
+  for (const auto& values : byStage(keyFrames ? keyFrameTimes_ : otherFrameTimes_))
+    result.push_back(values.empty() ? 0.0 : std::accumulate(values.begin(), values.end(), 0.0) / values.size());
+  return result;
+}
+
+std::string TimingTable::format() const {
+  static const std::vector<std::string> labels = {"video reading", "stereo matching", "ORB matching and voting",
+                                                  "DynamicR1PPnP", "refinement", "TSDF", "total"};
+  const std::vector<double> keyMedian = medians(true), keyMean = means(true);
+  const std::vector<double> otherMedian = medians(false), otherMean = means(false);
+  std::ostringstream out;
+  out << cv::format("%-26s %22s %22s\n", "milliseconds",
+                    cv::format("key frames (%d)", keyFrames()).c_str(),
+                    cv::format("other frames (%d)", otherFrames()).c_str());
+  out << cv::format("%-26s %10s %11s %10s %11s\n", "", "median", "mean", "median", "mean");
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    out << cv::format("%-26s %10.2f %11.2f %10.2f %11.2f\n", labels[i].c_str(), keyMedian[i], keyMean[i],
+                      otherMedian[i], otherMean[i]);
+  }
+  return out.str();
+}
+
+std::string TimingTable::toJson() const {
+  const std::vector<std::string>& names = stageNames();
+  std::ostringstream out;
+  out << "{\"key_frames\": {\"count\": " << keyFrames() << ", \"median_ms\": " << jsonGroup(names, medians(true))
+      << ", \"mean_ms\": " << jsonGroup(names, means(true)) << "}, \"other_frames\": {\"count\": " << otherFrames()
+      << ", \"median_ms\": " << jsonGroup(names, medians(false)) << ", \"mean_ms\": " << jsonGroup(names, means(false))
+      << "}}";
+  return out.str();
+}
+
+}  // namespace tissuemosaic

@@ -1,0 +1,492 @@
+#include "KeyFrameRefiner.h"
+
+#include "Core/Error.h"
+#include "Core/ParallelFor.h"
+#include "Refinement/RefinementSolver.h"
+#include "Tracking/HistogramVoting.h"
+#include "Tracking/OrbFeatures.h"
+#include "Tracking/PnpSolver.h"
+#include "Tracking/SubPixelMatch.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <numeric>
+
+namespace tissuemosaic {
+
+namespace {
+
+using refinement::Observation;
+using refinement::Pose;
+
+constexpr int kOverlapSamples = 200;  ///< stored points projected per earlier key frame to measure its overlap
+constexpr double kMinDepthMm = 0.1;   ///< nearer than this a point counts as behind the camera
+
+Eigen::Matrix4d inverseRigid(const Eigen::Matrix4d& T) {
+  Eigen::Matrix4d inverse = Eigen::Matrix4d::Identity();
+  inverse.block<3, 3>(0, 0) = T.block<3, 3>(0, 0).transpose();
+  inverse.block<3, 1>(0, 3) = -T.block<3, 3>(0, 0).transpose() * T.block<3, 1>(0, 3);
+  return inverse;
+}
+
+bool isRigid(const Eigen::Matrix4d& T) {
+  const Eigen::Matrix3d R = T.block<3, 3>(0, 0);
+  return T.allFinite() && (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-6 && R.determinant() > 0 &&
+         T.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1));
+}
+
+Pose toPose(const Eigen::Matrix4d& T_camera_world) {
+  Pose pose;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) pose.r[3 * r + c] = T_camera_world(r, c);
+    pose.t[r] = T_camera_world(r, 3);
+  }
+  return pose;
+}
+
+Eigen::Matrix4d fromPose(const Pose& pose) {
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) T(r, c) = pose.r[3 * r + c];
+    T(r, 3) = pose.t[r];
+  }
+  return T;
+}
+
+/// Rotation (degrees) and translation (mm) between two camera-to-world poses.
+void correction(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double& degrees, double& mm) {
+  degrees = Eigen::AngleAxisd(Eigen::Matrix3d(a.block<3, 3>(0, 0).transpose() * b.block<3, 3>(0, 0))).angle() * 180.0 / M_PI;
+  mm = (a.block<3, 1>(0, 3) - b.block<3, 1>(0, 3)).norm();
+}
+
+/// An earlier key frame as stored for matching: no images.
+struct StoredKeyFrame {
+  int frameIndex = 0;
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
+  std::vector<cv::Point2f> pixelsPx;
+  cv::Mat descriptors;  ///< CV_8U, one row per pixel
+  std::vector<Eigen::Vector3f> pointsWorldMm;
+
+  std::size_t bytes() const {
+    return pixelsPx.size() * sizeof(cv::Point2f) + descriptors.total() * descriptors.elemSize() +
+           pointsWorldMm.size() * sizeof(Eigen::Vector3f);
+  }
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+struct IntermediateFrame {
+  int frameIndex = 0;
+  StereoFeatures features;
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// Descriptor matches of query features (with world points) in a frame, ready for DynamicR1PPnP.
+struct MatchSet {
+  Points3d pointsWorldMm;
+  Pixels2d pixelsPx, fromPx;
+  std::vector<std::vector<CandidateMatch>> candidates;
+  std::vector<int> query, train;
+  std::vector<std::vector<int>> candidateTrain;
+};
+
+/// A DynamicR1PPnP inlier: match index in its MatchSet, the frame's feature, and its pixel.
+struct Inlier {
+  int match;
+  int train;
+  Eigen::Vector2d pixelPx;
+};
+
+}  // namespace
+
+struct KeyFrameRefiner::Impl {
+  RectifiedGeometry geometry;
+  RefinementParameters parameters;
+  TrackingParameters tracking;
+  FeatureParameters features;
+  Device device;
+  HammingMatcher matcher;
+  std::deque<StoredKeyFrame, Eigen::aligned_allocator<StoredKeyFrame>> keyFrames;
+  std::vector<IntermediateFrame, Eigen::aligned_allocator<IntermediateFrame>> intermediates;
+
+  Impl(const RectifiedGeometry& g, const RefinementParameters& p, const TrackingParameters& t,
+       const FeatureParameters& f, Device d)
+      : geometry(g), parameters(p), tracking(t), features(f), device(d), matcher(d) {}
+
+  PinholeIntrinsics intrinsics() const { return {geometry.focalPx, geometry.focalPx, geometry.cxLeftPx, geometry.cyPx}; }
+
+  /// Matches query descriptors (rows with world points queryWorld and pixels queryPx) against a frame's features:
+  /// the nearest descriptor is the primary match, the next ones DynamicR1PPnP's candidates.
+  MatchSet match(const cv::Mat& queryDescriptors, const Points3d& queryWorld, const std::vector<cv::Point2f>& queryPx,
+                 const StereoFeatures& frame) {
+    MatchSet set;
+    if (queryDescriptors.empty() || frame.descriptors.empty()) return set;
+    const int k = std::min(8, 1 + features.candidatesPerFeature);
+    const std::vector<std::vector<cv::DMatch>> knn = matcher.match(queryDescriptors, frame.descriptors, k);
+    for (const std::vector<cv::DMatch>& list : knn) {
+      if (list.empty() || list[0].distance > features.maxHammingDistance) continue;
+      const int q = list[0].queryIdx;
+      set.query.push_back(q);
+      set.train.push_back(list[0].trainIdx);
+      set.pointsWorldMm.push_back(queryWorld[q]);
+      set.fromPx.emplace_back(queryPx[q].x, queryPx[q].y);
+      const cv::Point2f& to = frame.keypoints[list[0].trainIdx].pt;
+      set.pixelsPx.emplace_back(to.x, to.y);
+      std::vector<CandidateMatch> further;
+      std::vector<int> furtherTrain;
+      for (std::size_t j = 1; j < list.size() && list[j].distance <= features.maxHammingDistance; ++j) {
+        const cv::Point2f& p = frame.keypoints[list[j].trainIdx].pt;
+        CandidateMatch candidate;
+        candidate.pixelPx = Eigen::Vector2d(p.x, p.y);
+        further.push_back(candidate);
+        furtherTrain.push_back(list[j].trainIdx);
+      }
+      set.candidates.push_back(std::move(further));
+      set.candidateTrain.push_back(std::move(furtherTrain));
+    }
+    return set;
+  }
+
+  /// Sub-pixel positions of the inliers (as the tracker refines its matches): each inlier's pixel is moved so that
+  /// the window there matches the window at its query pixel; an inlier whose window does not lock on is dropped.
+  void refineInliers(std::vector<Inlier>& inliers, const MatchSet& set, const cv::Mat& queryGrey,
+                     const cv::Mat& frameGrey) const {
+    if (!features.subPixelRefinement || queryGrey.empty() || frameGrey.empty()) return;
+    std::vector<uint8_t> locked(inliers.size(), 0);
+    parallelFor<CpuBackend>(
+        static_cast<int64_t>(inliers.size()),
+        [&](int64_t i) {
+          Inlier& inlier = inliers[static_cast<std::size_t>(i)];
+          const Eigen::Vector2d& from = set.fromPx[inlier.match];
+          cv::Point2f to(static_cast<float>(inlier.pixelPx.x()), static_cast<float>(inlier.pixelPx.y()));
+          locked[static_cast<std::size_t>(i)] = refineMatchLucasKanade(
+              queryGrey, frameGrey, cv::Point2f(static_cast<float>(from.x()), static_cast<float>(from.y())), to, 5,
+              features.maxRefinementShiftPx);
+          inlier.pixelPx = Eigen::Vector2d(to.x, to.y);
+        },
+        16);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < inliers.size(); ++i) {
+      if (locked[i]) inliers[kept++] = inliers[i];
+    }
+    inliers.resize(kept);
+  }
+
+  /// DynamicR1PPnP on the matches. Returns the inliers as (match index, train feature, pixel) when the solve
+  /// succeeds with at least minInliers and its pose lies within the correction limits of T_world_expected.
+  std::vector<Inlier> solveInliers(const MatchSet& set, int minInliers, const Eigen::Matrix4d& T_world_expected) {
+    std::vector<Inlier> inliers;
+    if (static_cast<int>(set.query.size()) < std::max(minInliers, 4)) return inliers;
+    const HistogramVote vote = histogramVote(set.fromPx, set.pixelsPx, features.voteBinPx);
+    const PnpResult pnp =
+        solveDynamicR1Ppnp(set.pointsWorldMm, set.pixelsPx, set.candidates, intrinsics(), tracking, vote.order);
+    if (!pnp.success || static_cast<int>(pnp.inlierIndices.size()) < minInliers) return inliers;
+    double degrees = 0, mm = 0;
+    correction(inverseRigid(pnp.T_camera_world), T_world_expected, degrees, mm);
+    if (degrees > parameters.maxCorrectionDeg || mm > parameters.maxCorrectionMm) return inliers;
+    for (std::size_t i = 0; i < pnp.inlierIndices.size(); ++i) {
+      const int m = pnp.inlierIndices[i], j = pnp.inlierMatch[i];
+      if (j < 0) inliers.push_back({m, set.train[m], set.pixelsPx[m]});
+      else inliers.push_back({m, set.candidateTrain[m][j], set.candidates[m][j].pixelPx});
+    }
+    return inliers;
+  }
+
+  /// Stored key frames whose points fall into the view at T_world_camera, the most overlapping first.
+  std::vector<int> overlappingKeyFrames(const Eigen::Matrix4d& T_world_camera) const {
+    const Eigen::Matrix4d T_camera_world = inverseRigid(T_world_camera);
+    const Eigen::Matrix3d R = T_camera_world.block<3, 3>(0, 0);
+    const Eigen::Vector3d t = T_camera_world.block<3, 1>(0, 3);
+    std::vector<std::pair<double, int>> ranked;
+    for (std::size_t k = 0; k < keyFrames.size(); ++k) {
+      const std::vector<Eigen::Vector3f>& points = keyFrames[k].pointsWorldMm;
+      if (points.empty()) continue;
+      const std::size_t step = std::max<std::size_t>(1, points.size() / kOverlapSamples);
+      int seen = 0, tried = 0;
+      for (std::size_t i = 0; i < points.size(); i += step, ++tried) {
+        const Eigen::Vector3d c = R * points[i].cast<double>() + t;
+        if (c.z() < kMinDepthMm) continue;
+        const double u = geometry.focalPx * c.x() / c.z() + geometry.cxLeftPx;
+        const double v = geometry.focalPx * c.y() / c.z() + geometry.cyPx;
+        seen += u >= 0 && v >= 0 && u < geometry.imageSize.width && v < geometry.imageSize.height;
+      }
+      const double overlap = static_cast<double>(seen) / tried;
+      if (overlap >= parameters.minKeyFrameOverlap) ranked.emplace_back(overlap, static_cast<int>(k));
+    }
+    // Most overlap first; among equals the most recent.
+    std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first > b.first : a.second > b.second;
+    });
+    std::vector<int> chosen;
+    for (const auto& [overlap, k] : ranked) {
+      if (static_cast<int>(chosen.size()) >= parameters.maxMatchedKeyFrames) break;
+      chosen.push_back(k);
+    }
+    return chosen;
+  }
+
+  void store(int frameIndex, const StereoFeatures& f, const Eigen::Matrix4d& T_world_camera) {
+    StoredKeyFrame kf;
+    kf.frameIndex = frameIndex;
+    kf.T_world_camera = T_world_camera;
+    std::vector<int> rows;
+    for (std::size_t i = 0; i < f.keypoints.size(); ++i) {
+      if (f.pointsCameraMm[i].allFinite()) rows.push_back(static_cast<int>(i));
+    }
+    std::stable_sort(rows.begin(), rows.end(),
+                     [&](int a, int b) { return f.keypoints[a].response > f.keypoints[b].response; });
+    if (static_cast<int>(rows.size()) > parameters.storedFeaturesPerKeyFrame) rows.resize(parameters.storedFeaturesPerKeyFrame);
+    const Eigen::Matrix3d R = T_world_camera.block<3, 3>(0, 0);
+    const Eigen::Vector3d t = T_world_camera.block<3, 1>(0, 3);
+    kf.descriptors.create(static_cast<int>(rows.size()), f.descriptors.cols, f.descriptors.type());
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      kf.pixelsPx.push_back(f.keypoints[rows[r]].pt);
+      kf.pointsWorldMm.push_back((R * f.pointsCameraMm[rows[r]] + t).cast<float>());
+      f.descriptors.row(rows[r]).copyTo(kf.descriptors.row(static_cast<int>(r)));
+    }
+    keyFrames.push_back(std::move(kf));
+    while (static_cast<int>(keyFrames.size()) > parameters.maxStoredKeyFrames) keyFrames.pop_front();
+  }
+};
+
+KeyFrameRefiner::KeyFrameRefiner(const RectifiedGeometry& geometry, const RefinementParameters& parameters,
+                                 const TrackingParameters& tracking, const FeatureParameters& features, Device device) {
+  parameters.validate();
+  tracking.validate();
+  features.validate();
+  require(geometry.focalPx > 0 && geometry.imageSize.width > 0 && geometry.imageSize.height > 0,
+          "refinement: the rectified geometry has no focal length or image size");
+  require(device == Device::Cpu || cudaAvailable(), "refinement: CUDA cannot be used: " + cudaUnavailableReason());
+  impl_ = std::make_unique<Impl>(geometry, parameters, tracking, features, device);
+}
+
+KeyFrameRefiner::~KeyFrameRefiner() = default;
+
+void KeyFrameRefiner::addIntermediateFrame(int frameIndex, const StereoFeatures& features,
+                                           const Eigen::Matrix4d& T_world_camera) {
+  require(isRigid(T_world_camera), "refinement: the intermediate frame's pose is not a rigid transform");
+  require(features.pointsCameraMm.size() == features.keypoints.size() &&
+              features.descriptors.rows == static_cast<int>(features.keypoints.size()),
+          "refinement: the intermediate frame's features are inconsistent");
+  Impl& s = *impl_;
+  const int limit = s.parameters.maxIntermediateFrames;
+  if (limit == 0) return;
+  IntermediateFrame frame;
+  frame.frameIndex = frameIndex;
+  frame.features = features;
+  frame.T_world_camera = T_world_camera;
+  s.intermediates.push_back(std::move(frame));
+  // Thin evenly: drop the frame whose neighbours are closest (never the newest, which is nearest the key frame).
+  while (static_cast<int>(s.intermediates.size()) > limit) {
+    std::size_t drop = 0;
+    int bestGap = std::numeric_limits<int>::max();
+    for (std::size_t i = 1; i + 1 < s.intermediates.size(); ++i) {
+      const int gap = s.intermediates[i + 1].frameIndex - s.intermediates[i - 1].frameIndex;
+      if (gap < bestGap) {
+        bestGap = gap;
+        drop = i;
+      }
+    }
+    s.intermediates.erase(s.intermediates.begin() + static_cast<std::ptrdiff_t>(drop));
+  }
+}
+
+RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFeatures& features,
+                                                 const Eigen::Matrix4d& T_world_camera,
+                                                 const SurfaceMeasurement& measurement,
+                                                 const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
+                                                 const std::vector<Eigen::Vector3f>& /*modelNormalsWorld*/) {
+  const auto start = std::chrono::steady_clock::now();
+  require(isRigid(T_world_camera), "refinement: the key frame's pose is not a rigid transform");
+  require(features.pointsCameraMm.size() == features.keypoints.size() &&
+              features.descriptors.rows == static_cast<int>(features.keypoints.size()),
+          "refinement: the key frame's features are inconsistent");
+  Impl& s = *impl_;
+  const RefinementParameters& p = s.parameters;
+  RefinementResult result;
+  result.T_world_camera = T_world_camera;
+  const auto finish = [&](const std::string& message) {
+    result.message = message;
+    s.store(frameIndex, features, result.T_world_camera);
+    s.intermediates.clear();
+    result.milliseconds =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  };
+
+  // Tracks: one per key-frame feature. Free ones start at the stereo point lifted with the tracked pose.
+  const int n = static_cast<int>(features.keypoints.size());
+  const Eigen::Matrix3d R_wc = T_world_camera.block<3, 3>(0, 0);
+  const Eigen::Vector3d t_wc = T_world_camera.block<3, 1>(0, 3);
+  std::vector<int> lifted;  // features with depth
+  Points3d liftedWorld;
+  std::vector<cv::Point2f> liftedPx;
+  for (int i = 0; i < n; ++i) {
+    if (!features.pointsCameraMm[i].allFinite()) continue;
+    lifted.push_back(i);
+    liftedWorld.push_back(R_wc * features.pointsCameraMm[i] + t_wc);
+    liftedPx.push_back(features.keypoints[i].pt);
+  }
+  std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> trackWorld(n, Eigen::Vector3d::Constant(NAN));
+  std::vector<uint8_t> fixed(n, 0);
+  for (std::size_t k = 0; k < lifted.size(); ++k) trackWorld[lifted[k]] = liftedWorld[k];
+
+  // 1. Earlier key frames that overlap: their matched points are fixed.
+  for (int k : s.overlappingKeyFrames(T_world_camera)) {
+    const StoredKeyFrame& kf = s.keyFrames[static_cast<std::size_t>(k)];
+    Points3d world;
+    for (const Eigen::Vector3f& point : kf.pointsWorldMm) world.push_back(point.cast<double>());
+    const MatchSet set = s.match(kf.descriptors, world, kf.pixelsPx, features);
+    const std::vector<Inlier> inliers = s.solveInliers(set, p.minKeyFrameInliers, T_world_camera);
+    if (inliers.empty()) continue;
+    ++result.matchedKeyFrames;
+    for (const Inlier& inlier : inliers) {
+      if (fixed[inlier.train]) continue;
+      fixed[inlier.train] = 1;
+      trackWorld[inlier.train] = world[set.query[inlier.match]];
+    }
+  }
+
+  // 2. Intermediate frames: observations of the key frame's features (with depth).
+  std::vector<Observation> observations;
+  std::vector<int> frameOfSlot;  // intermediate index per pose slot 1..
+  if (result.matchedKeyFrames > 0 && !lifted.empty()) {
+    cv::Mat liftedDescriptors(static_cast<int>(lifted.size()), features.descriptors.cols, features.descriptors.type());
+    for (std::size_t k = 0; k < lifted.size(); ++k) features.descriptors.row(lifted[k]).copyTo(liftedDescriptors.row(static_cast<int>(k)));
+    for (std::size_t f = 0; f < s.intermediates.size(); ++f) {
+      const IntermediateFrame& frame = s.intermediates[f];
+      const MatchSet set = s.match(liftedDescriptors, liftedWorld, liftedPx, frame.features);
+      std::vector<Inlier> inliers = s.solveInliers(set, p.minFrameInliers, frame.T_world_camera);
+      s.refineInliers(inliers, set, features.grey, frame.features.grey);
+      if (static_cast<int>(inliers.size()) < p.minFrameInliers) continue;
+      const int slot = 1 + static_cast<int>(frameOfSlot.size());
+      frameOfSlot.push_back(static_cast<int>(f));
+      for (const Inlier& inlier : inliers) {
+        observations.push_back({slot, lifted[set.query[inlier.match]], inlier.pixelPx.x(), inlier.pixelPx.y()});
+      }
+    }
+  }
+
+  // The bundle adjustment's points: fixed tracks (seen by an earlier key frame) and free tracks seen again.
+  std::vector<int> seenElsewhere(n, 0);
+  for (const Observation& o : observations) ++seenElsewhere[o.point];
+  refinement::RefinementProblem problem;
+  std::vector<int> pointOf(n, -1);
+  if (result.matchedKeyFrames > 0) {
+    for (int i = 0; i < n; ++i) {
+      if (!fixed[i] && seenElsewhere[i] == 0) continue;
+      pointOf[i] = static_cast<int>(problem.pointFixed.size());
+      problem.pointFixed.push_back(fixed[i]);
+      for (int c = 0; c < 3; ++c) problem.pointsWorldMm.push_back(trackWorld[i](c));
+      const cv::Point2f& px = features.keypoints[i].pt;
+      problem.observations.push_back({0, pointOf[i], px.x, px.y});
+      result.fixedPoints += fixed[i];
+      result.freePoints += !fixed[i];
+    }
+    for (Observation o : observations) {
+      o.point = pointOf[o.point];
+      problem.observations.push_back(o);
+    }
+  }
+  result.baObservations = static_cast<int>(problem.observations.size());
+
+  // The ICP term: model points that land on a measured pixel at the tracked pose, evenly subsampled.
+  const Eigen::Matrix4d T_camera_world = inverseRigid(T_world_camera);
+  if (!modelPointsWorldMm.empty() && !measurement.empty()) {
+    require(measurement.pointsCameraMm.type() == CV_32FC3 && measurement.normalsCamera.type() == CV_32FC3 &&
+                measurement.pointsCameraMm.size() == measurement.normalsCamera.size(),
+            "refinement: the measurement needs CV_32FC3 points and normals of one size");
+    const Eigen::Matrix3f R = T_camera_world.block<3, 3>(0, 0).cast<float>();
+    const Eigen::Vector3f t = T_camera_world.block<3, 1>(0, 3).cast<float>();
+    std::vector<int> usable;
+    for (std::size_t i = 0; i < modelPointsWorldMm.size(); ++i) {
+      const Eigen::Vector3f c = R * modelPointsWorldMm[i] + t;
+      if (!(c.z() >= kMinDepthMm)) continue;
+      const int x = static_cast<int>(std::floor(s.geometry.focalPx * c.x() / c.z() + s.geometry.cxLeftPx + 0.5));
+      const int y = static_cast<int>(std::floor(s.geometry.focalPx * c.y() / c.z() + s.geometry.cyPx + 0.5));
+      if (x < 0 || y < 0 || x >= measurement.pointsCameraMm.cols || y >= measurement.pointsCameraMm.rows) continue;
+      const cv::Vec3f q = measurement.pointsCameraMm.at<cv::Vec3f>(y, x);
+      const cv::Vec3f nq = measurement.normalsCamera.at<cv::Vec3f>(y, x);
+      const auto finite = [](const cv::Vec3f& v) {
+        return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+      };
+      if (finite(q) && finite(nq)) usable.push_back(static_cast<int>(i));
+    }
+    const std::size_t samples = std::min<std::size_t>(usable.size(), static_cast<std::size_t>(p.icpSamples));
+    if (static_cast<int>(samples) >= p.minIcpPoints) {
+      for (std::size_t k = 0; k < samples; ++k) {
+        const Eigen::Vector3f& point = modelPointsWorldMm[usable[k * usable.size() / samples]];
+        problem.modelPointsWorldMm.push_back({point.x(), point.y(), point.z()});
+      }
+      problem.measuredPointsCameraMm = measurement.pointsCameraMm;
+      problem.measuredNormalsCamera = measurement.normalsCamera;
+    }
+  }
+  result.icpPoints = static_cast<int>(problem.modelPointsWorldMm.size());
+
+  if (result.baObservations == 0 && result.icpPoints == 0) {
+    if (s.keyFrames.empty() && s.intermediates.empty()) return finish("first key frame: stored for later matching");
+    return finish(result.matchedKeyFrames == 0
+                      ? "not refined: no earlier key frame matched and no model points for the ICP term"
+                      : "not refined: no feature point to adjust");
+  }
+
+  result.intermediateFrames = static_cast<int>(frameOfSlot.size());
+  result.beta = result.baObservations > 0 && result.icpPoints > 0
+                    ? p.icpWeightFactor * result.baObservations / result.icpPoints
+                    : 1.0;
+  problem.camera = {s.geometry.focalPx, s.geometry.focalPx, s.geometry.cxLeftPx, s.geometry.cyPx,
+                    s.geometry.imageSize.width, s.geometry.imageSize.height};
+  problem.robust = {p.baHuberPx, p.icpTukeyMm, result.beta, kMinDepthMm};
+  problem.poses.push_back(toPose(T_camera_world));
+  for (int f : frameOfSlot) problem.poses.push_back(toPose(inverseRigid(s.intermediates[f].T_world_camera)));
+
+  const refinement::RefinementSolution solution = refinement::solveRefinement(problem, p, s.device);
+  result.initialCost = solution.initialCost;
+  result.finalCost = solution.finalCost;
+  result.iterations = solution.iterations;
+  const Eigen::Matrix4d refined = inverseRigid(fromPose(solution.poses[0]));
+  double degrees = 0, mm = 0;
+  correction(refined, T_world_camera, degrees, mm);
+  const std::string what = result.baObservations == 0 ? "ICP only (no earlier key frame matched)"
+                                                      : (result.icpPoints == 0 ? "BA only" : "BA + ICP");
+  if (!(solution.finalCost < solution.initialCost) || !refined.allFinite()) {
+    return finish("not refined (" + what + "): the cost did not fall");
+  }
+  if (degrees > p.maxCorrectionDeg || mm > p.maxCorrectionMm) {
+    return finish(cv::format("not refined (%s): implausible correction of %.2f mm, %.2f deg", what.c_str(), mm, degrees));
+  }
+  result.refined = true;
+  result.T_world_camera = refined;
+  for (std::size_t slot = 0; slot < frameOfSlot.size(); ++slot) {
+    FramePose pose;
+    pose.frameIndex = s.intermediates[frameOfSlot[slot]].frameIndex;
+    pose.T_world_camera = inverseRigid(fromPose(solution.poses[slot + 1]));
+    result.intermediatePoses.push_back(pose);
+  }
+  return finish(cv::format("refined (%s): %.2f mm, %.3f deg from the tracked pose", what.c_str(), mm, degrees));
+}
+
+int KeyFrameRefiner::keyFrameCount() const { return static_cast<int>(impl_->keyFrames.size()); }
+int KeyFrameRefiner::intermediateFrameCount() const { return static_cast<int>(impl_->intermediates.size()); }
+
+std::size_t KeyFrameRefiner::storedBytes() const {
+  std::size_t bytes = 0;
+  for (const StoredKeyFrame& kf : impl_->keyFrames) bytes += kf.bytes();
+  return bytes;
+}
+
+void KeyFrameRefiner::reset() {
+  impl_->keyFrames.clear();
+  impl_->intermediates.clear();
+}
+
+Device KeyFrameRefiner::device() const { return impl_->device; }
+const RefinementParameters& KeyFrameRefiner::parameters() const { return impl_->parameters; }
+
+}  // namespace tissuemosaic

@@ -1,0 +1,126 @@
+// The whole reconstruction (paper sections II-III) on a shortened synthetic scan, against its ground truth: the
+// issue's accuracy bar (model RMSE <= 0.5 mm to the true surface, key-frame ATE <= 1 mm, tracking never lost), the
+// timing table's stages, the one parameter object's file round trip, and misuse reported as errors.
+#include "SyntheticScan.h"
+#include "TissueSurface.h"
+
+#include "Core/Error.h"
+#include "Reconstruction/ReconstructionPipeline.h"
+#include "Reconstruction/TimingTable.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+using namespace tissuemosaic;
+
+namespace {
+
+/// First-order distance of a world point to the height field z = h(x, y): the vertical offset times the normal's Z.
+double distanceToSurfaceMm(const synthetic::TissueSurface& surface, const cv::Point3f& p) {
+  double dhdx = 0, dhdy = 0;
+  const double h = surface.heightMm(p.x, p.y, &dhdx, &dhdy);
+  return std::abs(p.z - h) / std::sqrt(1 + dhdx * dhdx + dhdy * dhdy);
+}
+
+}  // namespace
+
+TEST(ReconstructionPipeline, ShortSyntheticScanMeetsTheAccuracyBar) {
+  synthetic::SyntheticScanOptions options;  // 960x540, the resolution
+  options.frames = 36;
+  options.seed = 7;
+  const synthetic::SyntheticScan scan(options);
+  ReconstructionPipeline pipeline(scan.geometry(), ReconstructionParameters{}, Device::Cpu, scan.T_world_camera(0));
+  TimingTable timing;
+  int lost = 0;
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
+    const FrameResult result = pipeline.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    lost += !result.tracked;
+    if (k > 0) timing.add(result);
+  }
+  EXPECT_EQ(lost, 0);
+  ASSERT_GE(pipeline.keyFrames().size(), 3u);
+
+  double positionError2 = 0;
+  for (const KeyFramePose& k : pipeline.keyFrames()) {
+    positionError2 += (k.T_world_camera.block<3, 1>(0, 3) - scan.T_world_camera(k.frameIndex).block<3, 1>(0, 3)).squaredNorm();
+  }
+  const double ateMm = std::sqrt(positionError2 / pipeline.keyFrames().size());
+  EXPECT_LE(ateMm, 1.0);
+
+  const ModelPoints model = pipeline.modelSnapshot();
+  ASSERT_GT(model.size(), 100000u);
+  ASSERT_EQ(model.cloud.normals.size(), model.size());
+  ASSERT_EQ(model.cloud.colorsRgb.size(), model.size());
+  double distance2 = 0;
+  std::vector<double> distances;
+  for (const cv::Point3f& p : model.cloud.pointsMm) {
+    const double d = distanceToSurfaceMm(scan.surface(), p);
+    distance2 += d * d;
+    distances.push_back(d);
+  }
+  std::sort(distances.begin(), distances.end());
+  const auto at = [&](double q) { return distances[static_cast<std::size_t>(q * (distances.size() - 1))]; };
+  std::printf("distances: p50 %.3f p90 %.3f p99 %.3f p999 %.3f max %.3f mm\n", at(0.5), at(0.9), at(0.99), at(0.999), at(1.0));
+  const double rmseMm = std::sqrt(distance2 / model.size());
+  EXPECT_LE(rmseMm, 0.5);
+  std::printf("short scan: %zu key frames, ATE %.3f mm, model %zu points, RMSE %.3f mm\n", pipeline.keyFrames().size(),
+              ateMm, model.size(), rmseMm);
+
+  // Key frames ran every stage; other frames no refinement or fusion.
+  const std::vector<double> key = timing.medians(true), other = timing.medians(false);
+  const auto& names = TimingTable::stageNames();
+  for (std::size_t i = 1; i < names.size(); ++i) EXPECT_GT(key[i], 0.0) << names[i];
+  EXPECT_EQ(other[4], 0.0);
+  EXPECT_EQ(other[5], 0.0);
+}
+
+TEST(ReconstructionPipeline, RefusesMismatchedFrames) {
+  synthetic::SyntheticScanOptions options;
+  options.width = 320;
+  options.height = 180;
+  options.frames = 2;
+  const synthetic::SyntheticScan scan(options);
+  ReconstructionPipeline pipeline(scan.geometry(), ReconstructionParameters{}, Device::Cpu);
+  const cv::Mat small(90, 160, CV_8UC3, cv::Scalar::all(100));
+  const cv::Mat right(180, 320, CV_8UC3, cv::Scalar::all(100));
+  EXPECT_THROW(pipeline.process(small, right, 0), Error);
+  EXPECT_THROW(pipeline.process(cv::Mat(), right, 0), Error);
+  EXPECT_THROW(pipeline.process(cv::Mat(180, 320, CV_32FC1, cv::Scalar(0)), right, 0), Error);
+}
+
+TEST(ReconstructionParameters, FileRoundTripAndValidation) {
+  ReconstructionParameters p;
+  p.stereo.maxDisparityPx = 60;
+  p.features.maxFeatures = 1500;
+  p.tracking.keyFramePoseThreshold = 7.5;
+  p.refinement.icpWeightFactor = 0.2;
+  p.fusion.truncationMm = 1.0;
+  p.extractor = FeatureExtractor::OpenCvOrb;
+  const std::string path = (std::filesystem::temp_directory_path() / "tm_reconstruction_parameters.yml").string();
+  p.writeFile(path);
+  const ReconstructionParameters q = ReconstructionParameters::readFile(path);
+  EXPECT_EQ(q.stereo.maxDisparityPx, 60);
+  EXPECT_EQ(q.features.maxFeatures, 1500);
+  EXPECT_DOUBLE_EQ(q.tracking.keyFramePoseThreshold, 7.5);
+  EXPECT_DOUBLE_EQ(q.refinement.icpWeightFactor, 0.2);
+  EXPECT_DOUBLE_EQ(q.fusion.truncationMm, 1.0);
+  EXPECT_EQ(q.extractor, FeatureExtractor::OpenCvOrb);
+
+  // Missing nodes keep the defaults; a bad value names its group and parameter.
+  const ReconstructionParameters defaults = ReconstructionParameters::parse("%YAML:1.0\n---\nstereo:\n   maxDisparityPx: 70\n");
+  EXPECT_EQ(defaults.stereo.maxDisparityPx, 70);
+  EXPECT_DOUBLE_EQ(defaults.fusion.truncationMm, FusionParameters{}.truncationMm);
+  try {
+    ReconstructionParameters::parse("%YAML:1.0\n---\nfusion:\n   truncationMm: -1\n");
+    FAIL() << "a negative truncation was accepted";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("truncationMm"), std::string::npos) << error.what();
+  }
+  EXPECT_THROW(ReconstructionParameters::parse("%YAML:1.0\n---\npipeline:\n   extractor: sift\n"), Error);
+  EXPECT_THROW(ReconstructionParameters::readFile("/nonexistent/parameters.yml"), Error);
+}

@@ -1,0 +1,405 @@
+// Key-frame refinement (paper III.D) on the CPU: the LM solver against exact synthetic ground truth, the whole
+// refiner on a scan with perturbed tracked poses, the ICP term with Tukey's penalty on a curved surface, and the
+// cases that must keep the tracked pose.
+#include "RefinementTestScene.h"
+#include "SyntheticScan.h"
+
+#include "Core/Error.h"
+#include "Refinement/KeyFrameRefiner.h"
+#include "Refinement/RefinementParameters.h"
+#include "Refinement/RefinementSolver.h"
+#include "Tracking/FrameTracker.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/core/persistence.hpp>
+
+using namespace tissuemosaic;
+using namespace tissuemosaic::refinement_test;
+
+namespace {
+
+refinement::Pose toPose(const Eigen::Matrix4d& T_camera_world) {
+  refinement::Pose p;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) p.r[3 * r + c] = T_camera_world(r, c);
+    p.t[r] = T_camera_world(r, 3);
+  }
+  return p;
+}
+
+Eigen::Matrix4d fromPose(const refinement::Pose& p) {
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) T(r, c) = p.r[3 * r + c];
+    T(r, 3) = p.t[r];
+  }
+  return T;
+}
+
+/// Exact observations of the scene's points by cameras at the given camera-to-world poses.
+refinement::RefinementProblem exactProblem(const std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>>& poses,
+                                           const FeatureScene& scene) {
+  const RectifiedGeometry g = testGeometry();
+  refinement::RefinementProblem problem;
+  problem.camera = {g.focalPx, g.focalPx, g.cxLeftPx, g.cyPx, g.imageSize.width, g.imageSize.height};
+  problem.robust = {2.0, 2.0, 1.0, 0.1};
+  for (const Eigen::Vector3d& X : scene.pointsWorldMm) {
+    problem.pointsWorldMm.insert(problem.pointsWorldMm.end(), {X.x(), X.y(), X.z()});
+    problem.pointFixed.push_back(1);
+  }
+  for (std::size_t f = 0; f < poses.size(); ++f) {
+    const Eigen::Matrix4d T = poses[f].inverse();
+    problem.poses.push_back(toPose(T));
+    for (std::size_t i = 0; i < scene.pointsWorldMm.size(); ++i) {
+      const Eigen::Vector3d c = T.block<3, 3>(0, 0) * scene.pointsWorldMm[i] + T.block<3, 1>(0, 3);
+      const double u = g.focalPx * c.x() / c.z() + g.cxLeftPx, v = g.focalPx * c.y() / c.z() + g.cyPx;
+      if (u < 0 || v < 0 || u >= g.imageSize.width || v >= g.imageSize.height) continue;
+      problem.observations.push_back({static_cast<int>(f), static_cast<int>(i), u, v});
+    }
+  }
+  return problem;
+}
+
+}  // namespace
+
+TEST(RefinementParameters, RoundTripAndValidation) {
+  RefinementParameters p;
+  p.icpWeightFactor = 0.25;
+  p.icpTukeyMm = 3.5;
+  p.maxIntermediateFrames = 7;
+  p.maxCorrectionDeg = 2.5;
+  cv::FileStorage out("refinement.yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  p.write(out);
+  const std::string text = out.releaseAndGetString();
+  cv::FileStorage in(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  const RefinementParameters q = RefinementParameters::read(in["refinement"]);
+  EXPECT_EQ(q.icpWeightFactor, 0.25);
+  EXPECT_EQ(q.icpTukeyMm, 3.5);
+  EXPECT_EQ(q.maxIntermediateFrames, 7);
+  EXPECT_EQ(q.maxCorrectionDeg, 2.5);
+  EXPECT_EQ(q.icpSamples, RefinementParameters{}.icpSamples);
+  RefinementParameters bad;
+  bad.icpTukeyMm = 0;
+  EXPECT_THROW(bad.validate(), Error);
+  bad = RefinementParameters{};
+  bad.alternations = 0;
+  EXPECT_THROW(bad.validate(), Error);
+  cv::FileStorage wrong("%YAML:1.0\nrefinement:\n  lmIterations: 2.5\n", cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  EXPECT_THROW(RefinementParameters::read(wrong["refinement"]), Error);
+}
+
+// The pose step alone: fixed points, exact projections, two frames perturbed by 2 degrees and 3 mm. Exact data
+// has a zero-cost optimum at the true poses, so LM must land on them.
+TEST(RefinementSolver, PoseStepsConvergeToExactPoses) {
+  const FeatureScene scene(400, 3);
+  std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> truth = {truePose(4), truePose(9)};
+  refinement::RefinementProblem problem = exactProblem(truth, scene);
+  std::mt19937 random(11);
+  for (std::size_t f = 0; f < truth.size(); ++f) problem.poses[f] = toPose(perturb(truth[f], 2.0, 3.0, random).inverse());
+  RefinementParameters parameters;
+  parameters.lmIterations = 10;
+  const refinement::RefinementSolution solution = refinement::solveRefinement(problem, parameters, Device::Cpu);
+  for (std::size_t f = 0; f < truth.size(); ++f) {
+    double degrees = 0, mm = 0;
+    poseError(fromPose(solution.poses[f]).inverse(), truth[f], degrees, mm);
+    std::printf("frame %zu: %.2e deg, %.2e mm; cost %.3g -> %.3g in %d iterations\n", f, degrees, mm,
+                solution.initialCost, solution.finalCost, solution.iterations);
+    EXPECT_LT(degrees, 1e-6);
+    EXPECT_LT(mm, 1e-5);
+  }
+  EXPECT_LT(solution.finalCost, 1e-12 * solution.initialCost);
+}
+
+// The point step alone: exact poses, free points moved by up to 2 mm: each point's 3x3 LM must find it again.
+TEST(RefinementSolver, PointStepsConvergeToExactPoints) {
+  const FeatureScene scene(300, 4);
+  std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> truth = {truePose(0), truePose(5), truePose(10)};
+  refinement::RefinementProblem problem = exactProblem(truth, scene);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> offset(-2, 2);
+  for (std::size_t i = 0; i < problem.pointFixed.size(); ++i) {
+    problem.pointFixed[i] = i % 5 == 0;  // some points fixed, as those of earlier key frames
+    if (!problem.pointFixed[i]) {
+      for (int c = 0; c < 3; ++c) problem.pointsWorldMm[3 * i + c] += offset(random);
+    }
+  }
+  RefinementParameters parameters;
+  parameters.lmIterations = 20;
+  parameters.alternations = 2;
+  const refinement::RefinementSolution solution = refinement::solveRefinement(problem, parameters, Device::Cpu);
+  // Points seen from two frames or more are determined; one observation leaves the depth free.
+  std::vector<int> seen(scene.pointsWorldMm.size(), 0);
+  for (const refinement::Observation& o : problem.observations) ++seen[o.point];
+  double worstMm = 0;
+  int checked = 0;
+  for (std::size_t i = 0; i < scene.pointsWorldMm.size(); ++i) {
+    if (problem.pointFixed[i] || seen[i] < 2) continue;
+    ++checked;
+    const Eigen::Vector3d p(solution.pointsWorldMm[3 * i], solution.pointsWorldMm[3 * i + 1], solution.pointsWorldMm[3 * i + 2]);
+    worstMm = std::max(worstMm, (p - scene.pointsWorldMm[i]).norm());
+  }
+  std::printf("worst error of %d free points %.2e mm; cost %.3g -> %.3g\n", checked, worstMm, solution.initialCost,
+              solution.finalCost);
+  EXPECT_GT(checked, 150);
+  EXPECT_LT(worstMm, 1e-4);
+}
+
+// The whole refiner: key frames 0 and 10 stored at true poses; intermediate frames 11..19 and key frame 20 tracked
+// 1.5 degrees and 2 mm off. Features carry 0.5 px noise, 0.1 mm stereo noise and 100 outliers per frame.
+TEST(KeyFrameRefiner, LowersTheErrorOfPerturbedPoses) {
+  const BundleRun run = runBundleScenario(Device::Cpu);
+  const RefinementResult& r = run.result;
+  std::printf("%s\n  matched key frames %d, intermediate frames %d, observations %d (fixed points %d, free %d), "
+              "cost %.4g -> %.4g, %d iterations, %.1f ms\n",
+              r.message.c_str(), r.matchedKeyFrames, r.intermediateFrames, r.baObservations, r.fixedPoints, r.freePoints,
+              r.initialCost, r.finalCost, r.iterations, r.milliseconds);
+  ASSERT_TRUE(r.refined) << r.message;
+  EXPECT_EQ(r.matchedKeyFrames, 2);
+  EXPECT_EQ(r.intermediateFrames, 9);
+  EXPECT_GT(r.fixedPoints, 200);
+  EXPECT_EQ(run.storedKeyFrames, 3);
+
+  double degBefore = 0, mmBefore = 0, degAfter = 0, mmAfter = 0;
+  poseError(run.trackedKey, run.trueKey, degBefore, mmBefore);
+  poseError(r.T_world_camera, run.trueKey, degAfter, mmAfter);
+  std::printf("  key frame: %.3f deg, %.3f mm -> %.4f deg, %.4f mm\n", degBefore, mmBefore, degAfter, mmAfter);
+  EXPECT_LT(degAfter, 0.1);
+  EXPECT_LT(mmAfter, 0.2);
+  EXPECT_LT(degAfter, 0.1 * degBefore);
+  EXPECT_LT(mmAfter, 0.1 * mmBefore);
+
+  ASSERT_EQ(r.intermediatePoses.size(), run.trueIntermediate.size());
+  double sumBefore = 0, sumAfter = 0, worstDeg = 0, worstMm = 0;
+  for (std::size_t f = 0; f < run.trueIntermediate.size(); ++f) {
+    EXPECT_EQ(r.intermediatePoses[f].frameIndex, 11 + static_cast<int>(f));
+    poseError(run.trackedIntermediate[f], run.trueIntermediate[f], degBefore, mmBefore);
+    poseError(r.intermediatePoses[f].T_world_camera, run.trueIntermediate[f], degAfter, mmAfter);
+    sumBefore += mmBefore;
+    sumAfter += mmAfter;
+    worstDeg = std::max(worstDeg, degAfter);
+    worstMm = std::max(worstMm, mmAfter);
+  }
+  std::printf("  intermediate frames: mean %.3f mm -> %.4f mm; worst after %.4f deg, %.4f mm\n",
+              sumBefore / run.trueIntermediate.size(), sumAfter / run.trueIntermediate.size(), worstDeg, worstMm);
+  EXPECT_LT(sumAfter, 0.1 * sumBefore);
+  EXPECT_LT(worstDeg, 0.1);
+  EXPECT_LT(worstMm, 0.2);
+}
+
+// The same with the ICP term: the fused model (the scene's surface) and the key frame's measurement from its true
+// pose. beta = 0.1 * BA residuals / ICP points.
+TEST(KeyFrameRefiner, BundleAdjustmentWithIcpTerm) {
+  const BundleRun run = runBundleScenario(Device::Cpu, RefinementParameters{}, 1.5, 2.0, 0.5, 0.1, 100, true);
+  const RefinementResult& r = run.result;
+  double degBefore = 0, mmBefore = 0, degAfter = 0, mmAfter = 0;
+  poseError(run.trackedKey, run.trueKey, degBefore, mmBefore);
+  poseError(r.T_world_camera, run.trueKey, degAfter, mmAfter);
+  std::printf("%s: %d observations, %d ICP points, beta %.4f, cost %.4g -> %.4g, %.1f ms\n"
+              "  key frame: %.3f deg, %.3f mm -> %.4f deg, %.4f mm\n",
+              r.message.c_str(), r.baObservations, r.icpPoints, r.beta, r.initialCost, r.finalCost, r.milliseconds,
+              degBefore, mmBefore, degAfter, mmAfter);
+  ASSERT_TRUE(r.refined) << r.message;
+  EXPECT_NE(r.message.find("BA + ICP"), std::string::npos);
+  EXPECT_EQ(r.icpPoints, RefinementParameters{}.icpSamples);
+  EXPECT_NEAR(r.beta, 0.1 * r.baObservations / r.icpPoints, 1e-12);
+  EXPECT_LT(degAfter, 0.1);
+  EXPECT_LT(mmAfter, 0.2);
+  EXPECT_LT(mmAfter, 0.1 * mmBefore);
+}
+
+// The ICP term alone (no feature to match): the camera tracked 1.5 mm too near a curved surface, along its normal.
+// Model points from the true pose; the measurement is the exact surface.
+TEST(KeyFrameRefiner, IcpTermCorrectsAlongTheNormal) {
+  const RectifiedGeometry g = testGeometry();
+  const CurvedSurface surface;
+  const SurfaceMeasurement measurement = surface.measure(g);
+  const std::vector<Eigen::Vector3f> model = surface.sample(30, 22, 90);
+  const Eigen::Matrix4d truth = Eigen::Matrix4d::Identity();
+  const Eigen::Matrix4d tracked = pose(Eigen::Vector3d::UnitX(), 0, Eigen::Vector3d(0, 0, 1.5));
+  KeyFrameRefiner refiner(g, RefinementParameters{}, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+  const FeatureScene none(0, 1);
+  const RefinementResult r = refiner.refineKeyFrame(0, none.observe(truth, g, 0, 0, 0, 0, 1), tracked, measurement, model, {});
+  std::printf("%s: %d ICP points, cost %.4g -> %.4g, %d iterations, %.1f ms\n", r.message.c_str(), r.icpPoints,
+              r.initialCost, r.finalCost, r.iterations, r.milliseconds);
+  ASSERT_TRUE(r.refined) << r.message;
+  EXPECT_EQ(r.baObservations, 0);
+  EXPECT_EQ(r.icpPoints, 8100);
+  const Eigen::Vector3d error = r.T_world_camera.block<3, 1>(0, 3) - truth.block<3, 1>(0, 3);
+  double degrees = 0, mm = 0;
+  poseError(r.T_world_camera, truth, degrees, mm);
+  std::printf("  error along the normal %.4f mm (from 1.5), total %.4f mm, %.4f deg\n", error.z(), mm, degrees);
+  EXPECT_LT(std::abs(error.z()), 0.02);
+  EXPECT_LT(mm, 0.1);
+  EXPECT_LT(degrees, 0.05);
+}
+
+// A block of model points 8 mm off the surface (a wrongly fused patch): Tukey's penalty ignores it; a quadratic
+// penalty (Tukey's constant far beyond the residuals) is pulled off by it.
+TEST(KeyFrameRefiner, TukeyPenaltyIgnoresOutlierBlock) {
+  const RectifiedGeometry g = testGeometry();
+  const CurvedSurface surface;
+  const SurfaceMeasurement measurement = surface.measure(g);
+  std::vector<Eigen::Vector3f> model = surface.sample(30, 22, 90);
+  int outliers = 0;
+  for (Eigen::Vector3f& p : model) {
+    if (p.x() > 8 && p.y() > 4) {
+      p.z() -= 8;
+      ++outliers;
+    }
+  }
+  const Eigen::Matrix4d truth = Eigen::Matrix4d::Identity();
+  const Eigen::Matrix4d tracked = pose(Eigen::Vector3d::UnitX(), 0, Eigen::Vector3d(0, 0, 1.5));
+  const FeatureScene none(0, 1);
+  const auto refine = [&](double tukeyMm) {
+    RefinementParameters parameters;
+    parameters.icpTukeyMm = tukeyMm;
+    KeyFrameRefiner refiner(g, parameters, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+    return refiner.refineKeyFrame(0, none.observe(truth, g, 0, 0, 0, 0, 1), tracked, measurement, model, {});
+  };
+  const RefinementResult robust = refine(2.0), quadratic = refine(1000.0);
+  double degRobust = 0, mmRobust = 0, degQuadratic = 0, mmQuadratic = 0;
+  poseError(robust.T_world_camera, truth, degRobust, mmRobust);
+  poseError(quadratic.T_world_camera, truth, degQuadratic, mmQuadratic);
+  std::printf("%d of %zu model points 8 mm off: Tukey 2 mm -> %.4f mm, %.4f deg; Tukey 1000 mm -> %.4f mm, %.4f deg\n"
+              "  %s\n  %s\n",
+              outliers, model.size(), mmRobust, degRobust, mmQuadratic, degQuadratic, robust.message.c_str(),
+              quadratic.message.c_str());
+  ASSERT_TRUE(robust.refined) << robust.message;
+  EXPECT_GT(outliers, 800);
+  EXPECT_LT(mmRobust, 0.1);
+  EXPECT_LT(degRobust, 0.05);
+  // Quadratic: either refused as implausible (the tracked pose, 1.5 mm off, comes back) or pulled off.
+  EXPECT_TRUE(!quadratic.refined || mmQuadratic > 0.3 || degQuadratic > 0.03) << quadratic.message;
+}
+
+// Nothing to match, or too few inliers, and no model: the tracked pose comes back unchanged.
+TEST(KeyFrameRefiner, KeepsTheTrackedPoseWithoutMatches) {
+  const RectifiedGeometry g = testGeometry();
+  const SurfaceMeasurement none;
+  KeyFrameRefiner refiner(g, RefinementParameters{}, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+  const FeatureScene scene(1500, 21), unrelated(1500, 22);
+
+  const Eigen::Matrix4d first = truePose(0);
+  const RefinementResult r0 = refiner.refineKeyFrame(0, scene.observe(first, g, 0.5, 0.1, 4, 50, 1), first, none, {}, {});
+  EXPECT_FALSE(r0.refined);
+  EXPECT_EQ(r0.T_world_camera, first);
+  EXPECT_NE(r0.message.find("first key frame"), std::string::npos) << r0.message;
+  EXPECT_EQ(refiner.keyFrameCount(), 1);
+
+  // Other points with other descriptors: nothing matches.
+  std::mt19937 random(2);
+  const Eigen::Matrix4d second = perturb(truePose(5), 1.0, 1.0, random);
+  refiner.addIntermediateFrame(3, unrelated.observe(truePose(3), g, 0.5, 0.1, 4, 50, 2), truePose(3));
+  const RefinementResult r1 = refiner.refineKeyFrame(5, unrelated.observe(truePose(5), g, 0.5, 0.1, 4, 50, 3), second, none, {}, {});
+  EXPECT_FALSE(r1.refined);
+  EXPECT_EQ(r1.T_world_camera, second);
+  EXPECT_EQ(r1.matchedKeyFrames, 0);
+  EXPECT_TRUE(r1.intermediatePoses.empty());
+  EXPECT_NE(r1.message.find("no earlier key frame matched"), std::string::npos) << r1.message;
+  EXPECT_EQ(refiner.intermediateFrameCount(), 0);
+
+  // Only 15 true features (fewer than minKeyFrameInliers = 20) among 300 outliers.
+  refiner.reset();
+  refiner.refineKeyFrame(0, scene.observe(first, g, 0.5, 0.1, 4, 0, 4), first, none, {}, {});
+  StereoFeatures few = scene.observe(truePose(3), g, 0.5, 0.1, 4, 0, 5);
+  const StereoFeatures noise = unrelated.observe(truePose(3), g, 0.5, 0.1, 4, 300, 6);
+  few.keypoints.resize(15);
+  few.pointsCameraMm.resize(15);
+  few.descriptors = few.descriptors.rowRange(0, 15).clone();
+  few.keypoints.insert(few.keypoints.end(), noise.keypoints.begin(), noise.keypoints.end());
+  few.pointsCameraMm.insert(few.pointsCameraMm.end(), noise.pointsCameraMm.begin(), noise.pointsCameraMm.end());
+  cv::vconcat(few.descriptors, noise.descriptors, few.descriptors);
+  const Eigen::Matrix4d third = perturb(truePose(3), 1.0, 1.0, random);
+  const RefinementResult r2 = refiner.refineKeyFrame(3, few, third, none, {}, {});
+  EXPECT_FALSE(r2.refined);
+  EXPECT_EQ(r2.T_world_camera, third);
+  EXPECT_EQ(r2.matchedKeyFrames, 0);
+  std::printf("nothing to match: '%s'; few inliers: '%s'\n", r1.message.c_str(), r2.message.c_str());
+}
+
+// A correction beyond the limits is refused: the tracked pose comes back and the message says why. (The ICP case:
+// feature matches are held to the same limits already, by DynamicR1PPnP's pose.)
+TEST(KeyFrameRefiner, RefusesImplausibleCorrections) {
+  const RectifiedGeometry g = testGeometry();
+  const CurvedSurface surface;
+  RefinementParameters parameters;
+  parameters.maxCorrectionMm = 0.5;  // the tracked pose is 1.5 mm off
+  KeyFrameRefiner refiner(g, parameters, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+  const Eigen::Matrix4d tracked = pose(Eigen::Vector3d::UnitX(), 0, Eigen::Vector3d(0, 0, 1.5));
+  const FeatureScene none(0, 1);
+  const RefinementResult r = refiner.refineKeyFrame(0, none.observe(tracked, g, 0, 0, 0, 0, 1), tracked,
+                                                    surface.measure(g), surface.sample(30, 22, 90), {});
+  EXPECT_FALSE(r.refined);
+  EXPECT_EQ(r.T_world_camera, tracked);
+  EXPECT_LT(r.finalCost, r.initialCost);
+  EXPECT_NE(r.message.find("implausible"), std::string::npos) << r.message;
+  std::printf("%s\n", r.message.c_str());
+}
+
+// Intermediate frames are thinned evenly; stored key frames are compact.
+TEST(KeyFrameRefiner, ThinsIntermediateFramesAndStoresKeyFramesCompactly) {
+  const RectifiedGeometry g = testGeometry();
+  RefinementParameters parameters;
+  parameters.maxIntermediateFrames = 5;
+  parameters.storedFeaturesPerKeyFrame = 300;
+  KeyFrameRefiner refiner(g, parameters, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+  const FeatureScene scene(1000, 8);
+  for (int f = 1; f <= 20; ++f) refiner.addIntermediateFrame(f, scene.observe(truePose(f), g, 0, 0, 0, 0, f), truePose(f));
+  EXPECT_EQ(refiner.intermediateFrameCount(), 5);
+  EXPECT_THROW(refiner.addIntermediateFrame(21, StereoFeatures{}, Eigen::Matrix4d::Zero()), Error);
+  refiner.refineKeyFrame(21, scene.observe(truePose(21), g, 0, 0, 0, 0, 21), truePose(21), SurfaceMeasurement{}, {}, {});
+  EXPECT_EQ(refiner.keyFrameCount(), 1);
+  EXPECT_EQ(refiner.intermediateFrameCount(), 0);
+  // 300 features: pixel (8 bytes), descriptor (32), world point (12).
+  EXPECT_EQ(refiner.storedBytes(), 300u * (8 + 32 + 12));
+}
+
+// End to end on a rendered scan: FrameTracker on ground-truth disparity, the refiner at its key frames (BA against
+// the earlier key frames, no model), corrected poses fed back to the tracker as the pipeline does. Each key frame's
+// refined pose is compared with the pose tracking gave it.
+TEST(KeyFrameRefiner, RefinesTrackedKeyFramesOfASyntheticScan) {
+  synthetic::SyntheticScanOptions options;
+  options.width = 480;
+  options.height = 270;
+  options.frames = 21;
+  options.seed = 11;
+  const synthetic::SyntheticScan scan(options);
+  FrameTrackerOptions trackerOptions;
+  FrameTracker tracker(scan.geometry(), trackerOptions, scan.T_world_camera(0));
+  KeyFrameRefiner refiner(scan.geometry(), RefinementParameters{}, trackerOptions.tracking, trackerOptions.features,
+                          Device::Cpu);
+  double trackedSum2 = 0, refinedSum2 = 0, worstGainMm = 0;
+  int refined = 0, matched = 0, keyFrames = 0;
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
+    const TrackResult track = tracker.track(frame.leftRectified, frame.disparityPx);
+    ASSERT_TRUE(track.tracked) << "frame " << k << ": " << track.failureReason;
+    if (!track.keyFrame) {
+      refiner.addIntermediateFrame(k, tracker.lastFeatures(), track.T_world_camera);
+      continue;
+    }
+    const RefinementResult r =
+        refiner.refineKeyFrame(k, tracker.lastFeatures(), track.T_world_camera, SurfaceMeasurement{}, {}, {});
+    if (r.refined) tracker.correctLastPose(r.T_world_camera);
+    const Eigen::Vector3d truth = frame.T_world_camera.block<3, 1>(0, 3);
+    const double trackedMm = (track.T_world_camera.block<3, 1>(0, 3) - truth).norm();
+    const double refinedMm = (r.T_world_camera.block<3, 1>(0, 3) - truth).norm();
+    std::printf("  key frame %d: %s (%d key frames matched, %d intermediate, %.1f ms): error %.3f -> %.3f mm\n", k,
+                r.message.c_str(), r.matchedKeyFrames, r.intermediateFrames, r.milliseconds, trackedMm, refinedMm);
+    trackedSum2 += trackedMm * trackedMm;
+    refinedSum2 += refinedMm * refinedMm;
+    worstGainMm = std::max(worstGainMm, refinedMm - trackedMm);
+    refined += r.refined;
+    matched += r.matchedKeyFrames;
+    ++keyFrames;
+  }
+  const double trackedRms = std::sqrt(trackedSum2 / keyFrames), refinedRms = std::sqrt(refinedSum2 / keyFrames);
+  std::printf("key-frame position error RMS: tracked %.4f mm, refined %.4f mm (%d of %d key frames refined, %d matches "
+              "with earlier key frames)\n", trackedRms, refinedRms, refined, keyFrames, matched);
+  EXPECT_EQ(keyFrames, 3);
+  EXPECT_EQ(refined, 2);  // all but the first
+  EXPECT_EQ(matched, 1 + 2);
+  EXPECT_LT(refinedRms, 0.8 * trackedRms);
+  EXPECT_LT(worstGainMm, 0.1);  // no key frame worse by more than the key points' localisation noise
+}
