@@ -17,17 +17,6 @@
 
 using namespace tissuemosaic;
 
-namespace {
-
-/// First-order distance of a world point to the height field z = h(x, y): the vertical offset times the normal's Z.
-double distanceToSurfaceMm(const synthetic::TissueSurface& surface, const cv::Point3f& p) {
-  double dhdx = 0, dhdy = 0;
-  const double h = surface.heightMm(p.x, p.y, &dhdx, &dhdy);
-  return std::abs(p.z - h) / std::sqrt(1 + dhdx * dhdx + dhdy * dhdy);
-}
-
-}  // namespace
-
 TEST(ReconstructionPipeline, ShortSyntheticScanMeetsTheAccuracyBar) {
   synthetic::SyntheticScanOptions options;  // 960x540, the resolution
   options.frames = 36;
@@ -59,7 +48,7 @@ TEST(ReconstructionPipeline, ShortSyntheticScanMeetsTheAccuracyBar) {
   double distance2 = 0;
   std::vector<double> distances;
   for (const cv::Point3f& p : model.cloud.pointsMm) {
-    const double d = distanceToSurfaceMm(scan.surface(), p);
+    const double d = scan.surface().distanceMm(p.x, p.y, p.z);
     distance2 += d * d;
     distances.push_back(d);
   }

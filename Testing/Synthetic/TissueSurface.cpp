@@ -69,6 +69,12 @@ double TissueSurface::maxSlope(const cv::Rect2d& domain) const {
   return std::sqrt(largest2) + 0.2 * stepMm;
 }
 
+double TissueSurface::distanceMm(double xMm, double yMm, double zMm) const {
+  double dhdx = 0, dhdy = 0;
+  const double h = heightMm(xMm, yMm, &dhdx, &dhdy);
+  return std::abs(zMm - h) / std::sqrt(1 + dhdx * dhdx + dhdy * dhdy);
+}
+
 double TissueSurface::heightMm(double x, double y, double* dhdx, double* dhdy) const {
   const double s2 = parameters_.domeRadiusMm * parameters_.domeRadiusMm;
   const double root = std::sqrt(1.0 + (x * x + y * y) / s2);

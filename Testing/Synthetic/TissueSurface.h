@@ -31,6 +31,10 @@ public:
   double heightMm(double xMm, double yMm, double* dhdx = nullptr, double* dhdy = nullptr) const;
   /// Unit normal pointing toward the scope (-Z side).
   cv::Vec3d normal(double xMm, double yMm) const;
+  /// Distance of a point to the surface, to first order: |z - h(x, y)| times the normal's Z component (exact for a
+  /// locally flat surface; the surface curves over 12 mm and more, so the error is negligible within a millimetre
+  /// or so of it). For scoring reconstructed models against the truth.
+  double distanceMm(double xMm, double yMm, double zMm) const;
   /// Largest |grad h| over a rectangle of the XY plane (sampled every 0.25 mm; the surface's features are
   /// 12 mm and larger). With slope * tan(ray angle to +Z) < 1 every ray meets the surface exactly once there, so
   /// nothing is self-occluded.

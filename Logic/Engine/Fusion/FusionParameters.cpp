@@ -30,6 +30,8 @@ void FusionParameters::validate() const {
   requireRange("colourMinWeight", colourMinWeight, 1e-3, 1.0);
   requireRange("maxPoints", maxPoints, 1, 1 << 30);
   requireRange("newPointStepPx", newPointStepPx, 1, 64);
+  requireRange("minDepthMm", minDepthMm, 0.0, 1e6);
+  requireRange("maxDepthMm", maxDepthMm, minDepthMm, 1e6);
   requireRange("normalRadiusPx", normalRadiusPx, 1, 32);
   requireRange("maxDepthJumpMm", maxDepthJumpMm, 1e-3, 1e6);
 }
@@ -40,6 +42,7 @@ void FusionParameters::write(cv::FileStorage& storage) const {
   storage << "maxNormalAngleDeg" << maxNormalAngleDeg << "coverageRadiusPx" << coverageRadiusPx;
   storage << "colourFullWeightFraction" << colourFullWeightFraction << "colourMinWeight" << colourMinWeight;
   storage << "maxPoints" << maxPoints << "newPointStepPx" << newPointStepPx;
+  storage << "minDepthMm" << minDepthMm << "maxDepthMm" << maxDepthMm;
   storage << "normalRadiusPx" << normalRadiusPx << "maxDepthJumpMm" << maxDepthJumpMm;
   storage << "}";
 }
@@ -56,6 +59,8 @@ FusionParameters FusionParameters::read(const cv::FileNode& node) {
   readKey(node, "colourMinWeight", p.colourMinWeight);
   readKey(node, "maxPoints", p.maxPoints);
   readKey(node, "newPointStepPx", p.newPointStepPx);
+  readKey(node, "minDepthMm", p.minDepthMm);
+  readKey(node, "maxDepthMm", p.maxDepthMm);
   readKey(node, "normalRadiusPx", p.normalRadiusPx);
   readKey(node, "maxDepthJumpMm", p.maxDepthJumpMm);
   p.validate();

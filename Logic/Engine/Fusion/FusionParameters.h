@@ -25,6 +25,10 @@ struct FusionParameters {
   int maxPoints = 20000000;  ///< point budget: new points are refused once the model holds this many
   int newPointStepPx = 1;             ///< new points only at every k-th pixel in x and y (1 = every pixel)
 
+  /// The scope's working range: measurements nearer or farther than this are not fused (and not used by the
+  /// refinement's ICP term). Stereo errors where the eyes' views barely overlap can put points metres away.
+  double minDepthMm = 5.0;
+  double maxDepthMm = 500.0;
   // Surface measurement (measureSurface).
   int normalRadiusPx = 2;             ///< normals from neighbours this many pixels away
   double maxDepthJumpMm = 2.0;        ///< no normal where a neighbour's depth differs by more than this

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <optional>
 
 namespace tissuemosaic {
@@ -30,6 +31,19 @@ cv::Mat toBgr(const cv::Mat& image) {
   cv::Mat bgr;
   cv::cvtColor(image, bgr, image.channels() == 4 ? cv::COLOR_BGRA2BGR : cv::COLOR_GRAY2BGR);
   return bgr;
+}
+
+/// The disparity map without the estimates whose depth lies outside the working range [minDepthMm, maxDepthMm].
+cv::Mat withinWorkingRange(const cv::Mat& disparityPx, const RectifiedGeometry& g, const FusionParameters& fusion) {
+  const double fb = g.focalPx * g.baselineMm;
+  const float lowest = static_cast<float>(fb / fusion.maxDepthMm - g.doffsPx);
+  const float highest = fusion.minDepthMm > 0 ? static_cast<float>(fb / fusion.minDepthMm - g.doffsPx)
+                                              : std::numeric_limits<float>::infinity();
+  cv::Mat kept = disparityPx.clone();
+  kept.forEach<float>([&](float& d, const int*) {
+    if (!(d >= lowest && d <= highest)) d = std::numeric_limits<float>::quiet_NaN();
+  });
+  return kept;
 }
 
 FrameTrackerOptions trackerOptions(const ReconstructionParameters& p, Device device) {
@@ -139,7 +153,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   if (result.keyFrame) {
     stageStart = Clock::now();
     const SurfaceMeasurement measurement =
-        measureSurface(result.disparityPx, result.leftRectified, s.geometry, s.device, s.parameters.fusion.normalRadiusPx,
+        measureSurface(withinWorkingRange(result.disparityPx, s.geometry, s.parameters.fusion), result.leftRectified, s.geometry, s.device, s.parameters.fusion.normalRadiusPx,
                        s.parameters.fusion.maxDepthJumpMm);
     std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;
     if (s.fusion.pointCount() > 0) {

@@ -544,6 +544,22 @@ struct DropSpecularFloat {
   }
 };
 
+/// A left pixel whose ZNCC window around its match x - d would leave the right image cannot have been measured:
+/// its value came from filling or smoothing across the image border, or from a winner among the few candidates
+/// left there (at the left border such winners are metres away). No estimate there.
+struct DropOutsideRightView {
+  ImageView<float> disparity;
+  int windowRadiusPx;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const float d = disparity[index];
+    if (!isFiniteValue(d)) return;
+    int x, y;
+    pixelCoordinates(index, disparity.width, x, y);
+    const int xr = x - static_cast<int>(floorf(d + 0.5f));
+    if (xr - windowRadiusPx < 0 || xr + windowRadiusPx > disparity.width - 1) disparity[index] = NAN;
+  }
+};
+
 /// II.B hole filling, method 2: a hole whose square neighbourhood of radius r (inside the image) is at least
 /// minValidFraction valid takes the neighbourhood's mean, rounded to the candidate disparities.
 /// A box-sum consumer: sum and count are those of DiscreteDisparityValue (scale 1) over the radius.

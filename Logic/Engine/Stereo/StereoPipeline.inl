@@ -116,6 +116,7 @@ struct PipelineSteps {
     if (p.refineMaxDeviationPx >= 0) {
       parallelFor<Backend>(pixels(), FinalDisparity{w.discrete.view(), w.smoothed.view(), p.refineMaxDeviationPx});
     }
+    parallelFor<Backend>(pixels(), DropOutsideRightView{w.smoothed.view(), p.znccRadiusPx()});
     // Filling and smoothing reach into the highlights from their rims: the output has no estimate there.
     if (specularMasking()) {
       parallelFor<Backend>(pixels(), DropSpecularFloat{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
