@@ -151,7 +151,9 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
   auto* layout = new QVBoxLayout(q);
 
   auto* presetRow = new QHBoxLayout();
-  presetRow->addWidget(new QLabel(QObject::tr("Preset:"), q));
+  auto* presetLabel = new QLabel(QObject::tr("Preset:"), q);
+  presetLabel->setObjectName("presetLabel");
+  presetRow->addWidget(presetLabel);
   presetComboBox = new QComboBox(q);
   presetComboBox->setObjectName("presetComboBox");
   presetComboBox->setToolTip(QObject::tr("Replace all values with a preset from Resources/Presets."));
@@ -323,6 +325,12 @@ QStringList qTissueMosaicStereoParametersWidget::presetNames() const {
 QString qTissueMosaicStereoParametersWidget::errorText() const {
   Q_D(const qTissueMosaicStereoParametersWidget);
   return d->errorLabel->text();
+}
+
+void qTissueMosaicStereoParametersWidget::setPresetControlsVisible(bool visible) {
+  for (const char* name : {"presetLabel", "presetComboBox", "loadButton", "saveButton"}) {
+    if (QWidget* control = findChild<QWidget*>(name)) control->setVisible(visible);
+  }
 }
 
 void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {

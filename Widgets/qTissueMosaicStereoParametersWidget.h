@@ -34,6 +34,8 @@ public:
   QStringList presetNames() const;
   /// The message shown for the last refused edit; empty when the panel is valid.
   QString errorText() const;
+  /// Shows or hides the preset, load and save controls (hidden when a larger panel offers its own).
+  void setPresetControlsVisible(bool visible);
 
 public slots:
   /// Shows the parameters object in the spin boxes (re-reading the logic's, when set). Emits no edits.

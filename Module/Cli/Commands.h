@@ -17,6 +17,9 @@ int runBenchOrb(const Words& words);    ///< tissuemosaic bench orb ...     (Ben
 int runSynthPair(const Words& words);   ///< tissuemosaic synth pair ...    (SynthCommand.cpp)
 int runSynthScan(const Words& words);   ///< tissuemosaic synth scan ...    (SynthScanCommand.cpp)
 int runTrack(const Words& words);       ///< tissuemosaic track ...         (TrackCommand.cpp)
+int runReconstruct(const Words& words); ///< tissuemosaic reconstruct ...   (ReconstructCommand.cpp)
+int runBenchReconstruct(const Words& words);  ///< tissuemosaic bench reconstruct ... (BenchReconstructCommand.cpp)
 int runRegister(const Words& words);    ///< tissuemosaic register ...      (RegisterCommand.cpp, needs VTK)
+int runEval(const Words& words);        ///< tissuemosaic eval ...          (EvalCommand.cpp, needs VTK)
 
 }  // namespace tissuemosaic::cli

@@ -20,7 +20,9 @@ Renders a synthetic stereo-endoscope video that scans liver-like tissue along a 
   DIR/rig.yml                          calibration of the unrectified rig (K1 D1 K2 D2 R T imageSize); the frames are
                                        what StereoRectifier makes of it
   DIR/groundtruth/trajectory.txt       TUM (t tx ty tz qx qy qz qw): T_world_camera of the LEFT RECTIFIED camera, mm
-  DIR/groundtruth/surface.ply          the true surface over the scanned area, triangle mesh, world frame, mm
+  DIR/groundtruth/surface.ply          the true surface that the scan saw with both eyes (triangles inside both
+                                       rectified views, 5 px border, in some frame), triangle mesh, world frame, mm:
+                                       the reference of `tissuemosaic eval`
   DIR/groundtruth/depth_000000.pfm ... depth (mm) along the left rectified optical axis, NaN = not seen by both eyes
 The world frame has the tissue at Z = h(X, Y), +Z into the tissue.
 

@@ -6,6 +6,7 @@
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
 #include "IO/ImageFile.h"
+#include "IO/TrajectoryError.h"
 #include "IO/TrajectoryTum.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
@@ -40,8 +41,10 @@ output:
                            "# frame N lost: reason" comment line instead of a pose.
 options:
   --start-tum T.txt        take the first frame's pose from the first pose in this TUM file (e.g. a ground truth)
-  --groundtruth T.txt      also print the absolute trajectory error against this TUM file (poses matched by order of
-                           time; no alignment: give --start-tum the same file for a common start)
+  --groundtruth T.txt      also print the trajectory errors against this TUM file: poses associated by time stamp
+                           (within half a frame), no alignment (give --start-tum the same file for a common start);
+                           absolute error (ATE) and relative pose error between consecutive frames (RPE), as
+                           `tissuemosaic eval` computes them
   --fps F                  frame rate for the time stamps (default 30)
   --device cpu|cuda|auto   where stereo and features run (default auto); the pose solver runs on the CPU
   --features opencv|tissuemosaic
@@ -146,8 +149,7 @@ int runTrack(const Words& words) {
 
   std::vector<double> loadMs, rectifyMs, stereoMs, orbMs, pnpMs, totalMs;
   int lost = 0, keyFrames = 0;
-  double errorSum2 = 0, errorMax = 0;
-  int errorCount = 0;
+  Trajectory tracked;
   const int count = static_cast<int>(leftFrames.size());
   for (int index = 0; index < count; ++index) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -178,12 +180,7 @@ int runTrack(const Words& words) {
     if (result.tracked) {
       file << formatTumLine(pose) << "\n";
       keyFrames += result.keyFrame;
-      if (index < static_cast<int>(groundTruth.size())) {
-        const double e = (result.T_world_camera.block<3, 1>(0, 3) - groundTruth[index].T_world_camera.block<3, 1>(0, 3)).norm();
-        errorSum2 += e * e;
-        errorMax = std::max(errorMax, e);
-        ++errorCount;
-      }
+      tracked.push_back(pose);
     } else {
       file << "# frame " << index << " lost: " << result.failureReason << "\n";
       ++lost;
@@ -208,9 +205,13 @@ int runTrack(const Words& words) {
                           mean(stereoMs), median(orbMs), mean(orbMs), median(pnpMs), mean(pnpMs), median(totalMs),
                           mean(totalMs));
   if (!groundTruth.empty()) {
-    require(errorCount > 0, "--groundtruth: no tracked frame has a ground-truth pose");
-    std::cout << cv::format("absolute trajectory error (no alignment, %d frames): RMS %.3f mm, max %.3f mm\n",
-                            errorCount, std::sqrt(errorSum2 / errorCount), errorMax);
+    const AssociatedPoses associated = associateByTime(tracked, groundTruth, 0.5 / fps);
+    require(associated.size() > 0, "--groundtruth: no tracked frame has a ground-truth pose within half a frame "
+                                   "of its time stamp (check --fps)");
+    const TrajectoryErrors errors = trajectoryErrors(associated, TrajectoryAlignment::None);
+    std::cout << cv::format("absolute trajectory error (no alignment, %zu frames): RMS %.3f mm, max %.3f mm; "
+                            "relative pose error per frame: RMS %.3f mm\n",
+                            errors.poses, errors.ateRmseMm, errors.ateMaxMm, errors.rpeRmseMm);
   }
   return count > 1 && lost == count - 1 ? 1 : 0;  // nothing beyond the start tracked: a failed run
 }

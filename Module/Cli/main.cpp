@@ -25,14 +25,23 @@ commands:
   track        --left-frames DIR --right-frames DIR --calib rig.yml --out trajectory.txt
                [--rectified] [--device cpu|cuda|auto] [--start-tum T.txt] [--groundtruth T.txt]
                camera tracking (ORB, histogram voting, DynamicR1PPnP) to a TUM trajectory
+  reconstruct  (--left-frames DIR --right-frames DIR | --left-video L --right-video R | --video SBS)
+               (--calib rig.yml [--rectified] | --focal-px F --baseline-mm B) --out model.ply|.vtp
+               [--trajectory traj.txt] [--device cpu|cuda|auto] [--snapshot view.png] [--params p.yml]
+               the whole pipeline: a fused, textured point model, key-frame trajectory and timing table
   register     --model model.ply --target ct.stl --out-transform t.tfm --report report.json
                [--landmarks pairs.mrk.json | --model-landmarks A --target-landmarks B] [--scale] [--icp]
                [--max-icp-iterations N] [--out-model registered.vtp] [--distances d.csv] [--histogram h.png]
                registration to a CT/MR surface model (landmarks, ICP) and its accuracy (RMSE, histogram)
+  eval         --model model.ply --reference surface.ply [--trajectory t.txt --reference-trajectory gt.txt]
+               [--align icp] [--coverage-radius-mm R] [--time-tolerance S] [--json]
+               a reconstruction against a known surface: distances (RMSE, mean, p95), coverage, ATE and RPE
   bench stereo [--width 960] [--height 540] [--device cpu|cuda] [--repeats N]
                median milliseconds per stereo stage as JSON
   bench track  [--width 960] [--height 540] [--frames 20] [--device cpu|cuda] [--features opencv|tissuemosaic]
                median milliseconds per frame of ORB + voting and DynamicR1PPnP as JSON
+  bench reconstruct [--width 960] [--height 540] [--frames 60] [--device cpu|cuda]
+               median milliseconds per stage and per key/other frame of the whole pipeline as JSON
   bench pnp    [--repeats N]
                DynamicR1PPnP against OpenCV solvePnPRansac as JSON
   bench orb    [--width 960] [--height 540] [--device cpu|cuda] [--repeats N]
@@ -54,16 +63,22 @@ int main(int argc, char** argv) {
       {"bench pnp", cli::runBenchPnp},
       {"bench track", cli::runBenchTrack},
       {"bench orb", cli::runBenchOrb},
+      {"bench reconstruct", cli::runBenchReconstruct},
 #if !defined(TM_BENCH_ONLY)
       {"stereo", cli::runStereo},
       {"synth pair", cli::runSynthPair},
       {"synth scan", cli::runSynthScan},
       {"track", cli::runTrack},
+      {"reconstruct", cli::runReconstruct},
 #if defined(TM_WITH_REGISTRATION)
       {"register", cli::runRegister},
+      {"eval", cli::runEval},
 #else
       {"register", [](const cli::Words&) -> int {
          throw Error("this build has no registration: it needs VTK (configure with -DTM_WITH_GUI=ON)");
+       }},
+      {"eval", [](const cli::Words&) -> int {
+         throw Error("this build has no evaluation: it needs VTK (configure with -DTM_WITH_GUI=ON)");
        }},
 #endif
 #endif

@@ -1,6 +1,7 @@
 #include "SyntheticScan.h"
 
 #include "Core/Error.h"
+#include "Core/ParallelFor.h"
 #include "Core/ParameterChecks.h"
 #include "SyntheticCamera.h"
 #include "SyntheticRandom.h"
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 namespace tissuemosaic::synthetic {
@@ -104,6 +106,14 @@ struct ScanPath {
     centreMm = cv::Vec3d(xy[0], xy[1], surface.heightMm(xy[0], xy[1]) - distance);
   }
 };
+
+/// A world point in front of the camera projecting at least borderPx inside its image (pixel centres integers).
+bool seenBy(const SyntheticCamera& camera, const cv::Point3f& pointMm, double borderPx) {
+  double depthMm = 0;
+  const cv::Vec2d pixel = camera.project(cv::Vec3d(pointMm.x, pointMm.y, pointMm.z), &depthMm);
+  return depthMm > 0 && pixel[0] >= borderPx && pixel[0] <= camera.imageSize.width - 1 - borderPx &&
+         pixel[1] >= borderPx && pixel[1] <= camera.imageSize.height - 1 - borderPx;
+}
 
 SyntheticCamera makeCamera(const cv::Mat& K, const cv::Mat& D, const cv::Matx33d& R_world_camera,
                            const cv::Vec3d& centre, cv::Size size) {
@@ -308,6 +318,47 @@ TriangleMesh SyntheticScan::surfaceMesh(double spacingMm) const {
       mesh.triangles.emplace_back(b, c, e);
     }
   }
+  return mesh;
+}
+
+TriangleMesh SyntheticScan::seenSurfaceMesh(double spacingMm, int frameStep) const {
+  require(frameStep >= 1, "synthetic scan: the frame step must be at least 1");
+  const TriangleMesh grid = surfaceMesh(spacingMm);
+  const auto vertexCount = static_cast<int64_t>(grid.verticesMm.size());
+  const auto triangleCount = static_cast<int64_t>(grid.triangles.size());
+  std::vector<uint8_t> visible(grid.verticesMm.size()), seen(grid.triangles.size(), 0);
+  std::vector<int> frames;
+  for (int index = 0; index < frameCount(); index += frameStep) frames.push_back(index);
+  if (frames.back() != frameCount() - 1) frames.push_back(frameCount() - 1);
+  for (int index : frames) {
+    const Impl::Cameras c = impl_->cameras(index);
+    parallelFor<CpuBackend>(vertexCount, [&](int64_t v) {
+      const cv::Point3f& p = grid.verticesMm[static_cast<std::size_t>(v)];
+      visible[static_cast<std::size_t>(v)] =
+          seenBy(c.leftRect, p, kSeenBorderPx) && seenBy(c.rightRect, p, kSeenBorderPx);
+    }, 4096);
+    // All three vertices in the same frame: the whole triangle was in both views at once.
+    parallelFor<CpuBackend>(triangleCount, [&](int64_t t) {
+      const cv::Vec3i& triangle = grid.triangles[static_cast<std::size_t>(t)];
+      if (visible[triangle[0]] && visible[triangle[1]] && visible[triangle[2]]) seen[static_cast<std::size_t>(t)] = 1;
+    }, 8192);
+  }
+  TriangleMesh mesh;
+  std::vector<int> newIndex(grid.verticesMm.size(), -1);
+  for (std::size_t t = 0; t < grid.triangles.size(); ++t) {
+    if (!seen[t]) continue;
+    cv::Vec3i triangle;
+    for (int k = 0; k < 3; ++k) {
+      int& index = newIndex[static_cast<std::size_t>(grid.triangles[t][k])];
+      if (index < 0) {
+        index = static_cast<int>(mesh.verticesMm.size());
+        mesh.verticesMm.push_back(grid.verticesMm[static_cast<std::size_t>(grid.triangles[t][k])]);
+      }
+      triangle[k] = index;
+    }
+    mesh.triangles.push_back(triangle);
+  }
+  require(!mesh.triangles.empty(), "synthetic scan: no triangle of the surface is seen by both eyes");
   return mesh;
 }
 

@@ -78,6 +78,15 @@ public:
   cv::Rect2d scannedDomainMm() const;
   /// The true surface over scannedDomainMm() as a grid of triangles (vertices exactly on h, world frame, mm).
   TriangleMesh surfaceMesh(double spacingMm = 0.5) const;
+  /// Pixels this close to an image edge do not count as seen (stereo windows do not reach there either).
+  static constexpr double kSeenBorderPx = 5.0;
+  /// What the scan saw with both eyes: the triangles of surfaceMesh(spacingMm) for which, in at least one frame,
+  /// every vertex lies in front of the left rectified camera and projects inside both rectified images shrunk by
+  /// kSeenBorderPx (pixel centres are integers: kSeenBorderPx <= u <= width - 1 - kSeenBorderPx, same for v).
+  /// Vertices no kept triangle uses are dropped. Self-occlusion is not tested: the constructor rejects paths where
+  /// it could occur. Tests every frameStep-th frame and the last one (1: all); runs in parallel, about 0.1 s per
+  /// 100 frames at 960x540. Throws Error when no triangle is seen.
+  TriangleMesh seenSurfaceMesh(double spacingMm = 0.5, int frameStep = 1) const;
 
 private:
   struct Impl;
@@ -86,7 +95,9 @@ private:
 
 /// Writes DIR/left/000000.png.., DIR/right/.. (rectified), DIR/rig.yml (raw rig calibration), and
 /// DIR/groundtruth/trajectory.txt (TUM, T_world_camera of the left rectified camera, mm), surface.ply (world frame
-/// triangle mesh) and depth_000000.pfm.. (mm, left rectified view). progress (optional) is called after each frame.
+/// triangle mesh: seenSurfaceMesh(0.5), the surface the scan saw with both eyes, so that a reconstruction's coverage
+/// of it is a fair score) and depth_000000.pfm.. (mm, left rectified view). progress (optional) is called after each
+/// frame.
 /// Returns the number of files written. Throws Error when a file cannot be written.
 int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory,
                        void (*progress)(int frame, int frames) = nullptr);

@@ -52,8 +52,8 @@ int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory, 
                      "world: tissue Z = h(X, Y), +Z into the tissue; millimetres, seconds\n"
                      "t tx ty tz qx qy qz qw");
   ++written;
-  writeMeshPly((root / "groundtruth" / "surface.ply").string(), scan.surfaceMesh(0.5),
-               "TissueMosaic synthetic scan: true tissue surface over the scanned area\n"
+  writeMeshPly((root / "groundtruth" / "surface.ply").string(), scan.seenSurfaceMesh(0.5),
+               "TissueMosaic synthetic scan: true tissue surface seen by both eyes in at least one frame\n"
                "frame: world (tissue Z = h(X, Y), +Z into the tissue), millimetres");
   ++written;
   return written;

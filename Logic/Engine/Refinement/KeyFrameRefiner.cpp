@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <mutex>
 #include <limits>
 #include <numeric>
 
@@ -111,6 +112,7 @@ struct KeyFrameRefiner::Impl {
   FeatureParameters features;
   Device device;
   HammingMatcher matcher;
+  std::mutex matcherMutex;  ///< frames are matched in parallel; the matcher (its device buffers) serves one at a time
   std::deque<StoredKeyFrame, Eigen::aligned_allocator<StoredKeyFrame>> keyFrames;
   std::vector<IntermediateFrame, Eigen::aligned_allocator<IntermediateFrame>> intermediates;
 
@@ -127,7 +129,11 @@ struct KeyFrameRefiner::Impl {
     MatchSet set;
     if (queryDescriptors.empty() || frame.descriptors.empty()) return set;
     const int k = std::min(8, 1 + features.candidatesPerFeature);
-    const std::vector<std::vector<cv::DMatch>> knn = matcher.match(queryDescriptors, frame.descriptors, k);
+    std::vector<std::vector<cv::DMatch>> knn;
+    {
+      const std::lock_guard<std::mutex> lock(matcherMutex);
+      knn = matcher.match(queryDescriptors, frame.descriptors, k);
+    }
     for (const std::vector<cv::DMatch>& list : knn) {
       if (list.empty() || list[0].distance > features.maxHammingDistance) continue;
       const int q = list[0].queryIdx;
@@ -336,19 +342,32 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
   std::vector<uint8_t> fixed(n, 0);
   for (std::size_t k = 0; k < lifted.size(); ++k) trackWorld[lifted[k]] = liftedWorld[k];
 
-  // 1. Earlier key frames that overlap: their matched points are fixed.
-  for (int k : s.overlappingKeyFrames(T_world_camera)) {
-    const StoredKeyFrame& kf = s.keyFrames[static_cast<std::size_t>(k)];
+  // 1. Earlier key frames that overlap: their matched points are fixed. The frames are matched and solved in
+  // parallel (independent), then merged in order: the same result as one after the other.
+  const std::vector<int> overlapping = s.overlappingKeyFrames(T_world_camera);
+  struct KeyFrameMatch {
     Points3d world;
-    for (const Eigen::Vector3f& point : kf.pointsWorldMm) world.push_back(point.cast<double>());
-    const MatchSet set = s.match(kf.descriptors, world, kf.pixelsPx, features);
-    const std::vector<Inlier> inliers = s.solveInliers(set, p.minKeyFrameInliers, T_world_camera);
-    if (inliers.empty()) continue;
+    MatchSet set;
+    std::vector<Inlier> inliers;
+  };
+  std::vector<KeyFrameMatch> keyFrameMatches(overlapping.size());
+  parallelFor<CpuBackend>(
+      static_cast<int64_t>(overlapping.size()),
+      [&](int64_t c) {
+        const StoredKeyFrame& kf = s.keyFrames[static_cast<std::size_t>(overlapping[static_cast<std::size_t>(c)])];
+        KeyFrameMatch& m = keyFrameMatches[static_cast<std::size_t>(c)];
+        for (const Eigen::Vector3f& point : kf.pointsWorldMm) m.world.push_back(point.cast<double>());
+        m.set = s.match(kf.descriptors, m.world, kf.pixelsPx, features);
+        m.inliers = s.solveInliers(m.set, p.minKeyFrameInliers, T_world_camera);
+      },
+      1);
+  for (const KeyFrameMatch& m : keyFrameMatches) {
+    if (m.inliers.empty()) continue;
     ++result.matchedKeyFrames;
-    for (const Inlier& inlier : inliers) {
+    for (const Inlier& inlier : m.inliers) {
       if (fixed[inlier.train]) continue;
       fixed[inlier.train] = 1;
-      trackWorld[inlier.train] = world[set.query[inlier.match]];
+      trackWorld[inlier.train] = m.world[m.set.query[inlier.match]];
     }
   }
 
@@ -358,11 +377,23 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
   if (result.matchedKeyFrames > 0 && !lifted.empty()) {
     cv::Mat liftedDescriptors(static_cast<int>(lifted.size()), features.descriptors.cols, features.descriptors.type());
     for (std::size_t k = 0; k < lifted.size(); ++k) features.descriptors.row(lifted[k]).copyTo(liftedDescriptors.row(static_cast<int>(k)));
+    // Matched and solved in parallel, merged in order (as for the key frames above).
+    std::vector<MatchSet> sets(s.intermediates.size());
+    std::vector<std::vector<Inlier>> inlierSets(s.intermediates.size());
+    parallelFor<CpuBackend>(
+        static_cast<int64_t>(s.intermediates.size()),
+        [&](int64_t f) {
+          const IntermediateFrame& frame = s.intermediates[static_cast<std::size_t>(f)];
+          MatchSet& set = sets[static_cast<std::size_t>(f)];
+          std::vector<Inlier>& inliers = inlierSets[static_cast<std::size_t>(f)];
+          set = s.match(liftedDescriptors, liftedWorld, liftedPx, frame.features);
+          inliers = s.solveInliers(set, p.minFrameInliers, frame.T_world_camera);
+          s.refineInliers(inliers, set, features.grey, frame.features.grey);
+        },
+        1);
     for (std::size_t f = 0; f < s.intermediates.size(); ++f) {
-      const IntermediateFrame& frame = s.intermediates[f];
-      const MatchSet set = s.match(liftedDescriptors, liftedWorld, liftedPx, frame.features);
-      std::vector<Inlier> inliers = s.solveInliers(set, p.minFrameInliers, frame.T_world_camera);
-      s.refineInliers(inliers, set, features.grey, frame.features.grey);
+      const MatchSet& set = sets[f];
+      const std::vector<Inlier>& inliers = inlierSets[f];
       if (static_cast<int>(inliers.size()) < p.minFrameInliers) continue;
       const int slot = 1 + static_cast<int>(frameOfSlot.size());
       frameOfSlot.push_back(static_cast<int>(f));

@@ -1,0 +1,119 @@
+#include "vtkTissueMosaicGrowingModel.h"
+
+#include "vtkTissueMosaicPointCloud.h"
+
+#include "Core/StereoRig.h"
+
+#include <vtkCellArray.h>
+#include <vtkFloatArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkTypeInt64Array.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+
+namespace tissuemosaic {
+
+namespace {
+
+/// Resizes (growing, VTK allocates at least twice the old size) and copies n packed tuples in.
+template <class Array>
+void copyInto(Array* array, const void* data, vtkIdType n) {
+  array->SetNumberOfTuples(n);
+  const std::size_t bytes = static_cast<std::size_t>(n) * static_cast<std::size_t>(array->GetNumberOfComponents()) *
+                            sizeof(typename Array::ValueType);
+  if (n > 0) std::memcpy(array->GetPointer(0), data, bytes);
+}
+
+vtkFloatArray* floatPoints(vtkPolyData* polyData) {
+  vtkPoints* points = polyData->GetPoints();
+  if (!points || points->GetDataType() != VTK_FLOAT) {
+    vtkNew<vtkPoints> floatPoints;
+    floatPoints->SetDataTypeToFloat();
+    polyData->SetPoints(floatPoints);
+    points = floatPoints;
+  }
+  return vtkFloatArray::SafeDownCast(points->GetData());
+}
+
+/// The vertex cells as 64-bit offsets and connectivity that can be extended in place.
+vtkCellArray* vertexCells(vtkPolyData* polyData) {
+  // Without vertex cells, GetVerts() returns VTK's shared empty dummy array: never resize that one.
+  vtkCellArray* verts = polyData->GetNumberOfVerts() > 0 ? polyData->GetVerts() : nullptr;
+  if (!verts || !verts->IsStorage64Bit() || verts->GetNumberOfCells() != polyData->GetNumberOfPoints()) {
+    vtkNew<vtkCellArray> cells;
+    cells->Use64BitStorage();
+    polyData->SetVerts(cells);
+    verts = cells;
+  }
+  return verts;
+}
+
+}  // namespace
+
+GrowingModelUpdate updateGrowingModel(vtkPolyData* polyData, const ColoredPointCloud& model) {
+  static_assert(sizeof(cv::Point3f) == 3 * sizeof(float) && sizeof(cv::Vec3b) == 3, "packed OpenCV vectors");
+  const auto n = static_cast<vtkIdType>(model.pointsMm.size());
+  vtkCellArray* verts = vertexCells(polyData);  // checked against the old point count, before the points change
+  const vtkIdType before = verts->GetNumberOfCells();
+
+  GrowingModelUpdate update;
+  update.keptPoints = static_cast<std::size_t>(std::min(before, n));
+  update.appendedPoints = static_cast<std::size_t>(std::max<vtkIdType>(n - before, 0));
+  update.removedPoints = static_cast<std::size_t>(std::max<vtkIdType>(before - n, 0));
+
+  vtkFloatArray* points = floatPoints(polyData);
+  copyInto(points, model.pointsMm.data(), n);
+  polyData->GetPoints()->Modified();
+
+  // Vertex cell i is point i: offsets 0..n, connectivity 0..n-1. Only the new tail is written.
+  auto* offsets = vtkTypeInt64Array::SafeDownCast(verts->GetOffsetsArray());
+  auto* connectivity = vtkTypeInt64Array::SafeDownCast(verts->GetConnectivityArray());
+  offsets->SetNumberOfValues(n + 1);
+  connectivity->SetNumberOfValues(n);
+  if (n > before) {
+    std::iota(offsets->GetPointer(before), offsets->GetPointer(n + 1), vtkTypeInt64(before));
+    std::iota(connectivity->GetPointer(before), connectivity->GetPointer(n), vtkTypeInt64(before));
+  }
+  offsets->SetValue(0, 0);
+  verts->Modified();
+
+  vtkPointData* pointData = polyData->GetPointData();
+  if (model.colorsRgb.size() == model.pointsMm.size() && n > 0) {
+    auto* colors = vtkUnsignedCharArray::SafeDownCast(pointData->GetArray(kPointCloudColorArrayName));
+    if (!colors) {
+      vtkNew<vtkUnsignedCharArray> newColors;
+      newColors->SetName(kPointCloudColorArrayName);
+      newColors->SetNumberOfComponents(3);
+      pointData->SetScalars(newColors);
+      colors = newColors;
+    }
+    copyInto(colors, model.colorsRgb.data(), n);
+    colors->Modified();
+  } else {
+    pointData->RemoveArray(kPointCloudColorArrayName);
+  }
+  if (model.normals.size() == model.pointsMm.size() && n > 0) {
+    auto* normals = vtkFloatArray::SafeDownCast(pointData->GetNormals());
+    if (!normals) {
+      vtkNew<vtkFloatArray> newNormals;
+      newNormals->SetName("Normals");
+      newNormals->SetNumberOfComponents(3);
+      pointData->SetNormals(newNormals);
+      normals = newNormals;
+    }
+    copyInto(normals, model.normals.data(), n);
+    normals->Modified();
+  } else {
+    pointData->SetNormals(nullptr);
+  }
+  polyData->Modified();
+  return update;
+}
+
+}  // namespace tissuemosaic

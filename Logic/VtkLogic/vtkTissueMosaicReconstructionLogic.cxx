@@ -1,0 +1,746 @@
+#include "vtkTissueMosaicReconstructionLogic.h"
+
+#include "vtkTissueMosaicFrusta.h"
+#include "vtkTissueMosaicGrowingModel.h"
+
+#include "Core/Device.h"
+#include "Core/Error.h"
+#include "IO/PointCloudPly.h"
+#include "IO/StereoFrameSource.h"
+#include "IO/TrajectoryTum.h"
+#include "Reconstruction/ReconstructionPipeline.h"
+#include "Reconstruction/TimingTable.h"
+
+#include <vtkObjectFactory.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#ifdef __linux__
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cerrno>
+#endif
+
+vtkStandardNewMacro(vtkTissueMosaicReconstructionLogic);
+
+using tissuemosaic::FrameResult;
+using tissuemosaic::KeyFramePose;
+using tissuemosaic::ModelPoints;
+using tissuemosaic::ReconstructionParameters;
+using tissuemosaic::ReconstructionPipeline;
+using tissuemosaic::StageTimesMs;
+using tissuemosaic::StereoFrameSource;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Runs work(); turns what the engine and OpenCV throw into an error text.
+template <class Work>
+bool runCatching(Work&& work, std::string& errorText) {
+  try {
+    work();
+    errorText.clear();
+    return true;
+  } catch (const tissuemosaic::Error& error) {
+    errorText = error.what();
+  } catch (const cv::Exception& error) {
+    errorText = std::string("OpenCV: ") + error.what();
+  } catch (const std::exception& error) {
+    errorText = error.what();
+  }
+  return false;
+}
+
+/// One processed frame as the owner keeps it.
+struct FrameRecord {
+  int frameIndex = 0;
+  double timeS = 0;
+  bool tracked = false;
+  bool keyFrame = false;
+  std::string message;
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
+  StageTimesMs timesMs;
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+using FrameRecords = std::vector<FrameRecord, Eigen::aligned_allocator<FrameRecord>>;
+
+void lowerThisThreadsPriority(int niceIncrement) {
+  vtkTissueMosaicReconstructionLogic::LowerCurrentThreadPriority(niceIncrement);
+}
+
+}  // namespace
+
+void vtkTissueMosaicReconstructionLogic::LowerCurrentThreadPriority(int niceIncrement) {
+#ifdef __linux__
+  if (niceIncrement <= 0) return;
+  const id_t thread = static_cast<id_t>(syscall(SYS_gettid));
+  errno = 0;
+  const int current = getpriority(PRIO_PROCESS, thread);
+  if (errno == 0) setpriority(PRIO_PROCESS, thread, std::min(current + niceIncrement, 19));
+#else
+  (void)niceIncrement;
+#endif
+}
+
+/// What the worker hands over; guarded by Session::mutex. Every member is moved out by the owner.
+struct vtkTissueMosaicReconstructionLogic::Results {
+  std::optional<ModelPoints> model;                 ///< set after each key frame: the whole current model
+  std::optional<std::vector<KeyFramePose>> keyFrames;  ///< set after each key frame (poses may be refined)
+  FrameRecords frames;                              ///< frames processed since the last hand-over
+  cv::Mat left, right, disparityPx;                 ///< the latest frame (its own copies)
+  std::optional<tissuemosaic::RectifiedGeometry> geometry;  ///< once the pipeline exists
+  ScanStatus status;
+  tissuemosaic::TimingTable timing;                 ///< owner only: every frame so far
+};
+
+/// One scan: the input, the pipeline and the worker thread that runs them.
+struct vtkTissueMosaicReconstructionLogic::Session {
+  // Set by Start() before the thread runs, then used by the worker only.
+  std::unique_ptr<StereoFrameSource> source;
+  std::optional<tissuemosaic::StereoCalibration> calibration;  ///< raw rig: the pipeline rectifies
+  std::optional<tissuemosaic::RectifiedGeometry> geometry;     ///< rectified input
+  ReconstructionParameters parameters;
+  tissuemosaic::Device device = tissuemosaic::Device::Cpu;
+  int maximumFrames = -1;
+  int workerNiceIncrement = 0;
+
+  std::mutex mutex;
+  std::condition_variable wake;
+  bool paused = false;          ///< guarded by mutex
+  bool stopRequested = false;   ///< guarded by mutex
+  bool ended = false;           ///< guarded by mutex
+  Results published;            ///< guarded by mutex
+  std::atomic<int> state{StateRunning};
+  std::thread thread;
+
+  void run();
+  void publishEnd(int endState, const std::string& errorText);
+};
+
+void vtkTissueMosaicReconstructionLogic::Session::run() {
+  lowerThisThreadsPriority(workerNiceIncrement);
+  std::string errorText;
+  int endState = StateFinished;
+  const bool ranToEnd = runCatching(
+      [&] {
+        std::unique_ptr<ReconstructionPipeline> pipeline =
+            geometry ? std::make_unique<ReconstructionPipeline>(*geometry, parameters, device)
+                     : std::make_unique<ReconstructionPipeline>(*calibration, parameters, device);
+        {
+          const std::lock_guard<std::mutex> lock(mutex);
+          published.geometry = pipeline->geometry();
+          published.status.device = tissuemosaic::deviceLabel(device);
+        }
+        std::deque<Clock::time_point> recentFrameEnds;
+        int processed = 0;
+        double busyS = 0;
+        for (;;) {
+          {
+            std::unique_lock<std::mutex> lock(mutex);
+            wake.wait(lock, [&] { return !paused || stopRequested; });
+            if (stopRequested) {
+              endState = StateStopped;
+              return;
+            }
+          }
+          if (maximumFrames >= 0 && processed >= maximumFrames) return;
+          const Clock::time_point start = Clock::now();
+          tissuemosaic::StereoFrame frame;
+          if (!source->next(frame)) return;
+          const double readingMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+          FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
+          result.timesMs.videoReading += readingMs;  // the pipeline counts its rectification here
+          result.timesMs.total += readingMs;  // the paper's total includes reading the video
+
+          std::optional<ModelPoints> model;
+          std::optional<std::vector<KeyFramePose>> keyFrames;
+          if (result.keyFrame) {  // the model only changes at key frames
+            model = pipeline->modelSnapshot();
+            keyFrames = pipeline->keyFrames();
+          }
+          FrameRecord record;
+          record.frameIndex = result.frameIndex;
+          record.timeS = frame.timeS;
+          record.tracked = result.tracked;
+          record.keyFrame = result.keyFrame;
+          record.message = result.trackingMessage;
+          record.T_world_camera = result.T_world_camera;
+          record.timesMs = result.timesMs;
+          // Own copies: the pipeline may reuse its buffers for the next frame while the owner still shows these.
+          cv::Mat left = result.leftRectified.clone(), right = result.rightRectified.clone();
+          cv::Mat disparity = result.disparityPx.clone();
+
+          ++processed;
+          const Clock::time_point end = Clock::now();
+          busyS += std::chrono::duration<double>(end - start).count();
+          recentFrameEnds.push_back(end);
+          if (recentFrameEnds.size() > 30) recentFrameEnds.pop_front();
+
+          const std::lock_guard<std::mutex> lock(mutex);
+          if (model) published.model = std::move(model);
+          if (keyFrames) published.keyFrames = std::move(keyFrames);
+          published.left = left;
+          published.right = right;
+          published.disparityPx = disparity;
+          ScanStatus& status = published.status;
+          status.framesProcessed = processed;
+          status.lastFrameIndex = result.frameIndex;
+          status.keyFrames = static_cast<int>(pipeline->keyFrames().size());
+          status.modelPoints = static_cast<long long>(result.modelPoints);
+          status.pointBudgetReached = result.pointBudgetReached;
+          status.tracked = result.tracked;
+          status.lostFrames += result.tracked ? 0 : 1;
+          status.inliers = result.inliers;
+          status.trackingMessage = result.trackingMessage;
+          status.elapsedS = busyS;
+          if (recentFrameEnds.size() >= 2) {
+            const double spanS = std::chrono::duration<double>(recentFrameEnds.back() - recentFrameEnds.front()).count();
+            status.framesPerSecond = spanS > 0 ? (recentFrameEnds.size() - 1) / spanS : 0;
+          } else {
+            status.framesPerSecond = busyS > 0 ? processed / busyS : 0;
+          }
+          published.frames.push_back(std::move(record));
+        }
+      },
+      errorText);
+  publishEnd(ranToEnd ? endState : StateFailed, errorText);
+}
+
+void vtkTissueMosaicReconstructionLogic::Session::publishEnd(int endState, const std::string& errorText) {
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    ended = true;
+    published.status.errorText = errorText;
+    // Ended: the average over the scan instead of the recent rate.
+    published.status.framesPerSecond =
+        published.status.elapsedS > 0 ? published.status.framesProcessed / published.status.elapsedS : 0;
+    state = endState;
+  }
+  wake.notify_all();
+}
+
+//----------------------------------------------------------------------------------------------------------------------
+
+vtkTissueMosaicReconstructionLogic::vtkTissueMosaicReconstructionLogic()
+    : Owned(new Results),
+      Model(vtkSmartPointer<vtkPolyData>::New()),
+      KeyFrameFrusta(vtkSmartPointer<vtkPolyData>::New()),
+      CurrentFrustum(vtkSmartPointer<vtkPolyData>::New()),
+      Trajectory(vtkSmartPointer<vtkPolyData>::New()) {
+  this->ClearOutputs();
+}
+
+vtkTissueMosaicReconstructionLogic::~vtkTissueMosaicReconstructionLogic() {
+  this->EndSession();
+  for (auto& session : this->Retiring) {
+    if (session->thread.joinable()) session->thread.join();
+  }
+}
+
+void vtkTissueMosaicReconstructionLogic::PrintSelf(ostream& os, vtkIndent indent) {
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "DeviceChoice: " << GetDeviceChoiceAsString(this->DeviceChoice) << "\n";
+  os << indent << "Input: " << (this->HasInput() ? this->InputDescription : "(none)") << "\n";
+  os << indent << "InputRectified: " << this->InputRectified << "\n";
+  os << indent << "ScanState: " << GetScanStateAsString(this->GetScanState()) << "\n";
+  os << indent << "FramesProcessed: " << this->Status.framesProcessed << "\n";
+  os << indent << "KeyFrames: " << this->Status.keyFrames << "\n";
+  os << indent << "ModelPoints: " << this->Model->GetNumberOfPoints() << "\n";
+  os << indent << "MaximumFrames: " << this->MaximumFrames << "\n";
+  os << indent << "FrustumDepthMm: " << this->FrustumDepthMm << "\n";
+  os << indent << "LastErrorText: " << this->LastErrorText << "\n";
+}
+
+bool vtkTissueMosaicReconstructionLogic::Fail(const std::string& message) {
+  this->LastErrorText = message;
+  return false;
+}
+
+//----------------------------------------------------------------------------------------------------------------------
+// Parameters
+
+const ReconstructionParameters& vtkTissueMosaicReconstructionLogic::GetParameters() const { return this->Parameters; }
+
+bool vtkTissueMosaicReconstructionLogic::CanChangeParameters() const { return !this->Current; }
+
+bool vtkTissueMosaicReconstructionLogic::SetParameters(const ReconstructionParameters& parameters) {
+  if (!runCatching([&] { parameters.validate(); }, this->LastErrorText)) return false;
+  if (!this->CanChangeParameters()) {
+    return this->Fail("the parameters are fixed during a scan: reset the scan to change them");
+  }
+  this->Parameters = parameters;
+  this->Modified();
+  return true;
+}
+
+bool vtkTissueMosaicReconstructionLogic::ReadParametersFile(const std::string& path) {
+  ReconstructionParameters parameters;
+  if (!ReadReconstructionParametersFile(path, parameters, this->LastErrorText)) return false;
+  return this->SetParameters(parameters);
+}
+
+bool vtkTissueMosaicReconstructionLogic::WriteParametersFile(const std::string& path) {
+  return WriteReconstructionParametersFile(path, this->Parameters, this->LastErrorText);
+}
+
+bool vtkTissueMosaicReconstructionLogic::ReadReconstructionParametersFile(const std::string& path,
+                                                                          ReconstructionParameters& parameters,
+                                                                          std::string& errorText) {
+  ReconstructionParameters read;
+  if (!runCatching([&] { read = ReconstructionParameters::readFile(path); }, errorText)) {
+    if (errorText.find(path) == std::string::npos) errorText = path + ": " + errorText;
+    return false;
+  }
+  parameters = read;
+  return true;
+}
+
+bool vtkTissueMosaicReconstructionLogic::ParseReconstructionParameters(const std::string& yamlText,
+                                                                       ReconstructionParameters& parameters,
+                                                                       std::string& errorText) {
+  ReconstructionParameters read;
+  if (!runCatching([&] { read = ReconstructionParameters::parse(yamlText); }, errorText)) return false;
+  parameters = read;
+  return true;
+}
+
+bool vtkTissueMosaicReconstructionLogic::WriteReconstructionParametersFile(const std::string& path,
+                                                                           const ReconstructionParameters& parameters,
+                                                                           std::string& errorText) {
+  return runCatching([&] { parameters.writeFile(path); }, errorText);
+}
+
+const char* vtkTissueMosaicReconstructionLogic::GetDeviceChoiceAsString(int choice) {
+  switch (choice) {
+    case DeviceCpu: return "cpu";
+    case DeviceCuda: return "cuda";
+    default: return "auto";
+  }
+}
+
+//----------------------------------------------------------------------------------------------------------------------
+// Input
+
+bool vtkTissueMosaicReconstructionLogic::SetFrameSourceFactory(const FrameSourceFactory& factory) {
+  this->Reset();
+  this->SourceFactory = nullptr;
+  this->InputDescription.clear();
+  this->InputFrameCount = 0;
+  if (!factory) return this->Fail("no frame source");
+  std::unique_ptr<StereoFrameSource> source;
+  if (!runCatching([&] { source = factory(); }, this->LastErrorText)) return false;
+  if (!source) return this->Fail("the frame source could not be opened");
+  this->SourceFactory = factory;
+  this->InputDescription = source->description();
+  this->InputFrameCount = source->frameCount();
+  this->Modified();
+  return true;
+}
+
+bool vtkTissueMosaicReconstructionLogic::OpenFrameFolders(const std::string& leftFolder,
+                                                          const std::string& rightFolder, double fps) {
+  return this->SetFrameSourceFactory(
+      [=] { return StereoFrameSource::openFrameFolders(leftFolder, rightFolder, fps); });
+}
+
+bool vtkTissueMosaicReconstructionLogic::OpenVideoPair(const std::string& leftVideo, const std::string& rightVideo) {
+  return this->SetFrameSourceFactory([=] { return StereoFrameSource::openVideoPair(leftVideo, rightVideo); });
+}
+
+bool vtkTissueMosaicReconstructionLogic::OpenSideBySideVideo(const std::string& video) {
+  return this->SetFrameSourceFactory([=] { return StereoFrameSource::openSideBySideVideo(video); });
+}
+
+bool vtkTissueMosaicReconstructionLogic::LoadCalibration(const std::string& path) {
+  tissuemosaic::StereoCalibration calibration;
+  const bool loaded = runCatching(
+      [&] {
+        calibration = tissuemosaic::StereoCalibration::read(path);
+        const tissuemosaic::StereoRectifier check(calibration);  // refuses rigs that cannot be rectified, now
+      },
+      this->LastErrorText);
+  if (!loaded) return this->Fail(path + ": " + this->LastErrorText);
+  this->SetCalibration(calibration);
+  return true;
+}
+
+void vtkTissueMosaicReconstructionLogic::SetCalibration(const tissuemosaic::StereoCalibration& calibration) {
+  this->Reset();
+  this->Calibration = std::make_unique<tissuemosaic::StereoCalibration>(calibration);
+  this->Geometry.reset();
+  this->Modified();
+}
+
+void vtkTissueMosaicReconstructionLogic::SetRectifiedGeometry(const tissuemosaic::RectifiedGeometry& geometry) {
+  this->Reset();
+  this->Geometry = std::make_unique<tissuemosaic::RectifiedGeometry>(geometry);
+  this->Calibration.reset();
+  this->Modified();
+}
+
+void vtkTissueMosaicReconstructionLogic::SetInputRectified(bool rectified) {
+  if (rectified == this->InputRectified) return;
+  this->Reset();
+  this->InputRectified = rectified;
+  this->Modified();
+}
+
+bool vtkTissueMosaicReconstructionLogic::HasInput() const { return static_cast<bool>(this->SourceFactory); }
+
+bool vtkTissueMosaicReconstructionLogic::HasCalibration() const { return this->Calibration || this->Geometry; }
+
+std::string vtkTissueMosaicReconstructionLogic::GetInputDescription() const { return this->InputDescription; }
+
+int vtkTissueMosaicReconstructionLogic::GetInputFrameCount() const { return this->InputFrameCount; }
+
+bool vtkTissueMosaicReconstructionLogic::CheckFrameSize(StereoFrameSource& source) {
+  const cv::Size expected = this->Geometry ? this->Geometry->imageSize : this->Calibration->imageSize;
+  const cv::Size frames = source.frameSize();
+  if (frames == expected) return true;
+  return this->Fail("the frames are " + std::to_string(frames.width) + "x" + std::to_string(frames.height) +
+                    " px but the calibration is for " + std::to_string(expected.width) + "x" +
+                    std::to_string(expected.height) + " px");
+}
+
+//----------------------------------------------------------------------------------------------------------------------
+// Scan control
+
+const char* vtkTissueMosaicReconstructionLogic::GetScanStateAsString(int state) {
+  switch (state) {
+    case StateRunning: return "running";
+    case StatePaused: return "paused";
+    case StateFinished: return "finished";
+    case StateStopped: return "stopped";
+    case StateFailed: return "failed";
+    default: return "idle";
+  }
+}
+
+int vtkTissueMosaicReconstructionLogic::GetScanState() const {
+  return this->Current ? this->Current->state.load() : StateIdle;
+}
+
+bool vtkTissueMosaicReconstructionLogic::Start() {
+  if (this->Current) {
+    const int state = this->GetScanState();
+    if (state == StateRunning) return true;
+    if (state == StatePaused) {
+      {
+        const std::lock_guard<std::mutex> lock(this->Current->mutex);
+        this->Current->paused = false;
+        if (!this->Current->ended) this->Current->state = StateRunning;
+      }
+      this->Current->wake.notify_all();
+      this->Modified();
+      return true;
+    }
+    return this->Fail(std::string("the scan has ") + GetScanStateAsString(state) +
+                      ": reset it to start again from the first frame");
+  }
+  if (!this->HasInput()) return this->Fail("no input: open a video, two frame folders or the demo first");
+  if (!this->HasCalibration()) return this->Fail("no calibration: load the stereo calibration of the video first");
+
+  auto session = std::make_unique<Session>();
+  const bool prepared = runCatching(
+      [&] {
+        session->device = tissuemosaic::parseDevice(GetDeviceChoiceAsString(this->DeviceChoice));
+        session->source = this->SourceFactory();
+        tissuemosaic::require(session->source != nullptr, "the input could not be opened");
+        if (this->Geometry) {
+          session->geometry = *this->Geometry;
+        } else if (this->InputRectified) {
+          session->geometry = tissuemosaic::StereoRectifier(*this->Calibration).geometry();
+        } else {
+          session->calibration = *this->Calibration;
+        }
+      },
+      this->LastErrorText);
+  if (!prepared || !this->CheckFrameSize(*session->source)) return false;
+  session->parameters = this->Parameters;
+  session->maximumFrames = this->MaximumFrames;
+  session->workerNiceIncrement = this->WorkerNiceIncrement;
+  session->published.status.state = StateRunning;
+  session->published.status.framesInInput = this->InputFrameCount;
+
+  this->ClearOutputs();
+  Session* worker = session.get();
+  session->thread = std::thread([worker] { worker->run(); });
+  this->Current = std::move(session);
+  this->LastErrorText.clear();
+  this->Modified();
+  return true;
+}
+
+void vtkTissueMosaicReconstructionLogic::Pause() {
+  if (!this->Current) return;
+  {
+    const std::lock_guard<std::mutex> lock(this->Current->mutex);
+    if (this->Current->ended) return;
+    this->Current->paused = true;
+    this->Current->state = StatePaused;
+  }
+  this->Modified();
+}
+
+void vtkTissueMosaicReconstructionLogic::Stop() {
+  if (!this->Current) return;
+  {
+    const std::lock_guard<std::mutex> lock(this->Current->mutex);
+    this->Current->stopRequested = true;
+  }
+  this->Current->wake.notify_all();
+  this->Modified();
+}
+
+void vtkTissueMosaicReconstructionLogic::EndSession() {
+  if (!this->Current) return;
+  this->Stop();
+  this->Retiring.push_back(std::move(this->Current));
+}
+
+void vtkTissueMosaicReconstructionLogic::Reset() {
+  this->EndSession();
+  this->ClearOutputs();
+  this->Modified();
+}
+
+bool vtkTissueMosaicReconstructionLogic::WaitForScanEnd(double timeoutS) {
+  if (!this->Current) return true;
+  std::unique_lock<std::mutex> lock(this->Current->mutex);
+  return this->Current->wake.wait_for(lock, std::chrono::duration<double>(timeoutS),
+                                      [this] { return this->Current->ended; });
+}
+
+//----------------------------------------------------------------------------------------------------------------------
+// Outputs
+
+void vtkTissueMosaicReconstructionLogic::ClearOutputs() {
+  *this->Owned = Results();
+  this->Owned->status.framesInInput = this->InputFrameCount;
+  this->Model->Initialize();
+  this->KeyFrameFrusta->Initialize();
+  this->CurrentFrustum->Initialize();
+  this->Trajectory->Initialize();
+  tissuemosaic::updateGrowingModel(this->Model, tissuemosaic::ColoredPointCloud());
+  this->LeftFrame = cv::Mat();
+  this->RightFrame = cv::Mat();
+  this->DisparityPx = cv::Mat();
+  this->Status = ScanStatus();
+  this->Status.framesInInput = this->InputFrameCount;
+}
+
+bool vtkTissueMosaicReconstructionLogic::UpdateOutputs() {
+  // Sessions ended by Reset are joined once their worker has finished its frame (never waited for here).
+  for (auto it = this->Retiring.begin(); it != this->Retiring.end();) {
+    bool ended;
+    {
+      const std::lock_guard<std::mutex> lock((*it)->mutex);
+      ended = (*it)->ended;
+    }
+    if (ended) {
+      (*it)->thread.join();
+      it = this->Retiring.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  if (!this->Current) return false;
+
+  Results taken;
+  {
+    // Only moves and small copies under the lock: the worker is never held up for long.
+    const std::lock_guard<std::mutex> lock(this->Current->mutex);
+    Results& published = this->Current->published;
+    taken.model = std::move(published.model);
+    published.model.reset();
+    taken.keyFrames = std::move(published.keyFrames);
+    published.keyFrames.reset();
+    taken.frames.swap(published.frames);
+    taken.left = published.left;
+    taken.right = published.right;
+    taken.disparityPx = published.disparityPx;
+    if (!this->Owned->geometry) taken.geometry = published.geometry;
+    taken.status = published.status;
+    taken.status.state = this->Current->state.load();  // under the lock: consistent with what was taken
+  }
+  const bool stateChanged = taken.status.state != this->Status.state;
+  const bool changed = stateChanged || taken.model || taken.keyFrames || !taken.frames.empty() ||
+                       taken.status.errorText != this->Status.errorText;
+  this->Status = taken.status;
+  if (!changed) return false;
+
+  Results& owned = *this->Owned;
+  if (taken.geometry) owned.geometry = taken.geometry;
+  if (!taken.left.empty()) {
+    this->LeftFrame = taken.left;
+    this->RightFrame = taken.right;
+    this->DisparityPx = taken.disparityPx;
+  }
+  if (taken.model) {
+    owned.model = std::move(taken.model);
+    tissuemosaic::updateGrowingModel(this->Model, owned.model->cloud);
+  }
+  const bool newKeyFrames = static_cast<bool>(taken.keyFrames);
+  if (newKeyFrames) owned.keyFrames = std::move(taken.keyFrames);
+  for (FrameRecord& frame : taken.frames) {
+    owned.timing.add(frame.timesMs, frame.keyFrame);
+    owned.frames.push_back(std::move(frame));
+  }
+
+  if (owned.geometry && (newKeyFrames || !taken.frames.empty())) {
+    // Key frames at their refined poses: in the frusta, and in the path in place of their tracked pose.
+    std::map<int, const KeyFramePose*> refined;
+    tissuemosaic::CameraPoses keyFrameCameras;
+    if (owned.keyFrames) {
+      for (const KeyFramePose& keyFrame : *owned.keyFrames) {
+        refined[keyFrame.frameIndex] = &keyFrame;
+        tissuemosaic::CameraPose camera;
+        camera.frameIndex = keyFrame.frameIndex;
+        camera.T_world_camera = keyFrame.T_world_camera;
+        keyFrameCameras.push_back(camera);
+      }
+    }
+    if (newKeyFrames) {
+      tissuemosaic::updateCameraFrusta(this->KeyFrameFrusta, keyFrameCameras, *owned.geometry, this->FrustumDepthMm);
+    }
+    tissuemosaic::CameraPoses path;
+    for (const FrameRecord& frame : owned.frames) {
+      if (!frame.tracked) continue;
+      tissuemosaic::CameraPose camera;
+      camera.frameIndex = frame.frameIndex;
+      const auto keyFrame = refined.find(frame.frameIndex);
+      camera.T_world_camera = keyFrame != refined.end() ? keyFrame->second->T_world_camera : frame.T_world_camera;
+      path.push_back(camera);
+    }
+    tissuemosaic::updateCameraPath(this->Trajectory, path);
+    const tissuemosaic::CameraPoses current(path.empty() ? path.end() : path.end() - 1, path.end());
+    tissuemosaic::updateCameraFrusta(this->CurrentFrustum, current, *owned.geometry, this->FrustumDepthMm);
+  }
+  this->Modified();
+  return true;
+}
+
+vtkPolyData* vtkTissueMosaicReconstructionLogic::GetModel() { return this->Model; }
+vtkPolyData* vtkTissueMosaicReconstructionLogic::GetKeyFrameFrusta() { return this->KeyFrameFrusta; }
+vtkPolyData* vtkTissueMosaicReconstructionLogic::GetCurrentFrustum() { return this->CurrentFrustum; }
+vtkPolyData* vtkTissueMosaicReconstructionLogic::GetTrajectory() { return this->Trajectory; }
+
+cv::Mat vtkTissueMosaicReconstructionLogic::GetDisparityColorImage() const {
+  if (this->DisparityPx.empty()) return cv::Mat();
+  // Colours spread over this frame's disparities (the search range is usually much wider than the scene's).
+  const cv::Mat valid = this->DisparityPx == this->DisparityPx;  // NaN compares unequal to itself
+  double low = this->Parameters.stereo.minDisparityPx, high = this->Parameters.stereo.maxDisparityPx;
+  if (cv::countNonZero(valid) > 0) cv::minMaxLoc(this->DisparityPx, &low, &high, nullptr, nullptr, valid);
+  cv::Mat scaled;
+  this->DisparityPx.convertTo(scaled, CV_8U, 255.0 / std::max(high - low, 1.0), -low * 255.0 / std::max(high - low, 1.0));
+  cv::Mat colour;
+  cv::applyColorMap(scaled, colour, cv::COLORMAP_TURBO);
+  colour.setTo(cv::Scalar::all(0), ~valid);
+  return colour;
+}
+
+std::string vtkTissueMosaicReconstructionLogic::GetTrackingStateText() const {
+  const ScanStatus& status = this->Status;
+  switch (status.state) {
+    case StateIdle: return this->HasInput() ? "Ready" : "No input";
+    case StateFailed: return "Failed: " + status.errorText;
+    default: break;
+  }
+  if (status.framesProcessed == 0) return status.state == StateRunning ? "Starting" : GetScanStateAsString(status.state);
+  std::string text = status.tracked ? "Tracking" : "Lost";
+  if (!status.tracked && !status.trackingMessage.empty()) text += " (" + status.trackingMessage + ")";
+  if (status.state != StateRunning) text += std::string(", ") + GetScanStateAsString(status.state);
+  return text;
+}
+
+std::vector<vtkTissueMosaicReconstructionLogic::TimingRow> vtkTissueMosaicReconstructionLogic::GetTimingTable() const {
+  const tissuemosaic::TimingTable& timing = this->Owned->timing;
+  tissuemosaic::TimingTable last;  // the same stage order for the last frame's numbers
+  if (!this->Owned->frames.empty()) last.add(this->Owned->frames.back().timesMs, this->Owned->frames.back().keyFrame);
+  const bool lastIsKeyFrame = !this->Owned->frames.empty() && this->Owned->frames.back().keyFrame;
+  const std::vector<double> lastMs = last.means(lastIsKeyFrame);
+  const std::vector<double> keyMedians = timing.medians(true), keyMeans = timing.means(true);
+  const std::vector<double> otherMedians = timing.medians(false);
+  std::vector<TimingRow> rows;
+  const std::vector<std::string>& stages = tissuemosaic::TimingTable::stageNames();
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    TimingRow row;
+    row.stage = stages[i];
+    row.lastMs = lastMs[i];
+    row.keyFrameMedianMs = keyMedians[i];
+    row.keyFrameMeanMs = keyMeans[i];
+    row.otherFrameMedianMs = otherMedians[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+//----------------------------------------------------------------------------------------------------------------------
+// Export
+
+bool vtkTissueMosaicReconstructionLogic::ExportModel(const std::string& path) {
+  this->UpdateOutputs();
+  if (!this->Owned->model || this->Owned->model->cloud.size() == 0) {
+    return this->Fail("there is no model to export yet: run a scan until its first key frame");
+  }
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  const char* const frameNote =
+      "frame: world = first left rectified camera (x right, y down, z forward), millimetres (not LPS)";
+  if (extension == ".ply") {
+    return runCatching(
+        [&] { tissuemosaic::writePly(path, this->Owned->model->cloud, std::string("TissueMosaic model\n") + frameNote); },
+        this->LastErrorText);
+  }
+  if (extension == ".vtp") {
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->SetFileName(path.c_str());
+    writer->SetInputData(this->Model);
+    writer->SetDataModeToBinary();
+    if (writer->Write() != 1) return this->Fail("cannot write the model file " + path);
+    this->LastErrorText.clear();
+    return true;
+  }
+  return this->Fail("unknown model file type '" + extension + "' of " + path + ": use .ply or .vtp");
+}
+
+bool vtkTissueMosaicReconstructionLogic::ExportTrajectory(const std::string& path) {
+  this->UpdateOutputs();
+  const FrameRecords& frames = this->Owned->frames;
+  if (frames.empty()) return this->Fail("there is no trajectory to export yet: start a scan first");
+  std::map<int, Eigen::Matrix4d> refined;
+  if (this->Owned->keyFrames) {
+    for (const KeyFramePose& keyFrame : *this->Owned->keyFrames) refined[keyFrame.frameIndex] = keyFrame.T_world_camera;
+  }
+  tissuemosaic::Trajectory trajectory;
+  std::string header = "TissueMosaic camera trajectory: T_world_camera of the left rectified camera, mm; world = "
+                       "first left rectified camera; key frames at their refined poses";
+  for (const FrameRecord& frame : frames) {
+    if (!frame.tracked) {
+      header += "\nframe " + std::to_string(frame.frameIndex) + " lost: " + frame.message;
+      continue;
+    }
+    tissuemosaic::TimedPose pose;
+    pose.timeS = frame.timeS;
+    const auto keyFrame = refined.find(frame.frameIndex);
+    pose.T_world_camera = keyFrame != refined.end() ? keyFrame->second : frame.T_world_camera;
+    trajectory.push_back(pose);
+  }
+  return runCatching([&] { tissuemosaic::writeTumTrajectory(path, trajectory, header); }, this->LastErrorText);
+}

@@ -1,0 +1,245 @@
+#pragma once
+/// @class vtkTissueMosaicReconstructionLogic
+/// @brief The whole reconstruction of the paper (sections II-III) for the application: wraps the engine's
+/// ReconstructionPipeline, runs it on a worker thread, and exposes the growing model and the camera poses as VTK
+/// data, the latest video frames and disparity, the tracking state and the timing table.
+///
+/// Threads. Every method is called from one thread, the owner (the GUI thread in the application), and never
+/// blocks on the engine: Start() launches a worker std::thread that reads the frames and runs the pipeline; the
+/// worker publishes its results into a mutex-protected hand-over area (moves, no VTK), and UpdateOutputs(), called
+/// by the owner (e.g. from a 30 Hz timer), takes them over and updates the VTK outputs in place. The model's
+/// vtkPolyData grows in place (new points appended, see vtkTissueMosaicGrowingModel.h), so mappers holding the
+/// outputs see every update. Only the destructor may wait for the worker (to finish its current frame).
+///
+/// Frames. The world frame is the first left rectified camera (x right, y down, z forward), in millimetres;
+/// poses are T_world_camera of the left rectified camera.
+///
+/// Errors. Methods that can fail return false and leave a message in GetLastErrorText(); they never throw. A
+/// failure on the worker (an unreadable frame, CUDA errors) ends the scan in StateFailed with the message in
+/// GetStatus().errorText.
+#include "Core/StereoRig.h"
+#include "Reconstruction/ReconstructionParameters.h"
+
+#include <vtkObject.h>
+#include <vtkSmartPointer.h>
+
+#include <opencv2/core.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+class vtkPolyData;
+
+namespace tissuemosaic {
+class StereoFrameSource;
+}
+
+class vtkTissueMosaicReconstructionLogic : public vtkObject {
+public:
+  static vtkTissueMosaicReconstructionLogic* New();
+  vtkTypeMacro(vtkTissueMosaicReconstructionLogic, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  vtkTissueMosaicReconstructionLogic(const vtkTissueMosaicReconstructionLogic&) = delete;
+  void operator=(const vtkTissueMosaicReconstructionLogic&) = delete;
+
+  /// @name Parameters: one tissuemosaic::ReconstructionParameters object, the one the engine takes
+  /// SetParameters validates first (ReconstructionParameters::validate, the one source of the limits): invalid
+  /// parameters are refused (false, error text) and the current ones are kept. Parameters are fixed while a scan
+  /// exists (running, paused, or ended but not reset): SetParameters then refuses with the reason.
+  ///@{
+  const tissuemosaic::ReconstructionParameters& GetParameters() const;
+  bool SetParameters(const tissuemosaic::ReconstructionParameters& parameters);
+  bool CanChangeParameters() const;
+  /// Parameter files: OpenCV YAML/XML, one node per stage (ReconstructionParameters::readFile).
+  bool ReadParametersFile(const std::string& path);
+  bool WriteParametersFile(const std::string& path);
+  static bool ReadReconstructionParametersFile(const std::string& path,
+                                               tissuemosaic::ReconstructionParameters& parameters,
+                                               std::string& errorText);
+  /// The same from YAML text in memory (e.g. a preset compiled in as a Qt resource).
+  static bool ParseReconstructionParameters(const std::string& yamlText,
+                                            tissuemosaic::ReconstructionParameters& parameters,
+                                            std::string& errorText);
+  static bool WriteReconstructionParametersFile(const std::string& path,
+                                                const tissuemosaic::ReconstructionParameters& parameters,
+                                                std::string& errorText);
+  ///@}
+
+  /// @name Device
+  /// Auto: CUDA when this build and machine have it, else the CPU. Cuda where there is none makes Start() fail
+  /// with the reason; never a silent fallback. Used when the next scan starts.
+  ///@{
+  enum DeviceChoiceType { DeviceAuto = 0, DeviceCpu, DeviceCuda };
+  vtkSetClampMacro(DeviceChoice, int, DeviceAuto, DeviceCuda);
+  vtkGetMacro(DeviceChoice, int);
+  static const char* GetDeviceChoiceAsString(int choice);
+  ///@}
+
+  /// @name Input: the stereo video and its calibration
+  /// Opening an input (or a calibration) resets the scan. The Open* methods check that the input can be opened.
+  ///@{
+  bool OpenFrameFolders(const std::string& leftFolder, const std::string& rightFolder, double fps = 30.0);
+  bool OpenVideoPair(const std::string& leftVideo, const std::string& rightVideo);
+  bool OpenSideBySideVideo(const std::string& video);
+  /// Any source (e.g. frames rendered in memory): the factory is called now (to check it) and again at every
+  /// start from the first frame. `description` is shown to the user.
+  using FrameSourceFactory = std::function<std::unique_ptr<tissuemosaic::StereoFrameSource>()>;
+  bool SetFrameSourceFactory(const FrameSourceFactory& factory);
+  /// OpenCV stereo calibration of the raw rig (K1 D1 K2 D2 R T imageSize): frames are rectified with it, unless
+  /// InputRectified says they already are (as `tissuemosaic synth scan` writes them).
+  bool LoadCalibration(const std::string& path);
+  void SetCalibration(const tissuemosaic::StereoCalibration& calibration);
+  /// Frames already rectified, with exactly this geometry (no calibration needed).
+  void SetRectifiedGeometry(const tissuemosaic::RectifiedGeometry& geometry);
+  void SetInputRectified(bool rectified);
+  bool GetInputRectified() const { return this->InputRectified; }
+  bool HasInput() const;
+  bool HasCalibration() const;
+  /// "frames in DIR and DIR", "video FILE", ... (empty without an input).
+  std::string GetInputDescription() const;
+  /// Frames in the input (-1 when the container does not say, 0 without an input).
+  int GetInputFrameCount() const;
+  ///@}
+
+  /// @name Scan control
+  ///@{
+  enum ScanStateType { StateIdle = 0, StateRunning, StatePaused, StateFinished, StateStopped, StateFailed };
+  static const char* GetScanStateAsString(int state);
+  /// Starts a scan from the first frame (Idle) or resumes a paused one. False with the reason when there is no
+  /// input or calibration, the frame size differs from the calibration's, the device cannot be used, or the scan
+  /// has ended (Reset first: the model of an ended scan stays until then, for export).
+  bool Start();
+  /// The worker stops before its next frame; Start() resumes.
+  void Pause();
+  /// Ends the scan after the current frame; the results stay (export them, or Reset).
+  void Stop();
+  /// Ends the scan (without waiting for the worker) and clears every result; the input and calibration stay.
+  void Reset();
+  /// The state now (Running until the worker has really ended).
+  int GetScanState() const;
+  /// Stop after this many frames (-1: the whole input). For tests and previews.
+  vtkSetMacro(MaximumFrames, int);
+  vtkGetMacro(MaximumFrames, int);
+  /// The worker thread runs at this much lower priority (Linux nice increment; 0: as the caller), so that the
+  /// GUI thread wins the CPU when both want it. Default 5. Used when the next scan starts.
+  vtkSetClampMacro(WorkerNiceIncrement, int, 0, 19);
+  vtkGetMacro(WorkerNiceIncrement, int);
+  /// Lowers the calling thread's priority by this nice increment (Linux; no-op elsewhere). Threads it starts
+  /// later inherit it. For background work that must not take the CPU from the GUI thread.
+  static void LowerCurrentThreadPriority(int niceIncrement);
+  /// Blocks until the worker has ended (finished, stopped or failed) or timeoutS passed; true when it has ended.
+  /// For the command line and tests only: the GUI polls instead.
+  bool WaitForScanEnd(double timeoutS);
+  ///@}
+
+  /// @name Outputs, brought up to date by UpdateOutputs() (owner thread only)
+  ///@{
+  /// Takes over what the worker published since the last call and updates the outputs below. Cheap when nothing
+  /// is new; a new model (after each key frame) costs one copy of its arrays. True when anything changed.
+  bool UpdateOutputs();
+  /// The fused model: points (float, mm, world frame), one vertex cell per point, "RGB" colours, "Normals".
+  vtkPolyData* GetModel();
+  /// One frustum per key frame (vtkTissueMosaicFrusta.h: 5 points and 8 lines each, cell array "FrameIndex"),
+  /// at the key frames' refined poses.
+  vtkPolyData* GetKeyFrameFrusta();
+  /// The frustum of the last tracked frame (empty before the first).
+  vtkPolyData* GetCurrentFrustum();
+  /// The optical centres of every tracked frame, in order, as one polyline.
+  vtkPolyData* GetTrajectory();
+  /// Depth of the drawn frusta (mm in front of the camera).
+  vtkSetMacro(FrustumDepthMm, double);
+  vtkGetMacro(FrustumDepthMm, double);
+  /// The latest frame the worker processed: rectified left and right (8-bit BGR) and the left-view disparity
+  /// (CV_32F px, NaN = none). Empty before the first frame.
+  const cv::Mat& GetLeftFrame() const { return this->LeftFrame; }
+  const cv::Mat& GetRightFrame() const { return this->RightFrame; }
+  const cv::Mat& GetDisparityPx() const { return this->DisparityPx; }
+  /// The disparity as a false-colour BGR picture (turbo colour map from the frame's smallest to its largest
+  /// disparity, blue = far, red = near; black = no estimate). Empty before the first frame.
+  cv::Mat GetDisparityColorImage() const;
+
+  struct ScanStatus {
+    int state = StateIdle;
+    int framesProcessed = 0;
+    int framesInInput = 0;        ///< -1: unknown (some video containers)
+    int lastFrameIndex = -1;
+    int keyFrames = 0;
+    long long modelPoints = 0;
+    bool pointBudgetReached = false;
+    bool tracked = false;         ///< the last frame was tracked
+    int lostFrames = 0;           ///< frames where tracking was lost so far
+    int inliers = 0;              ///< DynamicR1PPnP inliers of the last frame
+    std::string trackingMessage;  ///< why the last frame was lost (empty when tracked)
+    double framesPerSecond = 0;   ///< over the last frames (wall clock); once ended, the scan's average
+    double elapsedS = 0;          ///< since the scan started, pauses excluded
+    std::string device;           ///< where the pipeline runs ("cpu", "cuda")
+    std::string errorText;        ///< StateFailed: why
+  };
+  /// As of the last UpdateOutputs().
+  const ScanStatus& GetStatus() const { return this->Status; }
+  /// One line for a status bar, e.g. "Tracking: 12 fps, 5 key frames, 1.2 M points".
+  std::string GetTrackingStateText() const;
+
+  /// The paper's runtime table (ms, tissuemosaic::TimingTable's stages in the paper's order): per stage the last
+  /// frame, and the median and mean over the key frames (the paper averages over key frames) and the median over
+  /// the other frames.
+  struct TimingRow {
+    std::string stage;
+    double lastMs = 0, keyFrameMedianMs = 0, keyFrameMeanMs = 0, otherFrameMedianMs = 0;
+  };
+  std::vector<TimingRow> GetTimingTable() const;
+  ///@}
+
+  /// @name Export (the model and poses as of the last UpdateOutputs, which the exports call first)
+  ///@{
+  /// .ply (binary, xyz rgb normals) or .vtp (the GetModel() polydata); world frame = first left rectified camera,
+  /// mm, said in the file.
+  bool ExportModel(const std::string& path);
+  /// TUM lines "t tx ty tz qx qy qz qw" of every tracked frame (T_world_camera, mm), key frames at their refined
+  /// poses; frames where tracking was lost are listed in the header comment ("# frame N lost: reason").
+  bool ExportTrajectory(const std::string& path);
+  ///@}
+
+  /// Message of the last failure, empty after a success.
+  const std::string& GetLastErrorText() const { return this->LastErrorText; }
+
+protected:
+  vtkTissueMosaicReconstructionLogic();
+  ~vtkTissueMosaicReconstructionLogic() override;
+
+private:
+  struct Session;
+  struct Results;
+  bool Fail(const std::string& message);
+  void ClearOutputs();
+  void EndSession();
+  bool CheckFrameSize(tissuemosaic::StereoFrameSource& source);
+
+  tissuemosaic::ReconstructionParameters Parameters;
+  int DeviceChoice = DeviceAuto;
+  int MaximumFrames = -1;
+  int WorkerNiceIncrement = 5;
+  double FrustumDepthMm = 12.0;
+
+  FrameSourceFactory SourceFactory;
+  std::string InputDescription;
+  int InputFrameCount = 0;
+  std::unique_ptr<tissuemosaic::StereoCalibration> Calibration;
+  std::unique_ptr<tissuemosaic::RectifiedGeometry> Geometry;  ///< set directly (rectified input)
+  bool InputRectified = false;
+
+  std::unique_ptr<Session> Current;
+  std::vector<std::unique_ptr<Session>> Retiring;  ///< reset sessions whose worker is still finishing a frame
+  std::unique_ptr<Results> Owned;                  ///< what UpdateOutputs took over (owner thread)
+
+  vtkSmartPointer<vtkPolyData> Model;
+  vtkSmartPointer<vtkPolyData> KeyFrameFrusta;
+  vtkSmartPointer<vtkPolyData> CurrentFrustum;
+  vtkSmartPointer<vtkPolyData> Trajectory;
+  cv::Mat LeftFrame, RightFrame, DisparityPx;
+  ScanStatus Status;
+  std::string LastErrorText;
+};

@@ -1,0 +1,31 @@
+#pragma once
+/// @class qTissueMosaicStallProbe
+/// @brief Measures how long the event loop is kept from running: a timer asks to fire every `intervalMs`; the
+/// time between two firings minus the interval is how long the loop was busy elsewhere (a stall). The longest
+/// stall is what a user feels as a frozen interface.
+#include <QElapsedTimer>
+#include <QObject>
+#include <QTimer>
+
+class qTissueMosaicStallProbe : public QObject {
+  Q_OBJECT
+public:
+  explicit qTissueMosaicStallProbe(QObject* parent = nullptr, int intervalMs = 5);
+  void start();
+  void stop();
+  bool isActive() const { return this->Timer.isActive(); }
+  /// Longest gap beyond the interval since start(), in milliseconds.
+  double longestStallMs() const { return this->LongestMs; }
+  /// Firings since start().
+  long long ticks() const { return this->Ticks; }
+
+private:
+  void tick();
+
+  QTimer Timer;
+  QElapsedTimer Clock;
+  qint64 LastNs = 0;
+  double LongestMs = 0;
+  long long Ticks = 0;
+  int IntervalMs;
+};

@@ -1,0 +1,165 @@
+// tissuemosaic bench reconstruct: the paper's runtime table (per key frame and per other frame) of the whole
+// pipeline on a synthetic scan rendered in-process before timing, with the key-frame trajectory error.
+#include "Arguments.h"
+#include "Commands.h"
+#include "Core/Error.h"
+#include "Reconstruction/ReconstructionPipeline.h"
+#include "IO/MeshPly.h"
+#include "IO/PointCloudPly.h"
+#include "IO/TrajectoryTum.h"
+#include "Reconstruction/TimingTable.h"
+#include "SyntheticScan.h"
+#include "TissueSurface.h"
+
+#include <opencv2/core/utility.hpp>
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <vector>
+
+namespace tissuemosaic::cli {
+
+namespace {
+
+const char* const help = R"(usage: tissuemosaic bench reconstruct [--width 960] [--height 540] [--frames 60] [--device cpu|cuda|auto]
+                                    [--seed S] [--params p.yml] [--out DIR]
+
+Renders a synthetic scan (before timing), then runs the whole reconstruction on it (stereo, tracking, key-frame
+refinement, TSDF fusion) starting from the true first pose, and prints one JSON object: the median and mean
+milliseconds per stage for key frames and for the other frames (the paper's runtime table; video_reading is 0:
+the frames are in memory), the key-frame position error against the ground truth (no alignment), the model's distances to the true
+surface (RMSE, 95th percentile, shares beyond 1, 5 and 50 mm), the share of the key frames' stereo estimates
+that are gross errors (> 3 px from the truth, or where the truth has no surface), the model size
+and the peak host and device memory.
+
+--out DIR also writes DIR/model.ply (the fused model), DIR/keyframes.txt (TUM) and the scan's ground truth
+DIR/groundtruth/surface.ply (the surface both eyes saw) and DIR/groundtruth/trajectory.txt, for
+`tissuemosaic eval` on a machine that has it.
+)";
+
+}  // namespace
+
+int runBenchReconstruct(const Words& words) {
+  if (helpRequested(words)) {
+    std::cout << help;
+    return 0;
+  }
+  const Arguments arguments(words);
+  arguments.allowOnly({"width", "height", "frames", "device", "seed", "params", "out"});
+  synthetic::SyntheticScanOptions options;
+  options.width = arguments.integer("width", 960);
+  options.height = arguments.integer("height", 540);
+  options.frames = arguments.integer("frames", 60);
+  options.seed = static_cast<uint32_t>(arguments.integer("seed", 1));
+  require(options.frames >= 3, "--frames must be at least 3");
+  const Device device = parseDevice(arguments.text("device", "auto"));
+  ReconstructionParameters parameters;
+  if (arguments.has("params")) parameters = ReconstructionParameters::readFile(arguments.required("params"));
+
+  const synthetic::SyntheticScan scan(options);
+  std::vector<synthetic::SyntheticScanFrame> frames;
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    std::fprintf(stderr, "\rbench reconstruct: rendering frame %d/%d", k + 1, scan.frameCount());
+    frames.push_back(scan.renderFrame(k));
+  }
+  std::fprintf(stderr, "\n");
+
+  ReconstructionPipeline pipeline(scan.geometry(), parameters, device, scan.T_world_camera(0));
+  TimingTable timing;
+  int lost = 0;
+  // Stereo against the truth on the key frames (what fusion receives): the worst share of gross errors (> 3 px).
+  double worstKeyFrameGross = 0, keyFrameGrossSum = 0;
+  int worstKeyFrame = -1, keyFramesScored = 0;
+  for (const synthetic::SyntheticScanFrame& frame : frames) {
+    std::fprintf(stderr, "\rbench reconstruct: frame %d/%d", frame.index + 1, scan.frameCount());
+    const FrameResult result = pipeline.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    lost += !result.tracked;
+    if (result.keyFrame) {
+      int gross = 0, estimates = 0;
+      for (int y = 0; y < frame.disparityPx.rows; ++y) {
+        for (int x = 0; x < frame.disparityPx.cols; ++x) {
+          const float estimate = result.disparityPx.at<float>(y, x), truth = frame.disparityPx.at<float>(y, x);
+          if (!std::isfinite(estimate)) continue;
+          ++estimates;
+          gross += !std::isfinite(truth) || std::abs(estimate - truth) > 3;
+        }
+      }
+      const double share = estimates ? static_cast<double>(gross) / estimates : 0;
+      keyFrameGrossSum += share;
+      ++keyFramesScored;
+      if (share > worstKeyFrameGross) {
+        worstKeyFrameGross = share;
+        worstKeyFrame = frame.index;
+      }
+    }
+    if (frame.index > 0) timing.add(result);  // the first frame has nothing to track or refine
+  }
+  std::fprintf(stderr, "\n");
+
+  double errorSum2 = 0;
+  for (const KeyFramePose& k : pipeline.keyFrames()) {
+    errorSum2 += (k.T_world_camera.block<3, 1>(0, 3) - scan.T_world_camera(k.frameIndex).block<3, 1>(0, 3)).squaredNorm();
+  }
+  const double keyFrameErrorMm = std::sqrt(errorSum2 / static_cast<double>(std::max<std::size_t>(1, pipeline.keyFrames().size())));
+  // The model against the analytic true surface.
+  const ModelPoints model = pipeline.modelSnapshot();
+  std::vector<double> distances;
+  distances.reserve(model.size());
+  double distance2 = 0;
+  for (const cv::Point3f& p : model.cloud.pointsMm) {
+    distances.push_back(scan.surface().distanceMm(p.x, p.y, p.z));
+    distance2 += distances.back() * distances.back();
+  }
+  std::sort(distances.begin(), distances.end());
+  const double modelRmseMm = distances.empty() ? 0 : std::sqrt(distance2 / distances.size());
+  const double modelP95Mm = distances.empty() ? 0 : distances[static_cast<std::size_t>(0.95 * (distances.size() - 1))];
+  const auto shareBeyond = [&](double mm) {
+    return distances.empty() ? 0.0
+                             : static_cast<double>(distances.end() - std::upper_bound(distances.begin(), distances.end(), mm)) /
+                                   distances.size();
+  };
+  if (arguments.has("out")) {
+    const std::filesystem::path folder(arguments.required("out"));
+    std::filesystem::create_directories(folder / "groundtruth");
+    writePly((folder / "model.ply").string(), model.cloud, "TissueMosaic bench reconstruct: world frame of the scan, mm");
+    Trajectory keyFrames, truth;
+    for (const KeyFramePose& k : pipeline.keyFrames()) {
+      TimedPose pose;
+      pose.timeS = k.timeS;
+      pose.T_world_camera = k.T_world_camera;
+      keyFrames.push_back(pose);
+    }
+    for (int k = 0; k < scan.frameCount(); ++k) {
+      TimedPose pose;
+      pose.timeS = scan.timeS(k);
+      pose.T_world_camera = scan.T_world_camera(k);
+      truth.push_back(pose);
+    }
+    writeTumTrajectory((folder / "keyframes.txt").string(), keyFrames, "key frames, T_world_camera, mm");
+    writeTumTrajectory((folder / "groundtruth" / "trajectory.txt").string(), truth, "ground truth, T_world_camera, mm");
+    writeMeshPly((folder / "groundtruth" / "surface.ply").string(), scan.seenSurfaceMesh(0.5),
+                 "the true surface seen by both eyes, world frame, mm");
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  std::printf("{\"command\": \"bench reconstruct\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
+              "\"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d, \"key_frames\": %zu, "
+              "\"model_points\": %zu, \"key_frame_position_rmse_mm\": %.4f, \"model_rmse_mm\": %.4f, \"model_p95_mm\": %.4f, \"peak_host_mib\": %.1f, "
+              "\"peak_device_mib\": %.1f,\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
+              "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
+              "\"worst_frame\": %d},\n \"timing\": %s}\n",
+              deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
+              lost, cv::getNumThreads(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
+              usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
+              shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
+              keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
+              timing.toJson().c_str());
+  return 0;
+}
+
+}  // namespace tissuemosaic::cli

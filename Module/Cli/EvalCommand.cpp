@@ -1,0 +1,241 @@
+// tissuemosaic eval: a reconstructed model (and its camera trajectory) scored against a reference surface with known
+// geometry (and the true trajectory): distances, coverage, ATE and RPE. Definitions: docs/EVALUATION.md.
+#include "Arguments.h"
+#include "Commands.h"
+#include "Core/Error.h"
+#include "IO/MeshPly.h"
+#include "IO/PointCloudPly.h"
+#include "IO/TrajectoryTum.h"
+#include "vtkTissueMosaicModelEvaluation.h"
+#include "vtkTissueMosaicSurfaceModelFile.h"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
+#include <vtkCellArray.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tissuemosaic::cli {
+
+namespace {
+
+const char* const help = R"(usage: tissuemosaic eval --model model.ply --reference surface.ply
+                        [--trajectory t.txt --reference-trajectory gt.txt] [--align icp] [--json] [options]
+
+Scores a reconstruction against a reference surface whose geometry is known: a synthetic scan's
+groundtruth/surface.ply (what the scan saw with both eyes) or a CT/MR segmentation.
+
+Placement (every file's coordinates are taken as stored, in mm; no LPS/RAS flip):
+  - with both trajectories: poses are associated by time stamp (nearest, one to one, within --time-tolerance);
+    the rigid transform (Umeyama, no scale) that best maps the model trajectory's positions onto the reference
+    trajectory's is applied to the model trajectory AND to the model (a reconstruction's world is its first camera)
+  - without trajectories: the model is taken to be in the reference's frame
+  - --align icp then refines the placement by point-to-plane ICP (trimmed, Tukey; as `tissuemosaic register`)
+Measures:
+  rmse_mm mean_mm p95_mm   distance of every placed model point to the reference surface (closest point on a
+                           triangle): RMS, mean, 95th percentile (also median_mm, max_mm)
+  coverage                 share of the reference surface's AREA lying within --coverage-radius-mm of some model
+                           point (0..1)
+  ate_mm                   absolute trajectory error: RMS of the aligned position differences (null without
+                           trajectories; also ate_mean_mm, ate_max_mm, alignment_rotation_sd_deg)
+  rpe_mm                   relative pose error: RMS of the translation of (Q_i^-1 Q_i+1)^-1 (P_i^-1 P_i+1) over
+                           consecutive associated poses, Q reference, P model (null without trajectories)
+  alignment                none | trajectory | icp | trajectory+icp, with transform_reference_from_model (4x4)
+
+  --model PATH                 reconstructed model (.ply .vtp .vtk .stl .obj; points, or a mesh's vertices)
+  --reference PATH             reference surface (.ply .stl .vtp .vtk .obj) with triangles (PLY: triangles only)
+  --trajectory PATH            the model's camera trajectory (TUM: t tx ty tz qx qy qz qw, T_world_camera, mm)
+  --reference-trajectory PATH  the true trajectory in the reference's frame (TUM); goes with --trajectory
+  --time-tolerance S           largest time-stamp difference of associated poses (default 0.02)
+  --max-alignment-sd-deg D     refuse a trajectory alignment whose rotation is less certain than this (default
+                               1.0): estimated from the residuals and the spread of the positions, it is large for
+                               short or straight paths, where the alignment would misplace the model
+  --align icp|none             refine the placement by ICP (default none)
+  --max-icp-iterations N       (default 100)
+  --icp-inlier-fraction F      share of closest correspondences used per ICP step (default 0.8)
+  --icp-max-distance MM        correspondences farther never used (default: no limit)
+  --coverage-radius-mm R       (default 1.0)
+  --json                       print one JSON object instead of a table
+Bad input (missing or unreadable files, an empty model, a reference without triangles, trajectories without
+common time stamps, or too short or straight to align) stops with a message and exit status 1.
+)";
+
+nlohmann::json matrixJson(const Eigen::Matrix4d& matrix) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int row = 0; row < 4; ++row) rows.push_back({matrix(row, 0), matrix(row, 1), matrix(row, 2), matrix(row, 3)});
+  return rows;
+}
+
+bool isPly(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".ply";
+}
+
+// PLY files are read by the engine's checked readers: VTK 9.1's vtkPLYReader crashes (SIGSEGV, double free) on
+// truncated or malformed files instead of reporting them. Other formats go through readSurfaceModel. Coordinates
+// are taken as stored (trajectories carry no LPS/RAS mark, so no model file is flipped either).
+
+std::vector<Eigen::Vector3d> readModelPoints(const std::string& path) {
+  std::vector<Eigen::Vector3d> points;
+  if (isPly(path)) {
+    for (const cv::Point3f& p : readPly(path).pointsMm) points.emplace_back(p.x, p.y, p.z);
+  } else {
+    points = polyDataPoints(readSurfaceModel(path, ModelFrameChoice::LPS).polyDataLps);
+  }
+  require(!points.empty(), "the model '" + path + "' has no points");
+  return points;
+}
+
+vtkSmartPointer<vtkPolyData> readReferenceSurface(const std::string& path) {
+  if (!isPly(path)) return readSurfaceModel(path, ModelFrameChoice::LPS).polyDataLps;
+  const TriangleMesh mesh = readMeshPly(path);
+  require(!mesh.verticesMm.empty(), "the reference '" + path + "' has no points");
+  auto surface = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  for (const cv::Point3f& p : mesh.verticesMm) points->InsertNextPoint(p.x, p.y, p.z);
+  vtkNew<vtkCellArray> triangles;
+  for (const cv::Vec3i& t : mesh.triangles) {
+    const vtkIdType ids[3] = {t[0], t[1], t[2]};
+    triangles->InsertNextCell(3, ids);
+  }
+  surface->SetPoints(points);
+  surface->SetPolys(triangles);
+  return surface;  // TargetSurface rejects it when it has no triangles
+}
+
+Trajectory readTrajectory(const std::string& path) {
+  Trajectory trajectory = readTumTrajectory(path);
+  require(!trajectory.empty(), "trajectory '" + path + "' holds no pose");
+  return trajectory;
+}
+
+/// The report's keys in a fixed order, the contract's six first (nlohmann::json itself sorts keys by name).
+using Report = std::vector<std::pair<std::string, nlohmann::json>>;
+
+Report report(const ModelEvaluation& evaluation, const EvaluationOptions& options) {
+  const auto& trajectory = evaluation.trajectory;
+  Report json = {
+      {"rmse_mm", evaluation.distances.rmseMm},
+      {"mean_mm", evaluation.distances.meanMm},
+      {"p95_mm", evaluation.distances.p95Mm},
+      {"coverage", evaluation.coverage.share()},
+      {"ate_mm", trajectory ? nlohmann::json(trajectory->ateRmseMm) : nlohmann::json(nullptr)},
+      {"rpe_mm", trajectory ? nlohmann::json(trajectory->rpeRmseMm) : nlohmann::json(nullptr)},
+      {"median_mm", evaluation.distances.medianMm},
+      {"max_mm", evaluation.distances.maxMm},
+      {"points", evaluation.distances.count},
+      {"coverage_radius_mm", evaluation.coverage.radiusMm},
+      {"reference_area_mm2", evaluation.coverage.surfaceAreaMm2},
+      {"covered_area_mm2", evaluation.coverage.coveredAreaMm2},
+      {"alignment", evaluation.alignment},
+      {"transform_reference_from_model", matrixJson(evaluation.T_reference_model)}};
+  if (trajectory) {
+    json.insert(json.end(), {{"associated_poses", trajectory->poses},
+                             {"ate_mean_mm", trajectory->ateMeanMm},
+                             {"ate_max_mm", trajectory->ateMaxMm},
+                             {"rpe_pairs", trajectory->rpePairs},
+                             {"alignment_rotation_sd_deg", trajectory->alignmentRotationSdDeg},
+                             {"time_tolerance_s", options.timeToleranceS}});
+  }
+  if (evaluation.icp) {
+    json.insert(json.end(), {{"icp_iterations", evaluation.icp->iterations},
+                             {"icp_converged", evaluation.icp->converged},
+                             {"icp_inlier_rmse_mm", evaluation.icp->inlierRmseMm}});
+  }
+  return json;
+}
+
+/// One JSON object, a key per line (a matrix stays on its line).
+void printJson(const Report& report) {
+  std::cout << "{\n";
+  for (std::size_t i = 0; i < report.size(); ++i) {
+    std::cout << "  " << nlohmann::json(report[i].first).dump() << ": " << report[i].second.dump()
+              << (i + 1 < report.size() ? ",\n" : "\n");
+  }
+  std::cout << "}\n";
+}
+
+void printTable(const ModelEvaluation& e, const std::string& model, const std::string& reference) {
+  std::cout << "model      " << model << " (" << e.distances.count << " points)\n"
+            << "reference  " << reference << cv::format(" (%.1f mm^2)\n", e.coverage.surfaceAreaMm2)
+            << "alignment  " << e.alignment;
+  if (e.icp) {
+    std::cout << cv::format(" (ICP: %d iterations, %s)", e.icp->iterations,
+                            e.icp->converged ? "converged" : "iteration limit");
+  }
+  std::cout << "\n\ndistance to the reference surface (mm)\n"
+            << cv::format("  rmse      %8.4f\n  mean      %8.4f\n  median    %8.4f\n  p95       %8.4f\n"
+                          "  max       %8.4f\n",
+                          e.distances.rmseMm, e.distances.meanMm, e.distances.medianMm, e.distances.p95Mm,
+                          e.distances.maxMm)
+            << cv::format("coverage    %7.2f %% of the reference area within %.2f mm of a model point\n",
+                          100 * e.coverage.share(), e.coverage.radiusMm);
+  if (e.trajectory) {
+    std::cout << cv::format("trajectory  %zu associated poses, alignment rotation sd %.3f deg\n"
+                            "  ATE rms   %8.4f mm (mean %.4f, max %.4f)\n  RPE rms   %8.4f mm per step\n",
+                            e.trajectory->poses, e.trajectory->alignmentRotationSdDeg, e.trajectory->ateRmseMm,
+                            e.trajectory->ateMeanMm, e.trajectory->ateMaxMm, e.trajectory->rpeRmseMm);
+  } else {
+    std::cout << "trajectory  not given (ATE, RPE: none)\n";
+  }
+}
+
+}  // namespace
+
+int runEval(const Words& words) {
+  if (helpRequested(words)) {
+    std::cout << help;
+    return 0;
+  }
+  const Arguments arguments(words);
+  arguments.allowOnly({"model", "reference", "trajectory", "reference-trajectory", "time-tolerance",
+                       "max-alignment-sd-deg", "align",
+                       "max-icp-iterations", "icp-inlier-fraction", "icp-max-distance", "coverage-radius-mm",
+                       "json"});
+  const std::string modelPath = arguments.required("model");
+  const std::string referencePath = arguments.required("reference");
+  if (arguments.has("trajectory") != arguments.has("reference-trajectory")) {
+    throw Error("--trajectory and --reference-trajectory go together");
+  }
+  EvaluationOptions options;
+  const std::string align = arguments.text("align", "none");
+  require(align == "icp" || align == "none", "unknown --align '" + align + "': expected icp or none");
+  options.icp = align == "icp";
+  options.icpParameters.maxIterations = arguments.integer("max-icp-iterations", options.icpParameters.maxIterations);
+  options.icpParameters.inlierFraction = arguments.number("icp-inlier-fraction", options.icpParameters.inlierFraction);
+  options.icpParameters.maxDistanceMm = arguments.number("icp-max-distance", options.icpParameters.maxDistanceMm);
+  options.coverageRadiusMm = arguments.number("coverage-radius-mm", options.coverageRadiusMm);
+  options.timeToleranceS = arguments.number("time-tolerance", options.timeToleranceS);
+  options.maxAlignmentRotationSdDeg = arguments.number("max-alignment-sd-deg", options.maxAlignmentRotationSdDeg);
+  options.validate();
+
+  const std::vector<Eigen::Vector3d> modelPoints = readModelPoints(modelPath);
+  const TargetSurface referenceSurface(readReferenceSurface(referencePath));
+  std::optional<EvaluationTrajectories> trajectories;
+  if (arguments.has("trajectory")) {
+    trajectories = EvaluationTrajectories{readTrajectory(arguments.required("trajectory")),
+                                          readTrajectory(arguments.required("reference-trajectory"))};
+  }
+  const ModelEvaluation evaluation = evaluateModel(modelPoints, referenceSurface,
+                                                   trajectories ? &*trajectories : nullptr, options);
+  if (arguments.has("json")) {
+    printJson(report(evaluation, options));
+  } else {
+    printTable(evaluation, modelPath, referencePath);
+  }
+  return 0;
+}
+
+}  // namespace tissuemosaic::cli

@@ -1,0 +1,424 @@
+// vtkTissueMosaicReconstructionLogic and its VTK outputs: frusta geometry, the growing model's in-place update, and
+// a short synthetic scan run on the worker thread, checked against the scan's ground truth (frusta poses, model
+// points on the true surface, exported files).
+#include "vtkTissueMosaicFrusta.h"
+#include "vtkTissueMosaicGrowingModel.h"
+#include "vtkTissueMosaicPointCloud.h"
+#include "vtkTissueMosaicReconstructionLogic.h"
+
+#include "SyntheticScanFrameSource.h"
+#include "TissueSurface.h"
+
+#include "Core/StereoRig.h"
+#include "IO/PointCloudPly.h"
+#include "IO/TrajectoryTum.h"
+#include "Reconstruction/ReconstructionPipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <thread>
+
+using tissuemosaic::CameraPose;
+using tissuemosaic::CameraPoses;
+using tissuemosaic::ColoredPointCloud;
+using tissuemosaic::RectifiedGeometry;
+using tissuemosaic::testing::SyntheticScanFrameSource;
+
+namespace {
+
+Eigen::Vector3d pointOf(vtkPolyData* polyData, vtkIdType id) {
+  double p[3];
+  polyData->GetPoint(id, p);
+  return Eigen::Vector3d(p[0], p[1], p[2]);
+}
+
+RectifiedGeometry smallGeometry() {
+  RectifiedGeometry geometry;
+  geometry.imageSize = cv::Size(320, 180);
+  geometry.focalPx = 300;
+  geometry.cxLeftPx = 150;
+  geometry.cyPx = 95;
+  geometry.baselineMm = 5;
+  return geometry;
+}
+
+Eigen::Matrix4d pose(double angleRad, const Eigen::Vector3d& axis, const Eigen::Vector3d& translationMm) {
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  T.block<3, 3>(0, 0) = Eigen::AngleAxisd(angleRad, axis.normalized()).toRotationMatrix();
+  T.block<3, 1>(0, 3) = translationMm;
+  return T;
+}
+
+}  // namespace
+
+TEST(ReconstructionFrusta, PointsAndLinesOfEachCameraAreAtItsPose) {
+  const RectifiedGeometry geometry = smallGeometry();
+  CameraPoses cameras(2);
+  cameras[0].frameIndex = 0;
+  cameras[1].frameIndex = 17;
+  cameras[1].T_world_camera = pose(0.3, {0.2, 1, 0.1}, {12, -4, 3});
+  const double depthMm = 10;
+  vtkSmartPointer<vtkPolyData> frusta = tissuemosaic::cameraFrustaToPolyData(cameras, geometry, depthMm);
+  ASSERT_EQ(frusta->GetNumberOfPoints(), 10);
+  ASSERT_EQ(frusta->GetNumberOfLines(), 16);
+  auto* frames = vtkIntArray::SafeDownCast(frusta->GetCellData()->GetArray(tissuemosaic::kFrustumFrameIndexArrayName));
+  ASSERT_NE(frames, nullptr);
+  for (vtkIdType line = 0; line < 16; ++line) EXPECT_EQ(frames->GetValue(line), line < 8 ? 0 : 17);
+
+  for (int c = 0; c < 2; ++c) {
+    const Eigen::Matrix4d T_camera_world = cameras[c].T_world_camera.inverse();
+    EXPECT_LT((pointOf(frusta, 5 * c) - cameras[c].T_world_camera.block<3, 1>(0, 3)).norm(), 1e-9);
+    // Each corner, taken back into the camera, is at the requested depth and projects onto an image corner.
+    const double cornersPx[4][2] = {{-0.5, -0.5}, {319.5, -0.5}, {319.5, 179.5}, {-0.5, 179.5}};
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector3d cameraMm = (T_camera_world * pointOf(frusta, 5 * c + 1 + k).homogeneous()).head<3>();
+      EXPECT_NEAR(cameraMm.z(), depthMm, 1e-9);
+      EXPECT_NEAR(geometry.focalPx * cameraMm.x() / cameraMm.z() + geometry.cxLeftPx, cornersPx[k][0], 1e-9);
+      EXPECT_NEAR(geometry.focalPx * cameraMm.y() / cameraMm.z() + geometry.cyPx, cornersPx[k][1], 1e-9);
+    }
+  }
+  vtkNew<vtkPolyData> path;
+  tissuemosaic::updateCameraPath(path, cameras);
+  EXPECT_EQ(path->GetNumberOfPoints(), 2);
+  EXPECT_EQ(path->GetNumberOfLines(), 1);
+}
+
+TEST(ReconstructionGrowingModel, AppendsInPlaceAndRefreshesEarlierPoints) {
+  ColoredPointCloud cloud;
+  for (int i = 0; i < 1000; ++i) {
+    cloud.pointsMm.emplace_back(float(i), float(2 * i), 50.f);
+    cloud.colorsRgb.emplace_back(uchar(i % 256), 10, 20);
+    cloud.normals.emplace_back(0.f, 0.f, -1.f);
+  }
+  vtkNew<vtkPolyData> model;
+  tissuemosaic::GrowingModelUpdate update = tissuemosaic::updateGrowingModel(model, cloud);
+  EXPECT_EQ(update.appendedPoints, 1000u);
+  ASSERT_EQ(model->GetNumberOfPoints(), 1000);
+  ASSERT_EQ(model->GetNumberOfVerts(), 1000);
+  vtkDataArray* connectivity = model->GetVerts()->GetConnectivityArray();
+  vtkDataArray* pointArray = model->GetPoints()->GetData();
+
+  // Fusion moved point 3 and added 500 more: the same arrays grow, earlier values are refreshed.
+  cloud.pointsMm[3].z = 51.f;
+  cloud.colorsRgb[3] = cv::Vec3b(1, 2, 3);
+  for (int i = 1000; i < 1500; ++i) {
+    cloud.pointsMm.emplace_back(float(i), 0.f, 60.f);
+    cloud.colorsRgb.emplace_back(200, 100, 50);
+    cloud.normals.emplace_back(0.f, 1.f, 0.f);
+  }
+  update = tissuemosaic::updateGrowingModel(model, cloud);
+  EXPECT_EQ(update.keptPoints, 1000u);
+  EXPECT_EQ(update.appendedPoints, 500u);
+  EXPECT_EQ(model->GetVerts()->GetConnectivityArray(), connectivity) << "vertex cells were rebuilt";
+  EXPECT_EQ(model->GetPoints()->GetData(), pointArray) << "point array was replaced";
+  ASSERT_EQ(model->GetNumberOfPoints(), 1500);
+  ASSERT_EQ(model->GetNumberOfVerts(), 1500);
+  EXPECT_EQ(pointOf(model, 3).z(), 51.0);
+  EXPECT_EQ(pointOf(model, 1499).x(), 1499.0);
+  auto* colors = vtkUnsignedCharArray::SafeDownCast(model->GetPointData()->GetScalars());
+  ASSERT_NE(colors, nullptr);
+  EXPECT_STREQ(colors->GetName(), tissuemosaic::kPointCloudColorArrayName);
+  EXPECT_EQ(colors->GetValue(3 * 3 + 2), 3);
+  EXPECT_EQ(colors->GetValue(3 * 1200), 200);
+  ASSERT_NE(model->GetPointData()->GetNormals(), nullptr);
+  EXPECT_EQ(model->GetPointData()->GetNormals()->GetComponent(1200, 1), 1.0);
+  // Every vertex cell i holds point i.
+  vtkIdType size;
+  const vtkIdType* ids;
+  model->GetVerts()->GetCellAtId(1234, size, ids);
+  ASSERT_EQ(size, 1);
+  EXPECT_EQ(ids[0], 1234);
+
+  cloud.pointsMm.resize(10);
+  cloud.colorsRgb.resize(10);
+  cloud.normals.resize(10);
+  update = tissuemosaic::updateGrowingModel(model, cloud);
+  EXPECT_EQ(update.removedPoints, 1490u);
+  EXPECT_EQ(model->GetNumberOfPoints(), 10);
+  EXPECT_EQ(model->GetNumberOfVerts(), 10);
+}
+
+TEST(ReconstructionLogic, RefusesToStartWithoutInputAndInvalidParameters) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  EXPECT_FALSE(logic->Start());
+  EXPECT_NE(logic->GetLastErrorText().find("no input"), std::string::npos) << logic->GetLastErrorText();
+  EXPECT_EQ(logic->GetScanState(), vtkTissueMosaicReconstructionLogic::StateIdle);
+
+  tissuemosaic::ReconstructionParameters parameters;
+  parameters.stereo.znccWindowPx = 10;  // even: invalid
+  EXPECT_FALSE(logic->SetParameters(parameters));
+  EXPECT_NE(logic->GetLastErrorText().find("znccWindowPx"), std::string::npos) << logic->GetLastErrorText();
+  EXPECT_EQ(logic->GetParameters().stereo.znccWindowPx, 11);
+
+  parameters = {};
+  parameters.tracking.inlierThresholdPx = 3.5;
+  parameters.stereo.maxDisparityPx = 60;
+  ASSERT_TRUE(logic->SetParameters(parameters)) << logic->GetLastErrorText();
+  const std::string path = std::string(TM_TEST_OUTPUT_DIR) + "/reconstruction-parameters.yml";
+  std::filesystem::create_directories(TM_TEST_OUTPUT_DIR);
+  ASSERT_TRUE(logic->WriteParametersFile(path)) << logic->GetLastErrorText();
+  vtkNew<vtkTissueMosaicReconstructionLogic> other;
+  ASSERT_TRUE(other->ReadParametersFile(path)) << other->GetLastErrorText();
+  EXPECT_EQ(other->GetParameters().tracking.inlierThresholdPx, 3.5);
+  EXPECT_EQ(other->GetParameters().stereo.maxDisparityPx, 60);
+  EXPECT_FALSE(other->ReadParametersFile(path + ".missing"));
+
+  EXPECT_FALSE(logic->OpenFrameFolders("/nonexistent/left", "/nonexistent/right"));
+  EXPECT_FALSE(logic->HasInput());
+}
+
+
+class ReconstructionLogicScan : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    scan_ = std::make_shared<tissuemosaic::synthetic::SyntheticScan>(tissuemosaic::testing::shortScanOptions(20));
+  }
+  static void TearDownTestSuite() { scan_.reset(); }
+
+  /// A logic set up for the scan: in-memory frames, exact geometry, a narrow disparity range (speed), frequent key
+  /// frames (a short scan).
+  static tissuemosaic::ReconstructionParameters parameters() {
+    tissuemosaic::ReconstructionParameters parameters;
+    parameters.stereo.minDisparityPx = 0;
+    parameters.stereo.maxDisparityPx = 40;
+    parameters.tracking.keyFrameMinGapFrames = 4;
+    parameters.tracking.keyFramePoseThreshold = 2.0;
+    return parameters;
+  }
+
+  void setUp(vtkTissueMosaicReconstructionLogic* logic) {
+    ASSERT_TRUE(logic->SetParameters(parameters())) << logic->GetLastErrorText();
+    logic->SetDeviceChoice(vtkTissueMosaicReconstructionLogic::DeviceCpu);
+    auto scan = scan_;
+    ASSERT_TRUE(logic->SetFrameSourceFactory([scan] { return std::make_unique<SyntheticScanFrameSource>(scan); }));
+    logic->SetRectifiedGeometry(scan_->geometry());
+  }
+
+  /// Ground truth in the logic's world (the first left rectified camera).
+  Eigen::Matrix4d truePose(int frame) const { return scan_->T_world_camera(0).inverse() * scan_->T_world_camera(frame); }
+
+  static std::shared_ptr<tissuemosaic::synthetic::SyntheticScan> scan_;
+};
+std::shared_ptr<tissuemosaic::synthetic::SyntheticScan> ReconstructionLogicScan::scan_;
+
+TEST_F(ReconstructionLogicScan, OutputsAreThePipelinesAndMatchTheGroundTruth) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  setUp(logic);
+  const int frameCount = scan_->frameCount();
+  EXPECT_EQ(logic->GetInputFrameCount(), frameCount);
+  ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+  EXPECT_FALSE(logic->SetParameters(logic->GetParameters())) << "parameters must be fixed during a scan";
+
+  // The same frames through the engine directly, on this thread, while the worker runs: the reference.
+  tissuemosaic::ReconstructionPipeline pipeline(scan_->geometry(), parameters(), tissuemosaic::Device::Cpu);
+  for (int k = 0; k < frameCount; ++k) {
+    const auto frame = scan_->renderFrame(k);
+    pipeline.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+  }
+  const tissuemosaic::ModelPoints reference = pipeline.modelSnapshot();
+  const auto& keyFrames = pipeline.keyFrames();
+
+  ASSERT_TRUE(logic->WaitForScanEnd(120.0));
+  logic->UpdateOutputs();
+  const auto& status = logic->GetStatus();
+  ASSERT_EQ(status.state, vtkTissueMosaicReconstructionLogic::StateFinished) << status.errorText;
+  EXPECT_EQ(status.framesProcessed, frameCount);
+  EXPECT_EQ(status.lostFrames, 0);
+  EXPECT_EQ(status.device, "cpu");
+
+  // Frusta: one per key frame, at the pipeline's (refined) key-frame poses, and near the true poses.
+  vtkPolyData* frusta = logic->GetKeyFrameFrusta();
+  ASSERT_GE(status.keyFrames, 3);
+  ASSERT_EQ(status.keyFrames, static_cast<int>(keyFrames.size()));
+  ASSERT_EQ(frusta->GetNumberOfPoints(), 5 * status.keyFrames);
+  ASSERT_EQ(frusta->GetNumberOfLines(), 8 * status.keyFrames);
+  auto* frames = vtkIntArray::SafeDownCast(frusta->GetCellData()->GetArray(tissuemosaic::kFrustumFrameIndexArrayName));
+  ASSERT_NE(frames, nullptr);
+  EXPECT_EQ(frames->GetValue(0), 0) << "the first frame is the first key frame";
+  double worstMm = 0;
+  for (int k = 0; k < status.keyFrames; ++k) {
+    const int frame = frames->GetValue(8 * k);
+    EXPECT_EQ(frame, keyFrames[k].frameIndex);
+    EXPECT_LT((pointOf(frusta, 5 * k) - keyFrames[k].T_world_camera.block<3, 1>(0, 3)).norm(), 1e-6);
+    const Eigen::Vector3d corner = tissuemosaic::pixelToWorldMm(scan_->geometry(), keyFrames[k].T_world_camera, -0.5,
+                                                                -0.5, logic->GetFrustumDepthMm());
+    EXPECT_LT((pointOf(frusta, 5 * k + 1) - corner).norm(), 1e-6) << "key frame " << frame;
+    worstMm = std::max(worstMm, (pointOf(frusta, 5 * k) - truePose(frame).block<3, 1>(0, 3)).norm());
+  }
+  std::cout << "[ measured ] " << status.keyFrames << " key frames, worst centre error to the truth " << worstMm
+            << " mm\n";
+  EXPECT_LT(worstMm, 2.5) << "key frame centres far from the truth: wrong frame or pose";
+
+  // Trajectory: every tracked frame; the current frustum at the last frame.
+  EXPECT_EQ(logic->GetTrajectory()->GetNumberOfPoints(), frameCount);
+  ASSERT_EQ(logic->GetCurrentFrustum()->GetNumberOfPoints(), 5);
+  EXPECT_LT((pointOf(logic->GetCurrentFrustum(), 0) - truePose(frameCount - 1).block<3, 1>(0, 3)).norm(), 2.5);
+
+  // Model: exactly the pipeline's (points, colours, normals), one vertex cell each, on the true surface.
+  vtkPolyData* model = logic->GetModel();
+  ASSERT_GT(model->GetNumberOfPoints(), 10000);
+  ASSERT_EQ(model->GetNumberOfPoints(), static_cast<vtkIdType>(reference.size()));
+  EXPECT_EQ(model->GetNumberOfPoints(), status.modelPoints);
+  EXPECT_EQ(model->GetNumberOfVerts(), model->GetNumberOfPoints());
+  auto* colors = vtkUnsignedCharArray::SafeDownCast(model->GetPointData()->GetArray(tissuemosaic::kPointCloudColorArrayName));
+  ASSERT_NE(colors, nullptr);
+  EXPECT_EQ(colors->GetNumberOfComponents(), 3);
+  vtkDataArray* normals = model->GetPointData()->GetNormals();
+  ASSERT_NE(normals, nullptr);
+  const Eigen::Matrix4d T_truth_logic = scan_->T_world_camera(0);
+  std::vector<double> errorsMm;
+  int different = 0;
+  for (vtkIdType i = 0; i < model->GetNumberOfPoints(); i += 7) {
+    const cv::Point3f& p = reference.cloud.pointsMm[i];
+    const cv::Vec3b& c = reference.cloud.colorsRgb[i];
+    different += pointOf(model, i) != Eigen::Vector3d(p.x, p.y, p.z) || colors->GetValue(3 * i) != c[0] ||
+                 colors->GetValue(3 * i + 2) != c[2] || normals->GetComponent(i, 2) != reference.cloud.normals[i].z;
+    const Eigen::Vector3d truthMm = (T_truth_logic * pointOf(model, i).homogeneous()).head<3>();
+    errorsMm.push_back(std::abs(truthMm.z() - scan_->surface().heightMm(truthMm.x(), truthMm.y())));
+  }
+  EXPECT_EQ(different, 0) << "model points differ from the pipeline's";
+  std::sort(errorsMm.begin(), errorsMm.end());
+  const double medianErrorMm = errorsMm[errorsMm.size() / 2];
+  std::cout << "[ measured ] model " << model->GetNumberOfPoints() << " points, height error to the true surface: "
+            << "median " << medianErrorMm << " mm, p90 " << errorsMm[errorsMm.size() * 9 / 10] << " mm\n";
+  EXPECT_LT(medianErrorMm, 1.5) << "model far from the true surface: wrong frame";
+
+  // Timing table: the paper's stages; stereo ran on every frame.
+  const auto table = logic->GetTimingTable();
+  ASSERT_EQ(table.size(), 7u);
+  EXPECT_EQ(table[1].stage, "stereo");
+  EXPECT_GT(table[1].keyFrameMedianMs, 0);
+  EXPECT_GT(table[1].otherFrameMedianMs, 0);
+  EXPECT_GT(table[6].keyFrameMeanMs, table[1].keyFrameMeanMs);
+}
+
+TEST_F(ReconstructionLogicScan, ExportsModelAndTrajectory) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  setUp(logic);
+  logic->SetMaximumFrames(12);
+  const std::string out = std::string(TM_TEST_OUTPUT_DIR) + "/reconstruction-export";
+  std::filesystem::create_directories(out);
+  EXPECT_FALSE(logic->ExportModel(out + "/none.ply"));
+  ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+  ASSERT_TRUE(logic->WaitForScanEnd(60.0));
+  ASSERT_TRUE(logic->ExportModel(out + "/model.ply")) << logic->GetLastErrorText();
+  ASSERT_TRUE(logic->ExportModel(out + "/model.vtp")) << logic->GetLastErrorText();
+  EXPECT_FALSE(logic->ExportModel(out + "/model.xyz"));
+  ASSERT_TRUE(logic->ExportTrajectory(out + "/trajectory.txt")) << logic->GetLastErrorText();
+  EXPECT_EQ(logic->GetStatus().framesProcessed, 12);
+
+  const ColoredPointCloud ply = tissuemosaic::readPly(out + "/model.ply");
+  EXPECT_EQ(static_cast<vtkIdType>(ply.size()), logic->GetModel()->GetNumberOfPoints());
+  EXPECT_EQ(ply.colorsRgb.size(), ply.size());
+  EXPECT_EQ(ply.normals.size(), ply.size());
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName((out + "/model.vtp").c_str());
+  reader->Update();
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), logic->GetModel()->GetNumberOfPoints());
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfVerts(), logic->GetModel()->GetNumberOfPoints());
+
+  const tissuemosaic::Trajectory trajectory = tissuemosaic::readTumTrajectory(out + "/trajectory.txt");
+  ASSERT_EQ(trajectory.size(), 12u);
+  for (int k = 0; k < 12; ++k) {
+    EXPECT_NEAR(trajectory[k].timeS, scan_->timeS(k), 1e-6);  // TUM files keep 6 decimals
+    EXPECT_LT((trajectory[k].T_world_camera.block<3, 1>(0, 3) - truePose(k).block<3, 1>(0, 3)).norm(), 2.5);
+  }
+}
+
+TEST_F(ReconstructionLogicScan, PauseResumeStopAndReset) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  setUp(logic);
+  ASSERT_TRUE(logic->Start());
+  logic->Pause();
+  EXPECT_EQ(logic->GetScanState(), vtkTissueMosaicReconstructionLogic::StatePaused);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  logic->UpdateOutputs();
+  const int pausedAt = logic->GetStatus().framesProcessed;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  logic->UpdateOutputs();
+  EXPECT_LE(logic->GetStatus().framesProcessed, pausedAt + 1) << "the worker went on while paused";
+  ASSERT_TRUE(logic->Start()) << "resume";
+  EXPECT_EQ(logic->GetScanState(), vtkTissueMosaicReconstructionLogic::StateRunning);
+  logic->Stop();
+  ASSERT_TRUE(logic->WaitForScanEnd(30.0));
+  EXPECT_EQ(logic->GetScanState(), vtkTissueMosaicReconstructionLogic::StateStopped);
+  logic->UpdateOutputs();
+  EXPECT_LT(logic->GetStatus().framesProcessed, scan_->frameCount());
+  EXPECT_FALSE(logic->Start()) << "an ended scan needs a reset";
+
+  logic->Reset();
+  EXPECT_EQ(logic->GetScanState(), vtkTissueMosaicReconstructionLogic::StateIdle);
+  EXPECT_EQ(logic->GetModel()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(logic->GetKeyFrameFrusta()->GetNumberOfPoints(), 0);
+  EXPECT_TRUE(logic->GetLeftFrame().empty());
+  EXPECT_TRUE(logic->CanChangeParameters());
+  // A reset while running returns at once; the old worker finishes its frame in the background.
+  ASSERT_TRUE(logic->Start());
+  const auto before = std::chrono::steady_clock::now();
+  logic->Reset();
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count(), 0.05);
+}
+
+namespace {
+
+/// Frames that take long to read: the worker spends its time inside next(), as it would inside a slow frame.
+class SlowSource : public tissuemosaic::StereoFrameSource {
+public:
+  explicit SlowSource(std::shared_ptr<const tissuemosaic::synthetic::SyntheticScan> scan) : inner_(std::move(scan)) {}
+  bool next(tissuemosaic::StereoFrame& frame) override {
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    return inner_.next(frame);
+  }
+  int frameCount() const override { return inner_.frameCount(); }
+  cv::Size frameSize() const override { return inner_.frameSize(); }
+  std::string description() const override { return "slow"; }
+
+private:
+  SyntheticScanFrameSource inner_;
+};
+
+}  // namespace
+
+TEST_F(ReconstructionLogicScan, OwnerNeverWaitsForTheWorker) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  setUp(logic);
+  auto scan = scan_;
+  ASSERT_TRUE(logic->SetFrameSourceFactory([scan] { return std::make_unique<SlowSource>(scan); }));
+  logic->SetRectifiedGeometry(scan_->geometry());
+  // Every call the GUI makes returns at once while the worker is busy (here: 400 ms inside each frame read).
+  using Clock = std::chrono::steady_clock;
+  double slowestMs = 0;
+  const auto timed = [&](auto&& call) {
+    const auto start = Clock::now();
+    call();
+    slowestMs = std::max(slowestMs, std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  };
+  timed([&] { ASSERT_TRUE(logic->Start()); });
+  for (int i = 0; i < 40; ++i) {  // 1.2 s of 30 Hz polling, across several frames
+    timed([&] { logic->UpdateOutputs(); });
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  }
+  EXPECT_GE(logic->GetStatus().framesProcessed, 1);
+  timed([&] { logic->Pause(); });
+  timed([&] { ASSERT_TRUE(logic->Start()); });
+  timed([&] { logic->Stop(); });
+  timed([&] { logic->Reset(); });
+  std::cout << "[ measured ] slowest owner-thread call while the worker was busy: " << slowestMs << " ms\n";
+  EXPECT_LT(slowestMs, 100.0);
+}

@@ -1,0 +1,272 @@
+// The reconstruction panels without OpenGL (Qt's offscreen platform): parameters round trip between the panel
+// and the object (the panel's own, or a logic's), invalid values refused with the reason, presets and files,
+// parameters fixed during a scan; the video panel's image conversion; the module panel's controls.
+#include "qTissueMosaicReconstructionParametersWidget.h"
+#include "qTissueMosaicReconstructionWidget.h"
+#include "qTissueMosaicStereoParametersWidget.h"
+#include "qTissueMosaicVideoPanel.h"
+#include "vtkTissueMosaicReconstructionLogic.h"
+
+#include "Core/Device.h"
+#include "IO/StereoFrameSource.h"
+
+#include <gtest/gtest.h>
+
+#include <vtkNew.h>
+
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QPushButton>
+#include <QSignalSpy>
+#include <QSpinBox>
+#include <QStandardItemModel>
+#include <QTableWidget>
+
+#include <filesystem>
+
+using tissuemosaic::ReconstructionParameters;
+
+namespace {
+
+/// Values that differ from every default and are exact in the spin boxes' decimals.
+ReconstructionParameters unusualParameters() {
+  ReconstructionParameters p;
+  p.stereo.minDisparityPx = -5;
+  p.stereo.maxDisparityPx = 45;
+  p.stereo.znccWindowPx = 9;
+  p.stereo.refineAlpha = 0.25f;
+  p.tracking.inlierThresholdPx = 3.5;
+  p.tracking.candidateEta = 2.5;
+  p.tracking.candidateRampIterations = 7;
+  p.tracking.keyFramePoseThreshold = 4.5;
+  p.tracking.keyFrameMinGapFrames = 6;
+  p.tracking.keyFrameMinInliers = 40;
+  p.refinement.icpWeightFactor = 0.2;
+  p.refinement.icpTukeyMm = 3.0;
+  p.refinement.maxMatchedKeyFrames = 3;
+  p.fusion.truncationMm = 2.25;
+  p.fusion.colourMinWeight = 0.2;
+  p.fusion.newPointStepPx = 2;
+  p.fusion.maxPoints = 5000000;
+  return p;
+}
+
+void expectSame(const ReconstructionParameters& a, const ReconstructionParameters& b) {
+  EXPECT_EQ(a.stereo.minDisparityPx, b.stereo.minDisparityPx);
+  EXPECT_EQ(a.stereo.maxDisparityPx, b.stereo.maxDisparityPx);
+  EXPECT_EQ(a.stereo.znccWindowPx, b.stereo.znccWindowPx);
+  EXPECT_FLOAT_EQ(a.stereo.refineAlpha, b.stereo.refineAlpha);
+  EXPECT_DOUBLE_EQ(a.tracking.inlierThresholdPx, b.tracking.inlierThresholdPx);
+  EXPECT_DOUBLE_EQ(a.tracking.candidateEta, b.tracking.candidateEta);
+  EXPECT_EQ(a.tracking.candidateRampIterations, b.tracking.candidateRampIterations);
+  EXPECT_DOUBLE_EQ(a.tracking.keyFramePoseThreshold, b.tracking.keyFramePoseThreshold);
+  EXPECT_EQ(a.tracking.keyFrameMinGapFrames, b.tracking.keyFrameMinGapFrames);
+  EXPECT_EQ(a.tracking.keyFrameMinInliers, b.tracking.keyFrameMinInliers);
+  EXPECT_DOUBLE_EQ(a.refinement.icpWeightFactor, b.refinement.icpWeightFactor);
+  EXPECT_DOUBLE_EQ(a.refinement.icpTukeyMm, b.refinement.icpTukeyMm);
+  EXPECT_EQ(a.refinement.maxMatchedKeyFrames, b.refinement.maxMatchedKeyFrames);
+  EXPECT_DOUBLE_EQ(a.fusion.truncationMm, b.fusion.truncationMm);
+  EXPECT_DOUBLE_EQ(a.fusion.colourMinWeight, b.fusion.colourMinWeight);
+  EXPECT_EQ(a.fusion.newPointStepPx, b.fusion.newPointStepPx);
+  EXPECT_EQ(a.fusion.maxPoints, b.fusion.maxPoints);
+}
+
+QDoubleSpinBox* realBox(QWidget& panel, const char* key) {
+  return panel.findChild<QDoubleSpinBox*>(QString(key) + "SpinBox");
+}
+QSpinBox* intBox(QWidget& panel, const char* key) { return panel.findChild<QSpinBox*>(QString(key) + "SpinBox"); }
+
+/// A source with no frames: a scan on it ends at once but exists until reset.
+class EmptySource : public tissuemosaic::StereoFrameSource {
+public:
+  bool next(tissuemosaic::StereoFrame&) override { return false; }
+  int frameCount() const override { return 0; }
+  cv::Size frameSize() const override { return {64, 48}; }
+  std::string description() const override { return "empty"; }
+};
+
+tissuemosaic::RectifiedGeometry emptyGeometry() {
+  tissuemosaic::RectifiedGeometry geometry;
+  geometry.imageSize = cv::Size(64, 48);
+  geometry.focalPx = 60;
+  geometry.cxLeftPx = 32;
+  geometry.cyPx = 24;
+  geometry.baselineMm = 5;
+  return geometry;
+}
+
+}  // namespace
+
+TEST(ReconstructionParametersWidget, ShowsEveryFieldAndReadsEditsBack) {
+  qTissueMosaicReconstructionParametersWidget panel;
+  const ReconstructionParameters unusual = unusualParameters();
+  ASSERT_TRUE(panel.setParameters(unusual)) << panel.errorText().toStdString();
+  // Object -> panel: the controls show the values (the stereo ones in the embedded stereo panel).
+  EXPECT_EQ(realBox(panel, "inlierThresholdPx")->value(), 3.5);
+  EXPECT_EQ(realBox(panel, "keyFramePoseThreshold")->value(), 4.5);
+  EXPECT_EQ(intBox(panel, "keyFrameMinGapFrames")->value(), 6);
+  EXPECT_EQ(realBox(panel, "truncationMm")->value(), 2.25);
+  EXPECT_EQ(intBox(panel, "maxPoints")->value(), 5000000);
+  EXPECT_EQ(intBox(panel, "znccWindowPx")->value(), 9);
+  EXPECT_EQ(realBox(panel, "refineAlpha")->value(), 0.25);
+  expectSame(panel.parameters(), unusual);
+
+  // Panel -> object: an edit in each group reaches the object, and each emits parametersChanged.
+  QSignalSpy changed(&panel, &qTissueMosaicReconstructionParametersWidget::parametersChanged);
+  realBox(panel, "inlierThresholdPx")->setValue(6.5);
+  intBox(panel, "keyFrameMinInliers")->setValue(75);
+  realBox(panel, "icpWeightFactor")->setValue(0.15);
+  intBox(panel, "newPointStepPx")->setValue(3);
+  intBox(panel, "maxDisparityPx")->setValue(60);
+  realBox(panel, "refineEta")->setValue(0.02);
+  EXPECT_EQ(changed.count(), 6);
+  const ReconstructionParameters edited = panel.parameters();
+  EXPECT_DOUBLE_EQ(edited.tracking.inlierThresholdPx, 6.5);
+  EXPECT_EQ(edited.tracking.keyFrameMinInliers, 75);
+  EXPECT_DOUBLE_EQ(edited.refinement.icpWeightFactor, 0.15);
+  EXPECT_EQ(edited.fusion.newPointStepPx, 3);
+  EXPECT_EQ(edited.stereo.maxDisparityPx, 60);
+  EXPECT_FLOAT_EQ(edited.stereo.refineEta, 0.02f);
+  EXPECT_TRUE(panel.errorText().isEmpty());
+  // Every control explains itself.
+  for (QAbstractSpinBox* box : panel.findChildren<QAbstractSpinBox*>()) {
+    EXPECT_FALSE(box->toolTip().isEmpty()) << box->objectName().toStdString();
+  }
+}
+
+TEST(ReconstructionParametersWidget, RefusesInvalidValuesWithTheReason) {
+  qTissueMosaicReconstructionParametersWidget panel;
+  const ReconstructionParameters before = panel.parameters();
+  QSignalSpy changed(&panel, &qTissueMosaicReconstructionParametersWidget::parametersChanged);
+
+  realBox(panel, "inlierThresholdPx")->setValue(0.0);  // validate(): H must be >= 0.01
+  EXPECT_EQ(changed.count(), 0);
+  EXPECT_TRUE(panel.errorText().contains("inlierThresholdPx")) << panel.errorText().toStdString();
+  EXPECT_DOUBLE_EQ(panel.parameters().tracking.inlierThresholdPx, before.tracking.inlierThresholdPx);
+  realBox(panel, "inlierThresholdPx")->setValue(4.0);  // fixed: accepted, message gone
+  EXPECT_EQ(changed.count(), 1);
+  EXPECT_TRUE(panel.errorText().isEmpty());
+
+  realBox(panel, "candidateEta")->setValue(0.5);  // eta must exceed 1
+  EXPECT_TRUE(panel.errorText().contains("candidateEta")) << panel.errorText().toStdString();
+  realBox(panel, "candidateEta")->setValue(2.0);
+  intBox(panel, "newPointStepPx")->setValue(0);
+  EXPECT_TRUE(panel.errorText().contains("newPointStepPx")) << panel.errorText().toStdString();
+  EXPECT_EQ(panel.parameters().fusion.newPointStepPx, before.fusion.newPointStepPx);
+  intBox(panel, "newPointStepPx")->setValue(1);
+
+  // The stereo panel refuses its own invalid combinations (min > max) with its message.
+  intBox(panel, "minDisparityPx")->setValue(90);
+  EXPECT_FALSE(panel.errorText().isEmpty());
+  EXPECT_EQ(panel.parameters().stereo.minDisparityPx, before.stereo.minDisparityPx);
+
+  ReconstructionParameters invalid;
+  invalid.fusion.truncationMm = -1;
+  EXPECT_FALSE(panel.setParameters(invalid));
+  EXPECT_TRUE(panel.errorText().contains("truncationMm")) << panel.errorText().toStdString();
+}
+
+TEST(ReconstructionParametersWidget, EditsTheLogicsParametersAndDevice) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  qTissueMosaicReconstructionParametersWidget panel;
+  ReconstructionParameters parameters = unusualParameters();
+  ASSERT_TRUE(logic->SetParameters(parameters));
+  panel.setReconstructionLogic(logic);
+  EXPECT_EQ(realBox(panel, "inlierThresholdPx")->value(), 3.5);  // shows the logic's object
+  realBox(panel, "keyFramePoseThreshold")->setValue(8.0);
+  EXPECT_DOUBLE_EQ(logic->GetParameters().tracking.keyFramePoseThreshold, 8.0);
+  intBox(panel, "znccWindowPx")->setValue(7);
+  EXPECT_EQ(logic->GetParameters().stereo.znccWindowPx, 7);
+
+  auto* device = panel.findChild<QComboBox*>("deviceComboBox");
+  ASSERT_NE(device, nullptr);
+  panel.setDeviceChoice(vtkTissueMosaicReconstructionLogic::DeviceCpu);
+  EXPECT_EQ(logic->GetDeviceChoice(), vtkTissueMosaicReconstructionLogic::DeviceCpu);
+  EXPECT_EQ(device->currentData().toInt(), vtkTissueMosaicReconstructionLogic::DeviceCpu);
+  auto* model = qobject_cast<QStandardItemModel*>(device->model());
+  EXPECT_EQ(model->item(2)->isEnabled(), tissuemosaic::cudaAvailable()) << "CUDA offered only where it works";
+
+  // During a scan the logic keeps its parameters: the panel shows why and keeps the logic's value.
+  ASSERT_TRUE(logic->SetFrameSourceFactory([] { return std::make_unique<EmptySource>(); }));
+  logic->SetRectifiedGeometry(emptyGeometry());
+  logic->SetDeviceChoice(vtkTissueMosaicReconstructionLogic::DeviceCpu);
+  ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+  realBox(panel, "keyFramePoseThreshold")->setValue(9.0);
+  EXPECT_DOUBLE_EQ(logic->GetParameters().tracking.keyFramePoseThreshold, 8.0);
+  EXPECT_TRUE(panel.errorText().contains("reset")) << panel.errorText().toStdString();
+  logic->Reset();
+  realBox(panel, "keyFramePoseThreshold")->setValue(9.5);
+  EXPECT_DOUBLE_EQ(logic->GetParameters().tracking.keyFramePoseThreshold, 9.5);
+}
+
+TEST(ReconstructionParametersWidget, PresetsAndFilesRoundTrip) {
+  qTissueMosaicReconstructionParametersWidget panel;
+  EXPECT_TRUE(panel.presetNames().contains("paper defaults"));
+  EXPECT_TRUE(panel.presetNames().contains("fast"));
+  auto* presets = panel.findChild<QComboBox*>("reconstructionPresetComboBox");
+  ASSERT_TRUE(panel.applyPreset("fast"));
+  EXPECT_EQ(panel.parameters().stereo.znccWindowPx, 7);  // Resources/Presets/fast.yml
+  EXPECT_EQ(presets->currentText(), "fast");
+  realBox(panel, "inlierThresholdPx")->setValue(7.0);
+  EXPECT_EQ(presets->currentText(), "(custom)");
+  EXPECT_FALSE(panel.applyPreset("no such preset"));
+
+  std::filesystem::create_directories(TM_TEST_OUTPUT_DIR);
+  const QString path = QString(TM_TEST_OUTPUT_DIR) + "/reconstruction-panel.yml";
+  ASSERT_TRUE(panel.setParameters(unusualParameters()));
+  ASSERT_TRUE(panel.saveParametersFile(path)) << panel.errorText().toStdString();
+  qTissueMosaicReconstructionParametersWidget other;
+  ASSERT_TRUE(other.loadParametersFile(path)) << other.errorText().toStdString();
+  expectSame(other.parameters(), unusualParameters());
+  EXPECT_FALSE(other.loadParametersFile(path + ".missing"));
+  EXPECT_TRUE(other.errorText().startsWith("Not loaded")) << other.errorText().toStdString();
+}
+
+TEST(ReconstructionVideoPanel, ShowsFramesInRgbOrder) {
+  cv::Mat bgr(30, 40, CV_8UC3, cv::Scalar(10, 20, 200));  // B G R: a red picture
+  const QImage image = qTissueMosaicVideoPanel::toQImage(bgr);
+  ASSERT_FALSE(image.isNull());
+  EXPECT_EQ(image.size(), QSize(40, 30));
+  EXPECT_EQ(image.pixelColor(5, 5), QColor(200, 20, 10));
+  const cv::Mat grey(30, 40, CV_8UC1, cv::Scalar(77));
+  EXPECT_EQ(qTissueMosaicVideoPanel::toQImage(grey).pixelColor(0, 0), QColor(77, 77, 77));
+  EXPECT_TRUE(qTissueMosaicVideoPanel::toQImage(cv::Mat(4, 4, CV_32F)).isNull());
+
+  qTissueMosaicVideoPanel panel;
+  panel.setFrames(bgr, grey, bgr);
+  EXPECT_EQ(panel.leftImage().pixelColor(1, 1), QColor(200, 20, 10));
+  EXPECT_EQ(panel.rightImage().size(), QSize(40, 30));
+  panel.clear();
+  EXPECT_TRUE(panel.leftImage().isNull());
+}
+
+TEST(ReconstructionModulePanel, ControlsFollowTheScanState) {
+  qTissueMosaicReconstructionWidget panel;
+  auto* start = panel.findChild<QPushButton*>("startButton");
+  auto* reset = panel.findChild<QPushButton*>("resetButton");
+  auto* exportModel = panel.findChild<QPushButton*>("exportModelButton");
+  ASSERT_TRUE(start && reset && exportModel);
+  EXPECT_FALSE(start->isEnabled()) << "no input yet";
+  EXPECT_FALSE(exportModel->isEnabled());
+  EXPECT_EQ(panel.timingTable()->rowCount(), 7);
+
+  EXPECT_FALSE(panel.openFrameFolders("/nonexistent/left", "/nonexistent/right"));
+  EXPECT_FALSE(panel.lastMessage().isEmpty());
+  vtkTissueMosaicReconstructionLogic* logic = panel.reconstructionLogic();
+  ASSERT_TRUE(logic->SetFrameSourceFactory([] { return std::make_unique<EmptySource>(); }));
+  logic->SetRectifiedGeometry(emptyGeometry());
+  logic->SetDeviceChoice(vtkTissueMosaicReconstructionLogic::DeviceCpu);
+  panel.updateFromLogic();
+  QSignalSpy states(&panel, &qTissueMosaicReconstructionWidget::scanStateChanged);
+  ASSERT_TRUE(panel.start()) << panel.lastMessage().toStdString();
+  ASSERT_TRUE(logic->WaitForScanEnd(30));
+  panel.updateFromLogic();
+  EXPECT_GE(states.count(), 1);
+  EXPECT_EQ(states.last().at(0).toInt(), vtkTissueMosaicReconstructionLogic::StateFinished);
+  EXPECT_FALSE(start->isEnabled()) << "an ended scan needs a reset";
+  EXPECT_TRUE(reset->isEnabled());
+  EXPECT_FALSE(panel.parametersPanel()->isEnabled()) << "parameters are fixed until reset";
+  reset->click();
+  EXPECT_TRUE(start->isEnabled());
+  EXPECT_TRUE(panel.parametersPanel()->isEnabled());
+}

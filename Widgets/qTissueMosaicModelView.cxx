@@ -1,0 +1,209 @@
+#include "qTissueMosaicModelView.h"
+
+#include "vtkTissueMosaicModelScene.h"
+#include "vtkTissueMosaicReconstructionLogic.h"
+
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
+#include <vtkInteractorObserver.h>
+#include <vtkInteractorStyle.h>
+#include <vtkRenderWindowInteractor.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkPolyData.h>
+#include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <QElapsedTimer>
+#include <QTimer>
+#include <QVBoxLayout>
+
+#include <algorithm>
+
+class qTissueMosaicModelView::Private {
+public:
+  QVTKOpenGLNativeWidget* widget = nullptr;
+  vtkNew<vtkGenericOpenGLRenderWindow> window;
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkTissueMosaicModelScene> scene;
+  vtkSmartPointer<vtkPolyData> model;
+  bool renderPending = false;
+  QElapsedTimer sinceRender;  ///< since the last render ended
+  qint64 lastRenderMs = 0;
+  bool userMovedCamera = false;  ///< until the user turns the view, it follows the growing model
+  double interactiveFrameTimeMs = 40;
+  double msPerPoint = 0;    ///< of the last full render of a large model
+  bool live = false;        ///< a scan is running: reduce renders that would be slow
+  vtkNew<vtkCallbackCommand> interaction;
+
+  /// The level-of-detail budget for the next interaction, from the last full render's speed.
+  void updateBudget() {
+    vtkIdType budget = 0;
+    if (interactiveFrameTimeMs > 0 && msPerPoint > 0) {
+      budget = std::max<vtkIdType>(20000, static_cast<vtkIdType>(interactiveFrameTimeMs / msPerPoint));
+    }
+    scene->SetInteractivePointBudget(budget);
+  }
+  static void onInteraction(vtkObject*, unsigned long event, void* clientData, void*) {
+    auto* self = static_cast<Private*>(clientData);
+    if (event == vtkCommand::StartInteractionEvent) {
+      self->userMovedCamera = true;
+      self->updateBudget();
+      self->scene->SetInteracting(true);
+    } else {
+      self->scene->SetInteracting(false);
+      self->widget->renderWindow()->Render();  // the full model again when the user lets go
+    }
+  }
+};
+
+qTissueMosaicModelView::qTissueMosaicModelView(QWidget* parent) : QWidget(parent), d(new Private) {
+  d->widget = new QVTKOpenGLNativeWidget(this);
+  d->widget->setObjectName("modelVtkWidget");
+  d->widget->setRenderWindow(d->window);
+  d->window->AddRenderer(d->renderer);
+  d->scene->AddToRenderer(d->renderer);
+  vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
+  d->interaction->SetClientData(d);
+  d->interaction->SetCallback(&Private::onInteraction);
+  if (vtkInteractorObserver* style = d->widget->interactor()->GetInteractorStyle()) {
+    style->AddObserver(vtkCommand::StartInteractionEvent, d->interaction);
+    style->AddObserver(vtkCommand::EndInteractionEvent, d->interaction);
+  }
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->addWidget(d->widget);
+  this->setMinimumSize(200, 150);
+}
+
+qTissueMosaicModelView::~qTissueMosaicModelView() { delete d; }
+
+void qTissueMosaicModelView::setReconstructionLogic(vtkTissueMosaicReconstructionLogic* logic) {
+  if (logic) {
+    this->setSceneData(logic->GetModel(), logic->GetKeyFrameFrusta(), logic->GetCurrentFrustum(),
+                       logic->GetTrajectory());
+  } else {
+    this->setSceneData(nullptr, nullptr, nullptr, nullptr);
+  }
+}
+
+void qTissueMosaicModelView::setSceneData(vtkPolyData* model, vtkPolyData* keyFrameFrusta, vtkPolyData* currentFrustum,
+                                          vtkPolyData* trajectory) {
+  d->model = model;
+  d->scene->SetModel(model);
+  d->scene->SetKeyFrameFrusta(keyFrameFrusta);
+  d->scene->SetCurrentFrustum(currentFrustum);
+  d->scene->SetTrajectory(trajectory);
+  d->userMovedCamera = false;
+  this->requestRender();
+}
+
+vtkTissueMosaicModelScene* qTissueMosaicModelView::scene() const { return d->scene; }
+vtkRenderer* qTissueMosaicModelView::renderer() const { return d->renderer; }
+vtkRenderWindow* qTissueMosaicModelView::renderWindow() const { return d->window; }
+QVTKOpenGLNativeWidget* qTissueMosaicModelView::vtkWidget() const { return d->widget; }
+
+void qTissueMosaicModelView::requestRender() {
+  if (d->renderPending) return;
+  d->renderPending = true;
+  // Between two renders the event loop gets at least twice the last render's time (software OpenGL on a busy CPU
+  // can take a large part of a second per frame), and renders come at most at about 30 Hz: the interface keeps
+  // responding however often the logic has news. Mouse interaction renders directly, unthrottled.
+  const qint64 sinceLastMs = d->sinceRender.isValid() ? d->sinceRender.elapsed() : 1000000;
+  const qint64 waitMs = std::max<qint64>(0, std::max<qint64>(33, 2 * d->lastRenderMs) - sinceLastMs);
+  QTimer::singleShot(static_cast<int>(waitMs), this, &qTissueMosaicModelView::render);
+}
+
+void qTissueMosaicModelView::render() {
+  d->renderPending = false;
+  // The scan starts from nothing and grows: keep it framed until the user takes the camera (resetView() and a
+  // new, empty model hand it back).
+  if (d->model && d->model->GetNumberOfPoints() == 0) d->userMovedCamera = false;
+  if (!d->userMovedCamera && d->model && d->model->GetNumberOfPoints() > 0) {
+    vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
+  }
+  d->renderer->ResetCameraClippingRange();
+  auto* style = vtkInteractorStyle::SafeDownCast(d->widget->interactor()->GetInteractorStyle());
+  const bool userInteracting = style && style->GetState() != VTKIS_NONE;
+  if (!userInteracting) {
+    const vtkIdType modelPoints = d->model ? d->model->GetNumberOfPoints() : 0;
+    d->updateBudget();
+    d->scene->SetInteracting(d->live && d->msPerPoint * modelPoints > d->interactiveFrameTimeMs);
+  }
+  QElapsedTimer timer;
+  timer.start();
+  d->widget->renderWindow()->Render();
+  d->lastRenderMs = timer.elapsed();
+  d->sinceRender.start();
+  // The speed estimate includes the frame's fixed costs, so it errs toward reducing: a growing model switches to
+  // the subsample before a full draw of it would ever stall the interface.
+  const vtkIdType points = d->scene->GetDrawnModelPoints();
+  if (points > 20000) d->msPerPoint = double(d->lastRenderMs) / points;
+}
+
+void qTissueMosaicModelView::setLiveUpdates(bool live) {
+  if (live == d->live) return;
+  d->live = live;
+  this->requestRender();  // the full model once the scan ends
+}
+
+void qTissueMosaicModelView::setInteractiveFrameTimeMs(double milliseconds) {
+  d->interactiveFrameTimeMs = std::max(0.0, milliseconds);
+}
+
+double qTissueMosaicModelView::interactiveFrameTimeMs() const { return d->interactiveFrameTimeMs; }
+
+void qTissueMosaicModelView::resetView() {
+  d->userMovedCamera = false;
+  vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
+  this->requestRender();
+}
+
+void qTissueMosaicModelView::renderFullModel() {
+  const bool live = d->live;
+  d->live = false;  // a picture shows every point, however long it takes
+  this->render();
+  d->live = live;
+}
+
+bool qTissueMosaicModelView::saveScreenshot(const QString& path) {
+  this->renderFullModel();
+  vtkNew<vtkWindowToImageFilter> grabber;
+  grabber->SetInput(d->window);
+  grabber->SetInputBufferTypeToRGB();
+  grabber->ReadFrontBufferOff();
+  grabber->Update();
+  vtkNew<vtkPNGWriter> writer;
+  const QByteArray file = path.toLocal8Bit();
+  writer->SetFileName(file.constData());
+  writer->SetInputConnection(grabber->GetOutputPort());
+  writer->Write();
+  return writer->GetErrorCode() == 0;
+}
+
+double qTissueMosaicModelView::measureFrameRate(int frames, bool interacting) {
+  vtkCamera* camera = d->renderer->GetActiveCamera();
+  vtkNew<vtkCamera> saved;
+  saved->DeepCopy(camera);
+  this->render();  // uploads the data once: the measurement is of drawing, as during interaction
+  if (interacting) {
+    d->updateBudget();
+    d->scene->SetInteracting(true);
+    d->widget->renderWindow()->Render();  // the subsample's upload, once per interaction
+  }
+  QElapsedTimer timer;
+  timer.start();
+  for (int i = 0; i < frames; ++i) {
+    camera->Azimuth(1.0);
+    d->widget->renderWindow()->Render();
+  }
+  d->window->WaitForCompletion();  // count the drawing, not only its submission
+  const double seconds = timer.nsecsElapsed() * 1e-9;
+  d->scene->SetInteracting(false);
+  camera->DeepCopy(saved);
+  this->render();
+  return seconds > 0 ? frames / seconds : 0;
+}

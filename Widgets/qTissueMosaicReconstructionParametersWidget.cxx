@@ -1,0 +1,454 @@
+#include "qTissueMosaicReconstructionParametersWidget.h"
+
+#include "qTissueMosaicStereoParametersWidget.h"
+#include "vtkTissueMosaicReconstructionLogic.h"
+
+#include "Core/Device.h"
+
+#include <vtkSmartPointer.h>
+
+#include <QComboBox>
+#include <QDir>
+#include <QDoubleSpinBox>
+#include <QFile>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QSpinBox>
+#include <QStandardItemModel>
+#include <QVBoxLayout>
+
+#include <opencv2/core/persistence.hpp>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <type_traits>
+#include <vector>
+
+static void initReconstructionPresetResources() { Q_INIT_RESOURCE(Presets); }
+
+namespace {
+
+using tissuemosaic::ReconstructionParameters;
+using Parameters = ReconstructionParameters;
+
+enum Group { Tracking, KeyFrames, Refinement, Fusion };
+
+/// One spin box per field outside the stereo panel. The spin-box range is wider than validate()'s, so that an
+/// out-of-range value reaches validate() and is refused with its message instead of being clamped silently.
+struct Field {
+  const char* key;  ///< the file key; the spin box is named key + "SpinBox"
+  const char* label;
+  Group group;
+  bool integer;
+  std::function<double(const Parameters&)> get;
+  std::function<void(Parameters&, double)> set;
+  double minimum, maximum, step;
+  int decimals;
+  const char* suffix;
+  const char* toolTip;
+};
+
+template <class T>
+T fromSpinBox(double value) {
+  if constexpr (std::is_integral_v<T>) return static_cast<T>(std::lround(value));
+  else return static_cast<T>(value);
+}
+
+#define TM_ACCESS(path)                                                                  \
+  [](const Parameters& p) { return static_cast<double>(p.path); },                     \
+      [](Parameters& p, double v) { p.path = fromSpinBox<std::decay_t<decltype(p.path)>>(v); }
+
+const std::vector<Field>& fields() {
+  static const std::vector<Field> table = {
+      {"inlierThresholdPx", "Inlier threshold H", Tracking, false, TM_ACCESS(tracking.inlierThresholdPx), 0, 1000, 0.5,
+       2, " px",
+       "DynamicR1PPnP (paper III.B): a match whose reprojection error is at most H pixels is an inlier; it is also "
+       "the knee of the re-weighting. Paper: 5 px."},
+      {"candidateEta", "Candidate factor eta", Tracking, false, TM_ACCESS(tracking.candidateEta), 0, 100, 0.1, 2, "",
+       "DynamicR1PPnP: a further candidate match enters when its error is below eta * H (eta > 1). Paper: 2."},
+      {"candidateRampIterations", "Candidate ramp T", Tracking, true, TM_ACCESS(tracking.candidateRampIterations), 0,
+       1000, 1, 0, " iterations",
+       "DynamicR1PPnP: a newly admitted candidate's weight ramps in over T iterations. Paper: 5."},
+      {"keyFramePoseThreshold", "Key frame threshold", KeyFrames, false, TM_ACCESS(tracking.keyFramePoseThreshold), 0,
+       1e6, 0.5, 2, "",
+       "Paper III.C: a new key frame when the pose difference ||dt|| (mm) + 20 min(||dE||, 2 pi - ||dE||) to the last "
+       "key frame exceeds this. Paper: 10 for most videos (3 to 5 for slow, close scans)."},
+      {"keyFrameMinGapFrames", "Key frame min gap", KeyFrames, true, TM_ACCESS(tracking.keyFrameMinGapFrames), -1,
+       100000, 1, 0, " frames", "Paper III.C: at least this many frames since the last key frame. Paper: 10."},
+      {"keyFrameMinInliers", "Key frame min inliers", KeyFrames, true, TM_ACCESS(tracking.keyFrameMinInliers), 0,
+       100000, 5, 0, "", "Paper III.C: a key frame needs at least this many DynamicR1PPnP inliers. Paper: 50."},
+      {"icpWeightFactor", "ICP weight factor", Refinement, false, TM_ACCESS(refinement.icpWeightFactor), -1, 1e6, 0.05,
+       3, "",
+       "Paper III.D: beta = factor * feature residuals / ICP points balances bundle adjustment against "
+       "point-to-plane ICP. Paper: 0.1."},
+      {"icpTukeyMm", "ICP Tukey constant", Refinement, false, TM_ACCESS(refinement.icpTukeyMm), 0, 1000, 0.5, 3, " mm",
+       "Paper III.D: point-to-plane residuals beyond this are outliers (Tukey's biweight)."},
+      {"maxMatchedKeyFrames", "Matched key frames", Refinement, true, TM_ACCESS(refinement.maxMatchedKeyFrames), -1,
+       1000, 1, 0, "", "Earlier key frames matched at most when refining a key frame (the most overlapping first)."},
+      {"truncationMm", "TSDF truncation", Fusion, false, TM_ACCESS(fusion.truncationMm), 0, 1000, 0.1, 3, " mm",
+       "Paper III.E: a measurement within this distance along the ray of a model point is merged into it (running "
+       "average); farther ones add new points."},
+      {"colourMinWeight", "Edge colour weight", Fusion, false, TM_ACCESS(fusion.colourMinWeight), 0, 1, 0.05, 3, "",
+       "Paper III.E: the colour weight falls from 1 in the image centre to this at the corners, so the model "
+       "takes colours from where the scope's light is even."},
+      {"newPointStepPx", "New point step", Fusion, true, TM_ACCESS(fusion.newPointStepPx), 0, 1000, 1, 0, " px",
+       "New model points at every k-th pixel in x and y (1: the video's full resolution, as the paper)."},
+      {"maxPoints", "Point budget", Fusion, true, TM_ACCESS(fusion.maxPoints), 0, 2000000000, 100000, 0, " points",
+       "New points are refused once the model holds this many (memory bound of a long scan)."},
+  };
+  return table;
+}
+
+#undef TM_ACCESS
+
+/// The parameters as YAML text: two objects are equal when their texts are.
+std::string canonicalText(const Parameters& p) {
+  cv::FileStorage storage(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  p.stereo.write(storage);
+  p.features.write(storage);
+  p.tracking.write(storage);
+  p.refinement.write(storage);
+  p.fusion.write(storage);
+  storage << "extractor" << static_cast<int>(p.extractor);
+  return storage.releaseAndGetString();
+}
+
+const char* const customPresetLabel = "(custom)";
+
+}  // namespace
+
+class qTissueMosaicReconstructionParametersWidgetPrivate {
+  Q_DECLARE_PUBLIC(qTissueMosaicReconstructionParametersWidget);
+
+public:
+  explicit qTissueMosaicReconstructionParametersWidgetPrivate(qTissueMosaicReconstructionParametersWidget& object)
+      : q_ptr(&object) {}
+  void setupUi();
+  void loadPresets();
+  void showError(const QString& message);
+  void selectMatchingPreset();
+  const Parameters& current() const { return logic ? logic->GetParameters() : ownParameters; }
+  bool store(const Parameters& parameters);
+
+  qTissueMosaicReconstructionParametersWidget* const q_ptr;
+  Parameters ownParameters;
+  int ownDeviceChoice = vtkTissueMosaicReconstructionLogic::DeviceAuto;
+  vtkSmartPointer<vtkTissueMosaicReconstructionLogic> logic;
+  qTissueMosaicStereoParametersWidget* stereoPanel = nullptr;
+  std::vector<QAbstractSpinBox*> spinBoxes;  ///< parallel to fields()
+  std::map<QString, Parameters> presets;
+  QComboBox* presetComboBox = nullptr;
+  QComboBox* deviceComboBox = nullptr;
+  QLabel* errorLabel = nullptr;
+};
+
+void qTissueMosaicReconstructionParametersWidgetPrivate::setupUi() {
+  Q_Q(qTissueMosaicReconstructionParametersWidget);
+  auto* layout = new QVBoxLayout(q);
+  layout->setContentsMargins(0, 0, 0, 0);
+
+  auto* presetRow = new QHBoxLayout();
+  presetRow->addWidget(new QLabel(QObject::tr("Preset:"), q));
+  presetComboBox = new QComboBox(q);
+  presetComboBox->setObjectName("reconstructionPresetComboBox");
+  presetComboBox->setToolTip(QObject::tr("Replace all values with a preset from Resources/Presets."));
+  presetRow->addWidget(presetComboBox, 1);
+  auto* loadButton = new QPushButton(QObject::tr("Load..."), q);
+  loadButton->setObjectName("reconstructionLoadButton");
+  loadButton->setToolTip(QObject::tr("Read a YAML/XML parameter file (nodes stereo, features, tracking, refinement, "
+                                     "fusion; missing keys keep the defaults)."));
+  auto* saveButton = new QPushButton(QObject::tr("Save..."), q);
+  saveButton->setObjectName("reconstructionSaveButton");
+  saveButton->setToolTip(QObject::tr("Write every parameter to a YAML file (for `tissuemosaic reconstruct --params`)."));
+  presetRow->addWidget(loadButton);
+  presetRow->addWidget(saveButton);
+  layout->addLayout(presetRow);
+
+  auto* deviceRow = new QHBoxLayout();
+  deviceRow->addWidget(new QLabel(QObject::tr("Device:"), q));
+  deviceComboBox = new QComboBox(q);
+  deviceComboBox->setObjectName("deviceComboBox");
+  deviceComboBox->addItem(QObject::tr("Auto (CUDA when available)"), vtkTissueMosaicReconstructionLogic::DeviceAuto);
+  deviceComboBox->addItem(QObject::tr("CPU"), vtkTissueMosaicReconstructionLogic::DeviceCpu);
+  deviceComboBox->addItem(QObject::tr("CUDA GPU"), vtkTissueMosaicReconstructionLogic::DeviceCuda);
+  deviceComboBox->setToolTip(QObject::tr("Where the per-pixel stages run. The same algorithm runs on both; the GPU "
+                                         "gives the paper's real-time speed."));
+  if (!tissuemosaic::cudaAvailable()) {
+    // Refuse CUDA where there is none, and say why, instead of failing at start.
+    auto* model = qobject_cast<QStandardItemModel*>(deviceComboBox->model());
+    QStandardItem* cuda = model->item(2);
+    cuda->setEnabled(false);
+    cuda->setToolTip(QString::fromStdString(tissuemosaic::cudaUnavailableReason()));
+  }
+  deviceRow->addWidget(deviceComboBox, 1);
+  layout->addLayout(deviceRow);
+
+  auto* stereoBox = new QGroupBox(QObject::tr("Stereo matching (paper II)"), q);
+  auto* stereoLayout = new QVBoxLayout(stereoBox);
+  stereoLayout->setContentsMargins(2, 2, 2, 2);
+  stereoPanel = new qTissueMosaicStereoParametersWidget(stereoBox);
+  stereoPanel->setObjectName("stereoParametersPanel");
+  stereoPanel->setPresetControlsVisible(false);
+  stereoLayout->addWidget(stereoPanel);
+  layout->addWidget(stereoBox);
+
+  const char* const groupTitles[] = {"Camera tracking (III.A-B)", "Key frames (III.C)", "Key-frame refinement (III.D)",
+                                     "Fusion (III.E)"};
+  QFormLayout* forms[4];
+  for (int group = 0; group < 4; ++group) {
+    auto* box = new QGroupBox(QObject::tr(groupTitles[group]), q);
+    forms[group] = new QFormLayout(box);
+    layout->addWidget(box);
+  }
+  for (const Field& field : fields()) {
+    QAbstractSpinBox* box;
+    if (field.integer) {
+      auto* spinBox = new QSpinBox(q);
+      spinBox->setRange(static_cast<int>(field.minimum), static_cast<int>(field.maximum));
+      spinBox->setSingleStep(static_cast<int>(field.step));
+      spinBox->setSuffix(field.suffix);
+      QObject::connect(spinBox, QOverload<int>::of(&QSpinBox::valueChanged), q,
+                       &qTissueMosaicReconstructionParametersWidget::updateParametersFromGUI);
+      box = spinBox;
+    } else {
+      auto* spinBox = new QDoubleSpinBox(q);
+      spinBox->setDecimals(field.decimals);
+      spinBox->setRange(field.minimum, field.maximum);
+      spinBox->setSingleStep(field.step);
+      spinBox->setSuffix(field.suffix);
+      QObject::connect(spinBox, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
+                       &qTissueMosaicReconstructionParametersWidget::updateParametersFromGUI);
+      box = spinBox;
+    }
+    box->setObjectName(QString(field.key) + "SpinBox");
+    box->setToolTip(QObject::tr(field.toolTip));
+    forms[field.group]->addRow(QObject::tr(field.label), box);
+    spinBoxes.push_back(box);
+  }
+
+  errorLabel = new QLabel(q);
+  errorLabel->setObjectName("reconstructionErrorLabel");
+  errorLabel->setWordWrap(true);
+  errorLabel->setStyleSheet("QLabel { color: #c00000; font-weight: bold; }");
+  errorLabel->hide();
+  layout->addWidget(errorLabel);
+  layout->addStretch(1);
+
+  QObject::connect(stereoPanel, &qTissueMosaicStereoParametersWidget::parametersChanged, q,
+                   &qTissueMosaicReconstructionParametersWidget::updateParametersFromGUI);
+  QObject::connect(deviceComboBox, QOverload<int>::of(&QComboBox::activated), q, [this](int index) {
+    Q_Q(qTissueMosaicReconstructionParametersWidget);
+    q->setDeviceChoice(deviceComboBox->itemData(index).toInt());
+  });
+  QObject::connect(presetComboBox, QOverload<int>::of(&QComboBox::activated), q, [this](int index) {
+    Q_Q(qTissueMosaicReconstructionParametersWidget);
+    q->applyPreset(presetComboBox->itemText(index));
+  });
+  QObject::connect(loadButton, &QPushButton::clicked, q, [q] {
+    const QString path = QFileDialog::getOpenFileName(q, QObject::tr("Load reconstruction parameters"), QString(),
+                                                      QObject::tr("Parameter files (*.yml *.yaml *.xml)"));
+    if (!path.isEmpty()) q->loadParametersFile(path);
+  });
+  QObject::connect(saveButton, &QPushButton::clicked, q, [q] {
+    const QString path = QFileDialog::getSaveFileName(q, QObject::tr("Save reconstruction parameters"), QString(),
+                                                      QObject::tr("Parameter files (*.yml *.yaml *.xml)"));
+    if (!path.isEmpty()) q->saveParametersFile(path);
+  });
+}
+
+void qTissueMosaicReconstructionParametersWidgetPrivate::loadPresets() {
+  initReconstructionPresetResources();
+  const QDir directory(":/Presets");
+  for (const QFileInfo& file : directory.entryInfoList({"*.yml"}, QDir::Files, QDir::Name)) {
+    QFile resource(file.absoluteFilePath());
+    Parameters parameters;
+    std::string errorText;
+    if (!resource.open(QIODevice::ReadOnly) ||
+        !vtkTissueMosaicReconstructionLogic::ParseReconstructionParameters(resource.readAll().toStdString(),
+                                                                           parameters, errorText)) {
+      qWarning("reconstruction preset %s is unusable: %s", qPrintable(file.fileName()), errorText.c_str());
+      continue;
+    }
+    presets[file.completeBaseName().replace('-', ' ')] = parameters;
+  }
+  presetComboBox->addItem(customPresetLabel);
+  if (presets.count("paper defaults")) presetComboBox->addItem("paper defaults");
+  for (const auto& preset : presets) {
+    if (preset.first != "paper defaults") presetComboBox->addItem(preset.first);
+  }
+}
+
+void qTissueMosaicReconstructionParametersWidgetPrivate::showError(const QString& message) {
+  errorLabel->setText(message);
+  errorLabel->setVisible(!message.isEmpty());
+}
+
+void qTissueMosaicReconstructionParametersWidgetPrivate::selectMatchingPreset() {
+  const QSignalBlocker blocker(presetComboBox);
+  const std::string now = canonicalText(current());
+  int index = 0;
+  for (const auto& preset : presets) {
+    if (canonicalText(preset.second) == now) index = presetComboBox->findText(preset.first);
+  }
+  presetComboBox->setCurrentIndex(index);
+}
+
+bool qTissueMosaicReconstructionParametersWidgetPrivate::store(const Parameters& parameters) {
+  try {
+    parameters.validate();
+  } catch (const std::exception& error) {
+    showError(QObject::tr("Not applied: %1").arg(QString::fromStdString(error.what())));
+    return false;
+  }
+  if (logic) {
+    if (!logic->SetParameters(parameters)) {
+      showError(QObject::tr("Not applied: %1").arg(QString::fromStdString(logic->GetLastErrorText())));
+      return false;
+    }
+  } else {
+    ownParameters = parameters;
+  }
+  showError(QString());
+  return true;
+}
+
+qTissueMosaicReconstructionParametersWidget::qTissueMosaicReconstructionParametersWidget(QWidget* parent)
+    : QWidget(parent), d_ptr(new qTissueMosaicReconstructionParametersWidgetPrivate(*this)) {
+  Q_D(qTissueMosaicReconstructionParametersWidget);
+  d->setupUi();
+  d->loadPresets();
+  updateGUIFromParameters();
+}
+
+qTissueMosaicReconstructionParametersWidget::~qTissueMosaicReconstructionParametersWidget() = default;
+
+ReconstructionParameters qTissueMosaicReconstructionParametersWidget::parameters() const {
+  Q_D(const qTissueMosaicReconstructionParametersWidget);
+  return d->current();
+}
+
+bool qTissueMosaicReconstructionParametersWidget::setParameters(const ReconstructionParameters& parameters) {
+  Q_D(qTissueMosaicReconstructionParametersWidget);
+  if (!d->store(parameters)) return false;
+  updateGUIFromParameters();
+  return true;
+}
+
+void qTissueMosaicReconstructionParametersWidget::setReconstructionLogic(vtkTissueMosaicReconstructionLogic* logic) {
+  Q_D(qTissueMosaicReconstructionParametersWidget);
+  d->logic = logic;
+  updateGUIFromParameters();
+}
+
+vtkTissueMosaicReconstructionLogic* qTissueMosaicReconstructionParametersWidget::reconstructionLogic() const {
+  Q_D(const qTissueMosaicReconstructionParametersWidget);
+  return d->logic;
+}
+
+int qTissueMosaicReconstructionParametersWidget::deviceChoice() const {
+  Q_D(const qTissueMosaicReconstructionParametersWidget);
+  return d->logic ? d->logic->GetDeviceChoice() : d->ownDeviceChoice;
+}
+
+void qTissueMosaicReconstructionParametersWidget::setDeviceChoice(int choice) {
+  Q_D(qTissueMosaicReconstructionParametersWidget);
+  if (d->logic) d->logic->SetDeviceChoice(choice);
+  else d->ownDeviceChoice = choice;
+  const QSignalBlocker blocker(d->deviceComboBox);
+  d->deviceComboBox->setCurrentIndex(d->deviceComboBox->findData(deviceChoice()));
+}
+
+QStringList qTissueMosaicReconstructionParametersWidget::presetNames() const {
+  Q_D(const qTissueMosaicReconstructionParametersWidget);
+  QStringList names;
+  for (int i = 1; i < d->presetComboBox->count(); ++i) names << d->presetComboBox->itemText(i);
+  return names;
+}
+
+QString qTissueMosaicReconstructionParametersWidget::errorText() const {
+  Q_D(const qTissueMosaicReconstructionParametersWidget);
+  return d->errorLabel->text().isEmpty() ? d->stereoPanel->errorText() : d->errorLabel->text();
+}
+
+qTissueMosaicStereoParametersWidget* qTissueMosaicReconstructionParametersWidget::stereoPanel() const {
+  Q_D(const qTissueMosaicReconstructionParametersWidget);
+  return d->stereoPanel;
+}
+
+void qTissueMosaicReconstructionParametersWidget::updateGUIFromParameters() {
+  Q_D(qTissueMosaicReconstructionParametersWidget);
+  const Parameters& parameters = d->current();
+  d->stereoPanel->setParameters(parameters.stereo);
+  for (std::size_t i = 0; i < d->spinBoxes.size(); ++i) {
+    const QSignalBlocker blocker(d->spinBoxes[i]);
+    const double value = fields()[i].get(parameters);
+    if (auto* spinBox = qobject_cast<QSpinBox*>(d->spinBoxes[i])) spinBox->setValue(static_cast<int>(value));
+    else qobject_cast<QDoubleSpinBox*>(d->spinBoxes[i])->setValue(value);
+  }
+  {
+    const QSignalBlocker blocker(d->deviceComboBox);
+    d->deviceComboBox->setCurrentIndex(d->deviceComboBox->findData(deviceChoice()));
+  }
+  d->showError(QString());
+  d->selectMatchingPreset();
+}
+
+bool qTissueMosaicReconstructionParametersWidget::updateParametersFromGUI() {
+  Q_D(qTissueMosaicReconstructionParametersWidget);
+  Parameters parameters = d->current();
+  parameters.stereo = d->stereoPanel->parameters();
+  for (std::size_t i = 0; i < d->spinBoxes.size(); ++i) {
+    auto* integerBox = qobject_cast<QSpinBox*>(d->spinBoxes[i]);
+    const double value =
+        integerBox ? integerBox->value() : qobject_cast<QDoubleSpinBox*>(d->spinBoxes[i])->value();
+    fields()[i].set(parameters, value);
+  }
+  if (!d->store(parameters)) return false;
+  d->selectMatchingPreset();
+  emit parametersChanged();
+  return true;
+}
+
+bool qTissueMosaicReconstructionParametersWidget::applyPreset(const QString& name) {
+  Q_D(qTissueMosaicReconstructionParametersWidget);
+  const auto preset = d->presets.find(name);
+  if (preset == d->presets.end()) {
+    if (name != customPresetLabel) d->showError(tr("Unknown preset '%1'").arg(name));
+    return false;
+  }
+  if (!setParameters(preset->second)) return false;
+  emit parametersChanged();
+  return true;
+}
+
+bool qTissueMosaicReconstructionParametersWidget::loadParametersFile(const QString& path) {
+  Q_D(qTissueMosaicReconstructionParametersWidget);
+  Parameters parameters;
+  std::string errorText;
+  if (!vtkTissueMosaicReconstructionLogic::ReadReconstructionParametersFile(path.toStdString(), parameters,
+                                                                            errorText)) {
+    d->showError(tr("Not loaded: %1").arg(QString::fromStdString(errorText)));
+    return false;
+  }
+  if (!setParameters(parameters)) return false;
+  emit parametersChanged();
+  return true;
+}
+
+bool qTissueMosaicReconstructionParametersWidget::saveParametersFile(const QString& path) {
+  Q_D(qTissueMosaicReconstructionParametersWidget);
+  std::string errorText;
+  if (!vtkTissueMosaicReconstructionLogic::WriteReconstructionParametersFile(path.toStdString(), d->current(),
+                                                                             errorText)) {
+    d->showError(tr("Not saved: %1").arg(QString::fromStdString(errorText)));
+    return false;
+  }
+  return true;
+}

@@ -1,0 +1,434 @@
+#include "qTissueMosaicReconstructionWidget.h"
+
+#include "qTissueMosaicReconstructionParametersWidget.h"
+#include "vtkTissueMosaicReconstructionLogic.h"
+
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+
+#include <QCheckBox>
+#include <QDir>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QGridLayout>
+#include <QGroupBox>
+#include <QHeaderView>
+#include <QLabel>
+#include <QPushButton>
+#include <QTableWidget>
+#include <QTimer>
+#include <QVBoxLayout>
+
+#include <map>
+
+namespace {
+
+/// The paper's wording (Table "Average Runtime of 3D Reconstruction") for TimingTable's stage keys.
+QString stageLabel(const std::string& key) {
+  static const std::map<std::string, const char*> labels = {
+      {"video_reading", "video reading"},   {"stereo", "stereo matching"},
+      {"orb_voting", "ORB + voting"},       {"dynamic_r1ppnp", "DynamicR1PPnP"},
+      {"refinement", "refinement"},         {"tsdf", "TSDF"},
+      {"total", "total"}};
+  const auto label = labels.find(key);
+  return label != labels.end() ? QObject::tr(label->second) : QString::fromStdString(key);
+}
+
+QPushButton* button(const QString& text, const char* name, const QString& toolTip, QWidget* parent) {
+  auto* pushButton = new QPushButton(text, parent);
+  pushButton->setObjectName(name);
+  pushButton->setToolTip(toolTip);
+  return pushButton;
+}
+
+}  // namespace
+
+class qTissueMosaicReconstructionWidgetPrivate {
+  Q_DECLARE_PUBLIC(qTissueMosaicReconstructionWidget);
+
+public:
+  explicit qTissueMosaicReconstructionWidgetPrivate(qTissueMosaicReconstructionWidget& object) : q_ptr(&object) {}
+  void setupUi();
+  void updateControls();
+  void updateTimingTable();
+  void show(const QString& text, bool error);
+  /// Runs a logic call that can fail; shows its error text, or `success` when it worked.
+  bool report(bool ok, const QString& success);
+
+  qTissueMosaicReconstructionWidget* const q_ptr;
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  qTissueMosaicReconstructionParametersWidget* parameters = nullptr;
+  QTableWidget* timing = nullptr;
+  QLabel* inputLabel = nullptr;
+  QLabel* stateLabel = nullptr;
+  QLabel* messageLabel = nullptr;
+  QGroupBox* parametersBox = nullptr;
+  QCheckBox* rectifiedCheckBox = nullptr;
+  QPushButton *startButton = nullptr, *pauseButton = nullptr, *stopButton = nullptr, *resetButton = nullptr;
+  QPushButton *exportModelButton = nullptr, *exportTrajectoryButton = nullptr;
+  QTimer pollTimer;
+  int lastState = -1;
+  int pollsSinceTiming = 0;
+  QString lastMessage;
+};
+
+void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
+  Q_Q(qTissueMosaicReconstructionWidget);
+  auto* layout = new QVBoxLayout(q);
+
+  auto* inputBox = new QGroupBox(QObject::tr("Input"), q);
+  auto* inputLayout = new QGridLayout(inputBox);
+  auto* demoButton = button(QObject::tr("Open demo"), "openDemoButton",
+                            QObject::tr("A synthetic stereo-endoscope scan of liver-like tissue with its calibration "
+                                        "(generated in a temporary folder): press Start to reconstruct it."),
+                            q);
+  demoButton->setStyleSheet("QPushButton { font-weight: bold; }");
+  auto* foldersButton = button(QObject::tr("Frame folders..."), "openFoldersButton",
+                               QObject::tr("Two folders of frames (left, right), paired in file-name order. Choosing a "
+                                           "folder that holds left/ and right/ (and rig.yml) opens them all."),
+                               q);
+  auto* videoButton = button(QObject::tr("Two videos..."), "openVideoPairButton",
+                             QObject::tr("A left and a right video file, read in lock step."), q);
+  auto* sideBySideButton = button(QObject::tr("Side-by-side video..."), "openSideBySideButton",
+                                  QObject::tr("One video with the left eye in the left half of each frame."), q);
+  auto* calibrationButton = button(QObject::tr("Calibration..."), "loadCalibrationButton",
+                                   QObject::tr("OpenCV stereo calibration (YAML/XML: K1 D1 K2 D2 R T imageSize) of "
+                                               "the raw rig; frames are rectified with it."),
+                                   q);
+  rectifiedCheckBox = new QCheckBox(QObject::tr("Frames are already rectified"), q);
+  rectifiedCheckBox->setObjectName("rectifiedCheckBox");
+  rectifiedCheckBox->setToolTip(QObject::tr("Tick when the frames were rectified with this calibration already (as "
+                                            "`tissuemosaic synth scan` writes them)."));
+  inputLabel = new QLabel(q);
+  inputLabel->setObjectName("inputLabel");
+  inputLabel->setWordWrap(true);
+  inputLayout->addWidget(demoButton, 0, 0);
+  inputLayout->addWidget(foldersButton, 0, 1);
+  inputLayout->addWidget(videoButton, 1, 0);
+  inputLayout->addWidget(sideBySideButton, 1, 1);
+  inputLayout->addWidget(calibrationButton, 2, 0);
+  inputLayout->addWidget(rectifiedCheckBox, 2, 1);
+  inputLayout->addWidget(inputLabel, 3, 0, 1, 2);
+  layout->addWidget(inputBox);
+
+  auto* scanBox = new QGroupBox(QObject::tr("Scan"), q);
+  auto* scanLayout = new QGridLayout(scanBox);
+  startButton = button(QObject::tr("Start"), "startButton", QObject::tr("Start the reconstruction, or resume it"), q);
+  pauseButton = button(QObject::tr("Pause"), "pauseButton", QObject::tr("Pause after the current frame"), q);
+  stopButton = button(QObject::tr("Stop"), "stopButton",
+                      QObject::tr("End the scan after the current frame; the model stays for export"), q);
+  resetButton = button(QObject::tr("Reset"), "resetButton",
+                       QObject::tr("Drop the model and the poses; the next start begins at the first frame"), q);
+  startButton->setStyleSheet("QPushButton:enabled { background-color: #2e7d32; color: white; font-weight: bold; }");
+  scanLayout->addWidget(startButton, 0, 0);
+  scanLayout->addWidget(pauseButton, 0, 1);
+  scanLayout->addWidget(stopButton, 0, 2);
+  scanLayout->addWidget(resetButton, 0, 3);
+  stateLabel = new QLabel(q);
+  stateLabel->setObjectName("stateLabel");
+  stateLabel->setWordWrap(true);
+  scanLayout->addWidget(stateLabel, 1, 0, 1, 4);
+  layout->addWidget(scanBox);
+
+  auto* exportBox = new QGroupBox(QObject::tr("Export"), q);
+  auto* exportLayout = new QGridLayout(exportBox);
+  exportModelButton = button(QObject::tr("Model..."), "exportModelButton",
+                             QObject::tr("The fused model as .ply (xyz, rgb, normals) or .vtp (for 3D Slicer); "
+                                         "world frame = first left rectified camera, mm"),
+                             q);
+  exportTrajectoryButton = button(QObject::tr("Trajectory..."), "exportTrajectoryButton",
+                                  QObject::tr("The camera path as TUM text (t tx ty tz qx qy qz qw, mm)"), q);
+  auto* screenshotButton = button(QObject::tr("Screenshot..."), "screenshotButton",
+                                  QObject::tr("A PNG picture of the whole window"), q);
+  exportLayout->addWidget(exportModelButton, 0, 0);
+  exportLayout->addWidget(exportTrajectoryButton, 0, 1);
+  exportLayout->addWidget(screenshotButton, 0, 2);
+  layout->addWidget(exportBox);
+
+  messageLabel = new QLabel(q);
+  messageLabel->setObjectName("messageLabel");
+  messageLabel->setWordWrap(true);
+  messageLabel->hide();
+  layout->addWidget(messageLabel);
+
+  auto* timingBox = new QGroupBox(QObject::tr("Runtime per frame (ms)"), q);
+  auto* timingLayout = new QVBoxLayout(timingBox);
+  timing = new QTableWidget(q);
+  timing->setObjectName("timingTable");
+  timing->setColumnCount(4);
+  timing->setHorizontalHeaderLabels(
+      {QObject::tr("last"), QObject::tr("key med."), QObject::tr("key mean"), QObject::tr("other med.")});
+  timing->horizontalHeaderItem(0)->setToolTip(QObject::tr("The last frame"));
+  timing->horizontalHeaderItem(1)->setToolTip(QObject::tr("Median over the key frames"));
+  timing->horizontalHeaderItem(2)->setToolTip(QObject::tr("Mean over the key frames, as the paper's runtime table"));
+  timing->horizontalHeaderItem(3)->setToolTip(QObject::tr("Median over the other frames (no refinement, no fusion)"));
+  timing->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  timing->setSelectionMode(QAbstractItemView::NoSelection);
+  timing->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
+  timing->verticalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  timing->setVerticalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+  timingLayout->addWidget(timing);
+  layout->addWidget(timingBox);
+
+  parametersBox = new QGroupBox(QObject::tr("Parameters"), q);
+  auto* parametersLayout = new QVBoxLayout(parametersBox);
+  parameters = new qTissueMosaicReconstructionParametersWidget(q);
+  parameters->setObjectName("reconstructionParametersPanel");
+  parameters->setReconstructionLogic(logic);
+  parametersLayout->addWidget(parameters);
+  layout->addWidget(parametersBox);
+  layout->addStretch(1);
+
+  QObject::connect(demoButton, &QPushButton::clicked, q, &qTissueMosaicReconstructionWidget::demoRequested);
+  QObject::connect(screenshotButton, &QPushButton::clicked, q, &qTissueMosaicReconstructionWidget::screenshotRequested);
+  QObject::connect(startButton, &QPushButton::clicked, q, &qTissueMosaicReconstructionWidget::start);
+  QObject::connect(pauseButton, &QPushButton::clicked, q, &qTissueMosaicReconstructionWidget::pause);
+  QObject::connect(stopButton, &QPushButton::clicked, q, &qTissueMosaicReconstructionWidget::stop);
+  QObject::connect(resetButton, &QPushButton::clicked, q, &qTissueMosaicReconstructionWidget::reset);
+  QObject::connect(rectifiedCheckBox, &QCheckBox::toggled, q, &qTissueMosaicReconstructionWidget::setInputRectified);
+  QObject::connect(foldersButton, &QPushButton::clicked, q, [q] {
+    const QString left = QFileDialog::getExistingDirectory(q, QObject::tr("Left frames (or a folder with left/ and right/)"));
+    if (left.isEmpty()) return;
+    const QDir chosen(left);
+    if (chosen.exists("left") && chosen.exists("right")) {
+      if (chosen.exists("rig.yml")) q->loadCalibration(chosen.filePath("rig.yml"));
+      q->openFrameFolders(chosen.filePath("left"), chosen.filePath("right"));
+      return;
+    }
+    const QString right = QFileDialog::getExistingDirectory(q, QObject::tr("Right frames"), left);
+    if (!right.isEmpty()) q->openFrameFolders(left, right);
+  });
+  QObject::connect(videoButton, &QPushButton::clicked, q, [q] {
+    const QString filter = QObject::tr("Videos (*.mp4 *.avi *.mkv *.mov *.mpg);;All files (*)");
+    const QString left = QFileDialog::getOpenFileName(q, QObject::tr("Left video"), QString(), filter);
+    if (left.isEmpty()) return;
+    const QString right = QFileDialog::getOpenFileName(q, QObject::tr("Right video"), QFileInfo(left).path(), filter);
+    if (!right.isEmpty()) q->openVideoPair(left, right);
+  });
+  QObject::connect(sideBySideButton, &QPushButton::clicked, q, [q] {
+    const QString video = QFileDialog::getOpenFileName(q, QObject::tr("Side-by-side video"), QString(),
+                                                       QObject::tr("Videos (*.mp4 *.avi *.mkv *.mov *.mpg);;All files (*)"));
+    if (!video.isEmpty()) q->openSideBySideVideo(video);
+  });
+  QObject::connect(calibrationButton, &QPushButton::clicked, q, [q] {
+    const QString path = QFileDialog::getOpenFileName(q, QObject::tr("Stereo calibration"), QString(),
+                                                      QObject::tr("Calibration (*.yml *.yaml *.xml);;All files (*)"));
+    if (!path.isEmpty()) q->loadCalibration(path);
+  });
+  QObject::connect(exportModelButton, &QPushButton::clicked, q, [q] {
+    const QString path = QFileDialog::getSaveFileName(q, QObject::tr("Export model"), "model.ply",
+                                                      QObject::tr("PLY (*.ply);;VTK XML PolyData for Slicer (*.vtp)"));
+    if (!path.isEmpty()) q->exportModel(path);
+  });
+  QObject::connect(exportTrajectoryButton, &QPushButton::clicked, q, [q] {
+    const QString path = QFileDialog::getSaveFileName(q, QObject::tr("Export trajectory"), "trajectory.txt",
+                                                      QObject::tr("TUM trajectory (*.txt)"));
+    if (!path.isEmpty()) q->exportTrajectory(path);
+  });
+  QObject::connect(&pollTimer, &QTimer::timeout, q, &qTissueMosaicReconstructionWidget::updateFromLogic);
+}
+
+void qTissueMosaicReconstructionWidgetPrivate::show(const QString& text, bool error) {
+  Q_Q(qTissueMosaicReconstructionWidget);
+  lastMessage = text;
+  messageLabel->setText(text);
+  messageLabel->setStyleSheet(error ? "QLabel { color: #c00000; font-weight: bold; }" : "QLabel { color: #2e7d32; }");
+  messageLabel->setVisible(!text.isEmpty());
+  if (!text.isEmpty()) emit q->message(text, error);
+}
+
+bool qTissueMosaicReconstructionWidgetPrivate::report(bool ok, const QString& success) {
+  if (ok) show(success, false);
+  else show(QString::fromStdString(logic->GetLastErrorText()), true);
+  updateControls();
+  return ok;
+}
+
+void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
+  using Logic = vtkTissueMosaicReconstructionLogic;
+  const int state = logic->GetScanState();
+  const bool ready = logic->HasInput() && logic->HasCalibration();
+  startButton->setEnabled(ready && (state == Logic::StateIdle || state == Logic::StatePaused));
+  startButton->setText(state == Logic::StatePaused ? QObject::tr("Resume") : QObject::tr("Start"));
+  pauseButton->setEnabled(state == Logic::StateRunning);
+  stopButton->setEnabled(state == Logic::StateRunning || state == Logic::StatePaused);
+  resetButton->setEnabled(state != Logic::StateIdle);
+  const bool hasModel = logic->GetModel()->GetNumberOfPoints() > 0;
+  exportModelButton->setEnabled(hasModel);
+  exportTrajectoryButton->setEnabled(logic->GetStatus().framesProcessed > 0);
+  parameters->setEnabled(logic->CanChangeParameters());
+  parametersBox->setTitle(logic->CanChangeParameters() ? QObject::tr("Parameters")
+                                                       : QObject::tr("Parameters (fixed during the scan: Reset to edit)"));
+  parameters->setToolTip(logic->CanChangeParameters() ? QString()
+                                                      : QObject::tr("Parameters are fixed during a scan: reset first"));
+  {
+    const QSignalBlocker blocker(rectifiedCheckBox);
+    rectifiedCheckBox->setChecked(logic->GetInputRectified());
+  }
+
+  QString input = logic->HasInput() ? QString::fromStdString(logic->GetInputDescription()) : QObject::tr("no input");
+  if (logic->HasInput() && logic->GetInputFrameCount() > 0) {
+    input += QObject::tr(" (%1 frames)").arg(logic->GetInputFrameCount());
+  }
+  input += logic->HasCalibration() ? QObject::tr("; calibrated") : QObject::tr("; no calibration");
+  inputLabel->setText(input);
+  stateLabel->setText(QString::fromStdString(logic->GetTrackingStateText()));
+}
+
+void qTissueMosaicReconstructionWidgetPrivate::updateTimingTable() {
+  const auto rows = logic->GetTimingTable();
+  timing->setRowCount(static_cast<int>(rows.size()));
+  for (int r = 0; r < static_cast<int>(rows.size()); ++r) {
+    auto* header = timing->verticalHeaderItem(r);
+    if (!header) timing->setVerticalHeaderItem(r, header = new QTableWidgetItem);
+    header->setText(stageLabel(rows[r].stage));
+    const double values[4] = {rows[r].lastMs, rows[r].keyFrameMedianMs, rows[r].keyFrameMeanMs,
+                              rows[r].otherFrameMedianMs};
+    for (int c = 0; c < 4; ++c) {
+      auto* item = timing->item(r, c);
+      if (!item) {
+        timing->setItem(r, c, item = new QTableWidgetItem);
+        item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+      }
+      item->setText(QString::number(values[c], 'f', 1));
+    }
+  }
+  int height = timing->horizontalHeader()->height() + 4;
+  for (int r = 0; r < timing->rowCount(); ++r) height += timing->rowHeight(r);
+  timing->setFixedHeight(height);
+}
+
+qTissueMosaicReconstructionWidget::qTissueMosaicReconstructionWidget(QWidget* parent)
+    : QWidget(parent), d_ptr(new qTissueMosaicReconstructionWidgetPrivate(*this)) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  d->setupUi();
+  d->updateTimingTable();
+  d->updateControls();
+  d->pollTimer.start(33);
+}
+
+qTissueMosaicReconstructionWidget::~qTissueMosaicReconstructionWidget() = default;
+
+vtkTissueMosaicReconstructionLogic* qTissueMosaicReconstructionWidget::reconstructionLogic() const {
+  Q_D(const qTissueMosaicReconstructionWidget);
+  return d->logic;
+}
+
+qTissueMosaicReconstructionParametersWidget* qTissueMosaicReconstructionWidget::parametersPanel() const {
+  Q_D(const qTissueMosaicReconstructionWidget);
+  return d->parameters;
+}
+
+QTableWidget* qTissueMosaicReconstructionWidget::timingTable() const {
+  Q_D(const qTissueMosaicReconstructionWidget);
+  return d->timing;
+}
+
+QString qTissueMosaicReconstructionWidget::lastMessage() const {
+  Q_D(const qTissueMosaicReconstructionWidget);
+  return d->lastMessage;
+}
+
+void qTissueMosaicReconstructionWidget::setPollingIntervalMs(int intervalMs) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  d->pollTimer.start(intervalMs);
+}
+
+bool qTissueMosaicReconstructionWidget::openFrameFolders(const QString& leftFolder, const QString& rightFolder,
+                                                         double fps) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  const bool ok = d->logic->OpenFrameFolders(leftFolder.toStdString(), rightFolder.toStdString(), fps);
+  emit outputsUpdated();
+  return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())));
+}
+
+bool qTissueMosaicReconstructionWidget::openVideoPair(const QString& leftVideo, const QString& rightVideo) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  const bool ok = d->logic->OpenVideoPair(leftVideo.toStdString(), rightVideo.toStdString());
+  emit outputsUpdated();
+  return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())));
+}
+
+bool qTissueMosaicReconstructionWidget::openSideBySideVideo(const QString& video) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  const bool ok = d->logic->OpenSideBySideVideo(video.toStdString());
+  emit outputsUpdated();
+  return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())));
+}
+
+bool qTissueMosaicReconstructionWidget::loadCalibration(const QString& path) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  const bool ok = d->logic->LoadCalibration(path.toStdString());
+  emit outputsUpdated();
+  return d->report(ok, tr("Calibration %1 loaded").arg(QFileInfo(path).fileName()));
+}
+
+void qTissueMosaicReconstructionWidget::setInputRectified(bool rectified) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  d->logic->SetInputRectified(rectified);
+  emit outputsUpdated();
+  d->updateControls();
+}
+
+bool qTissueMosaicReconstructionWidget::start() {
+  Q_D(qTissueMosaicReconstructionWidget);
+  const bool ok = d->logic->Start();
+  return d->report(ok, QString());
+}
+
+void qTissueMosaicReconstructionWidget::pause() {
+  Q_D(qTissueMosaicReconstructionWidget);
+  d->logic->Pause();
+  d->updateControls();
+}
+
+void qTissueMosaicReconstructionWidget::stop() {
+  Q_D(qTissueMosaicReconstructionWidget);
+  d->logic->Stop();
+  d->updateControls();
+}
+
+void qTissueMosaicReconstructionWidget::reset() {
+  Q_D(qTissueMosaicReconstructionWidget);
+  d->logic->Reset();
+  d->show(QString(), false);
+  d->updateTimingTable();
+  d->updateControls();
+  emit outputsUpdated();
+}
+
+bool qTissueMosaicReconstructionWidget::exportModel(const QString& path) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  const bool ok = d->logic->ExportModel(path.toStdString());
+  return d->report(ok, tr("Model written to %1").arg(path));
+}
+
+bool qTissueMosaicReconstructionWidget::exportTrajectory(const QString& path) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  const bool ok = d->logic->ExportTrajectory(path.toStdString());
+  return d->report(ok, tr("Trajectory written to %1").arg(path));
+}
+
+bool qTissueMosaicReconstructionWidget::updateFromLogic() {
+  Q_D(qTissueMosaicReconstructionWidget);
+  const bool changed = d->logic->UpdateOutputs();
+  const int state = d->logic->GetScanState();
+  if (changed) {
+    // The table is for reading, not for watching every frame: a few updates per second are plenty.
+    if (++d->pollsSinceTiming >= 8 || state != vtkTissueMosaicReconstructionLogic::StateRunning) {
+      d->pollsSinceTiming = 0;
+      d->updateTimingTable();
+    }
+    d->updateControls();
+    emit outputsUpdated();
+  }
+  if (state != d->lastState) {
+    d->lastState = state;
+    d->updateControls();
+    if (state == vtkTissueMosaicReconstructionLogic::StateFailed) {
+      d->show(tr("The scan failed: %1").arg(QString::fromStdString(d->logic->GetStatus().errorText)), true);
+    }
+    emit scanStateChanged(state);
+  }
+  return changed;
+}
