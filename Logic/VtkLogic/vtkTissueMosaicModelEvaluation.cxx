@@ -145,6 +145,9 @@ ModelEvaluation evaluateModel(const std::vector<Eigen::Vector3d>& modelPoints, c
                              options.timeToleranceS, timeRange(trajectories->model).c_str(),
                              timeRange(trajectories->reference).c_str()));
     }
+    if (!options.alignTrajectories) {
+      evaluation.trajectory = trajectoryErrors(associated, TrajectoryAlignment::None);
+    } else {
     evaluation.trajectory = trajectoryErrors(associated, TrajectoryAlignment::Rigid);
     if (!(evaluation.trajectory->alignmentRotationSdDeg <= options.maxAlignmentRotationSdDeg)) {
       throw Error(cv::format(
@@ -155,6 +158,7 @@ ModelEvaluation evaluateModel(const std::vector<Eigen::Vector3d>& modelPoints, c
     }
     evaluation.T_reference_model = evaluation.trajectory->T_reference_estimate;
     steps.push_back("trajectory");
+    }
   }
   if (options.icp) {
     evaluation.icp = refineIcp(modelPoints, reference, evaluation.T_reference_model, options.icpParameters);

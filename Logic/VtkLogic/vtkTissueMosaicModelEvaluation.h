@@ -46,6 +46,9 @@ struct EvaluationOptions {
   /// model (1 degree moves a point 90 mm from the path by 1.6 mm). Meant to stop short or straight paths (10 frames:
   /// ~16 degrees), not noisy long ones (30 key frames of a 10 s scan with 0.9 mm ATE: 0.6 degrees).
   double maxAlignmentRotationSdDeg = 1.0;
+  /// False: the model and its trajectory are already in the reference's frame (e.g. a reconstruction started at the
+  /// true first pose): the ATE is measured without alignment and the model is not moved.
+  bool alignTrajectories = true;
   bool icp = false;              ///< refine the placement by ICP before measuring
   IcpParameters icpParameters;
 

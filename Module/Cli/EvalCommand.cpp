@@ -59,6 +59,9 @@ Measures:
   --max-alignment-sd-deg D     refuse a trajectory alignment whose rotation is less certain than this (default
                                1.0): estimated from the residuals and the spread of the positions, it is large for
                                short or straight paths, where the alignment would misplace the model
+  --trajectory-alignment rigid|none   rigid (default): as above; none: the model and its trajectory are already in
+                               the reference's frame (e.g. `reconstruct --start-tum` with the true trajectory):
+                               the ATE is measured as it is and the model is not moved
   --align icp|none             refine the placement by ICP (default none)
   --max-icp-iterations N       (default 100)
   --icp-inlier-fraction F      share of closest correspondences used per ICP step (default 0.8)
@@ -201,7 +204,7 @@ int runEval(const Words& words) {
   }
   const Arguments arguments(words);
   arguments.allowOnly({"model", "reference", "trajectory", "reference-trajectory", "time-tolerance",
-                       "max-alignment-sd-deg", "align",
+                       "max-alignment-sd-deg", "align", "trajectory-alignment",
                        "max-icp-iterations", "icp-inlier-fraction", "icp-max-distance", "coverage-radius-mm",
                        "json"});
   const std::string modelPath = arguments.required("model");
@@ -219,6 +222,10 @@ int runEval(const Words& words) {
   options.coverageRadiusMm = arguments.number("coverage-radius-mm", options.coverageRadiusMm);
   options.timeToleranceS = arguments.number("time-tolerance", options.timeToleranceS);
   options.maxAlignmentRotationSdDeg = arguments.number("max-alignment-sd-deg", options.maxAlignmentRotationSdDeg);
+  const std::string trajectoryAlignment = arguments.text("trajectory-alignment", "rigid");
+  require(trajectoryAlignment == "rigid" || trajectoryAlignment == "none",
+          "unknown --trajectory-alignment '" + trajectoryAlignment + "': expected rigid or none");
+  options.alignTrajectories = trajectoryAlignment == "rigid";
   options.validate();
 
   const std::vector<Eigen::Vector3d> modelPoints = readModelPoints(modelPath);

@@ -25,7 +25,7 @@ rm -rf "$scan"
 
 tm_log "reconstructing the scan (device $device)"
 # The frames are rectified as rig.yml's rectification makes them; the first pose is the ground truth's first, so
-# the model lies in the ground truth's world frame.
+# the model lies in the ground truth's world frame (so eval needs no alignment).
 "$tool" reconstruct --left-frames "$scan/left" --right-frames "$scan/right" --calib "$scan/rig.yml" --rectified \
   --start-tum "$scan/groundtruth/trajectory.txt" --device "$device" \
   --out "$demo/model.ply" --trajectory "$demo/keyframes.txt" --frames-trajectory "$demo/frames.txt" \
@@ -33,7 +33,8 @@ tm_log "reconstructing the scan (device $device)"
 
 tm_log "accuracy against the ground truth (model to true surface, coverage, key-frame trajectory)"
 "$tool" eval --model "$demo/model.ply" --reference "$scan/groundtruth/surface.ply" \
-  --trajectory "$demo/keyframes.txt" --reference-trajectory "$scan/groundtruth/trajectory.txt" --json \
+  --trajectory "$demo/keyframes.txt" --reference-trajectory "$scan/groundtruth/trajectory.txt" \
+  --trajectory-alignment none --json \
   | tee "$demo/accuracy.json"
 
 tm_log "demo done: model $demo/model.ply, key frames $demo/keyframes.txt, accuracy $demo/accuracy.json"
