@@ -54,7 +54,9 @@ vtkSmartPointer<vtkRenderWindow> offscreenWindow(int widthPx, int heightPx) {
 
 vtkSmartPointer<vtkImageData> renderSnapshot(vtkPolyData* model, vtkPolyData* keyFrameFrusta, vtkPolyData* cameraPath,
                                              const SnapshotOptions& options, SnapshotReport* report) {
-  const XDisplayStatus display = ensureXDisplay();
+  // A private Xvfb when one is installed: an offscreen picture never depends on (or shows on) a shared display. On
+  // a display shared by parallel test processes, offscreen windows now and then failed to connect.
+  const XDisplayStatus display = ensureXDisplay(/*preferPrivate=*/true);
   auto window = offscreenWindow(options.widthPx, options.heightPx);
   vtkNew<vtkRenderer> renderer;
   window->AddRenderer(renderer);
@@ -123,7 +125,7 @@ SnapshotReport writeReconstructionSnapshotPng(const std::string& pngPath, const 
 }
 
 std::string openGlRendererName() {
-  ensureXDisplay();
+  ensureXDisplay(/*preferPrivate=*/true);
   auto window = offscreenWindow(64, 64);
   vtkNew<vtkRenderer> renderer;
   window->AddRenderer(renderer);

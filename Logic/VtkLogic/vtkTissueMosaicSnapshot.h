@@ -2,7 +2,7 @@
 /// @file vtkTissueMosaicSnapshot.h
 /// @brief Offscreen pictures of a reconstruction (model + key-frame frusta + camera path), for headless runs:
 /// `tissuemosaic reconstruct ... --snapshot view.png`, the tests and the documentation. Makes sure an X display
-/// exists first (ensureXDisplay: a private Xvfb on a headless server). No Qt.
+/// exists first (ensureXDisplay: a private Xvfb whenever Xvfb is installed, else $DISPLAY). No Qt.
 #include <vtkSmartPointer.h>
 
 #include <array>

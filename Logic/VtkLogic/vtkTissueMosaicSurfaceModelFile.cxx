@@ -1,5 +1,7 @@
 #include "vtkTissueMosaicSurfaceModelFile.h"
 
+#include "IO/PointCloudPly.h"
+
 #include "Core/Error.h"
 #include "vtkTissueMosaicVtkMessages.h"
 
@@ -124,9 +126,20 @@ SurfaceModelFile readSurfaceModel(const std::string& path, ModelFrameChoice fram
       model.polyDataLps->GetFieldData()->RemoveArray(kSpaceArrayName);
     }
   } else if (extension == ".ply") {
+    // VTK's reader fills a truncated file's missing vertices with zeros (or crashes): check the whole file first.
+    std::size_t vertices = 0;
+    try {
+      vertices = readPlyWholeFile(path).size();
+    } catch (const Error& error) {
+      throw Error("cannot read surface model '" + path + "': " + error.what());
+    }
     vtkNew<vtkPLYReader> reader;
     require(reader->CanReadFile(path.c_str()), "cannot read surface model '" + path + "': not a PLY file");
     model.polyDataLps = runReader(reader.Get(), path);
+    require(static_cast<std::size_t>(model.polyDataLps->GetNumberOfPoints()) == vertices,
+            "cannot read surface model '" + path + "': VTK read " +
+                std::to_string(model.polyDataLps->GetNumberOfPoints()) + " of its " + std::to_string(vertices) +
+                " vertices");
     vtkStringArray* comments = reader->GetComments();
     for (vtkIdType i = 0; comments && i < comments->GetNumberOfValues() && !declared; ++i) {
       declared = declaredFrame(comments->GetValue(i));

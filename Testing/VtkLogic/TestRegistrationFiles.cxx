@@ -387,3 +387,20 @@ TEST(RegistrationFiles, DistanceCsvHistogramPngAndDistanceMap) {
   ASSERT_NE(reader->GetOutput()->GetPointData()->GetArray("DistanceMm"), nullptr);
   EXPECT_FLOAT_EQ(reader->GetOutput()->GetPointData()->GetArray("DistanceMm")->GetComponent(3, 0), 0.5f);
 }
+
+// VTK 9.1's PLY reader fills a truncated file's missing vertices with zeros (a silently wrong model) or crashes:
+// readSurfaceModel checks the whole file first, in the vertex data and in the faces.
+TEST(RegistrationFiles, TruncatedPlyModelsAreErrors) {
+  const std::string path = outputPath("sphere_full.ply");
+  writeSurfaceModel(path, sphere());
+  const std::string bytes = readText(path);
+  ASSERT_EQ(readSurfaceModel(path).polyDataLps->GetNumberOfPoints(), sphere()->GetNumberOfPoints());
+  const std::size_t header = bytes.find("end_header\n") + 11;
+  ASSERT_GT(bytes.size(), header + 100);
+  // A third of the body: within the vertices; all but the last 5 bytes: within the faces (the last element).
+  for (const std::size_t keep : {header + (bytes.size() - header) / 3, bytes.size() - 5}) {
+    const std::string truncated = outputPath("sphere_truncated.ply");
+    std::ofstream(truncated, std::ios::binary) << bytes.substr(0, keep);
+    expectError([&] { readSurfaceModel(truncated); }, "truncated");
+  }
+}

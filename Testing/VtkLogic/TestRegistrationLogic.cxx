@@ -149,8 +149,10 @@ TEST(RegistrationLogic, RegistrationAndEvaluationEqualTheFunctionsCalledDirectly
   ASSERT_TRUE(logic->RefineIcp(parameters)) << logic->GetLastErrorText();
   ASSERT_TRUE(logic->GetIcpResult().has_value());
   const IcpResult icp = refineIcp(polyDataPoints(scene.model), surface, direct.targetFromModel, parameters);
-  EXPECT_LT((logic->GetTargetFromModel() - icp.targetFromModel).norm(), 1e-12);
-  EXPECT_EQ(logic->GetIcpResult()->iterations, icp.iterations);
+  // Not bit-equal: refineIcp's threaded sums may add in another order from one call to the next (seen under load:
+  // 1.7e-7), and the iteration count may then differ by one at the convergence threshold.
+  EXPECT_LT((logic->GetTargetFromModel() - icp.targetFromModel).norm(), 1e-6);
+  EXPECT_NEAR(logic->GetIcpResult()->iterations, icp.iterations, 1);
   EXPECT_TRUE(logic->GetLandmarkRegistration().has_value());  // still the start of this transform
   EXPECT_LT(rotationAngleDeg(logic->GetTargetFromModel() * scene.truth.inverse()), 0.1);
   EXPECT_NEAR(logic->GetDistanceStatistics().rmseMm, statistics.rmseMm, 0.005);

@@ -180,7 +180,9 @@ void writePly(const std::string& path, const ColoredPointCloud& cloud, const std
   require(!file.fail(), context + "writing failed (disk full?)");
 }
 
-ColoredPointCloud readPly(const std::string& path) {
+namespace {
+
+ColoredPointCloud readPlyFile(const std::string& path, bool wholeFile) {
   const std::string context = "cannot read PLY '" + path + "': ";
   std::ifstream file(path, std::ios::binary);
   require(file.good(), context + "file does not exist or is not readable");
@@ -256,7 +258,7 @@ ColoredPointCloud readPly(const std::string& path) {
   const bool hasColors = ir >= 0 && ig >= 0 && ib >= 0;
   const bool hasNormals = inx >= 0 && iny >= 0 && inz >= 0;
 
-  // Body: elements in header order; everything after the vertices (faces ...) is left unread.
+  // Body: elements in header order; everything after the vertices (faces ...) is left unread unless wholeFile.
   BodyReader reader(bytes, position, format, context);
   ColoredPointCloud cloud;
   std::vector<double> values;
@@ -292,9 +294,15 @@ ColoredPointCloud readPly(const std::string& path) {
         cloud.normals.emplace_back(static_cast<float>(values[inx]), static_cast<float>(values[iny]),
                                    static_cast<float>(values[inz]));
     }
-    if (isVertex) break;
+    if (isVertex && !wholeFile) break;
   }
   return cloud;
 }
+
+}  // namespace
+
+ColoredPointCloud readPly(const std::string& path) { return readPlyFile(path, false); }
+
+ColoredPointCloud readPlyWholeFile(const std::string& path) { return readPlyFile(path, true); }
 
 }  // namespace tissuemosaic

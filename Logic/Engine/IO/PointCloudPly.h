@@ -19,5 +19,9 @@ void writePly(const std::string& path, const ColoredPointCloud& cloud, const std
 /// scaled by 255) and nx ny nz (optional). Other vertex properties and other elements (faces, edges) are
 /// skipped. Throws Error for a missing, malformed or truncated file.
 ColoredPointCloud readPly(const std::string& path);
+/// readPly that also reads (and skips) every element after the vertices, so that a file truncated or malformed
+/// anywhere is an Error: a check to run before readers that are not so careful (VTK 9.1's PLY reader fills a
+/// truncated file's missing vertices with zeros, or crashes).
+ColoredPointCloud readPlyWholeFile(const std::string& path);
 
 }  // namespace tissuemosaic
