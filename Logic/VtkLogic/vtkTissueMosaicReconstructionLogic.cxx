@@ -1,4 +1,5 @@
 #include "vtkTissueMosaicReconstructionLogic.h"
+#include "vtkTissueMosaicRunCatching.h"
 
 #include "vtkTissueMosaicFrusta.h"
 #include "vtkTissueMosaicGrowingModel.h"
@@ -45,27 +46,11 @@ using tissuemosaic::ReconstructionParameters;
 using tissuemosaic::ReconstructionPipeline;
 using tissuemosaic::StageTimesMs;
 using tissuemosaic::StereoFrameSource;
+using tissuemosaic::runCatching;
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-/// Runs work(); turns what the engine and OpenCV throw into an error text.
-template <class Work>
-bool runCatching(Work&& work, std::string& errorText) {
-  try {
-    work();
-    errorText.clear();
-    return true;
-  } catch (const tissuemosaic::Error& error) {
-    errorText = error.what();
-  } catch (const cv::Exception& error) {
-    errorText = std::string("OpenCV: ") + error.what();
-  } catch (const std::exception& error) {
-    errorText = error.what();
-  }
-  return false;
-}
 
 /// One processed frame as the owner keeps it.
 struct FrameRecord {

@@ -1,4 +1,5 @@
 #include "vtkTissueMosaicStereoLogic.h"
+#include "vtkTissueMosaicRunCatching.h"
 
 #include "vtkTissueMosaicPointCloud.h"
 
@@ -15,22 +16,7 @@ vtkStandardNewMacro(vtkTissueMosaicStereoLogic);
 
 namespace {
 
-/// Runs work(); turns what the engine and OpenCV throw into an error text.
-template <class Work>
-bool runCatching(Work&& work, std::string& errorText) {
-  try {
-    work();
-    errorText.clear();
-    return true;
-  } catch (const tissuemosaic::Error& error) {
-    errorText = error.what();
-  } catch (const cv::Exception& error) {
-    errorText = std::string("OpenCV: ") + error.what();
-  } catch (const std::exception& error) {
-    errorText = error.what();
-  }
-  return false;
-}
+using tissuemosaic::runCatching;
 
 bool readParameters(cv::FileStorage& storage, const std::string& source, tissuemosaic::StereoParameters& parameters,
                     std::string& errorText) {

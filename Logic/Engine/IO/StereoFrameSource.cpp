@@ -16,13 +16,6 @@ namespace {
 
 std::string sizeText(const cv::Size& size) { return std::to_string(size.width) + "x" + std::to_string(size.height); }
 
-cv::Mat toBgr(const cv::Mat& image) {
-  if (image.channels() == 3) return image;
-  cv::Mat bgr;
-  cv::cvtColor(image, bgr, image.channels() == 4 ? cv::COLOR_BGRA2BGR : cv::COLOR_GRAY2BGR);
-  return bgr;
-}
-
 std::vector<std::filesystem::path> imagesIn(const std::string& folder) {
   const std::filesystem::path path(folder);
   require(std::filesystem::is_directory(path), "frame folder '" + folder + "' does not exist or is not a folder");
@@ -56,8 +49,8 @@ public:
                                            " but the first frame is " + sizeText(size_));
     frame.index = static_cast<int>(index_);
     frame.timeS = static_cast<double>(index_) / fps_;
-    frame.left = toBgr(pair.left);
-    frame.right = toBgr(pair.right);
+    frame.left = toBgr8(pair.left, "frame '" + left_[index_].string() + "'");
+    frame.right = toBgr8(pair.right, "frame '" + right_[index_].string() + "'");
     ++index_;
     return true;
   }
@@ -108,8 +101,8 @@ public:
                 sizeText(right.size()) + ")");
     frame.index = index_;
     frame.timeS = frameTimeS(left_, index_);
-    frame.left = toBgr(left);
-    frame.right = toBgr(right);
+    frame.left = toBgr8(left, "video frame");
+    frame.right = toBgr8(right, "video frame");
     ++index_;
     return true;
   }
@@ -143,8 +136,8 @@ public:
             "video frame " + std::to_string(index_) + " has an unexpected size " + sizeText(both.size()));
     frame.index = index_;
     frame.timeS = frameTimeS(capture_, index_);
-    frame.left = toBgr(both(cv::Rect(0, 0, size_.width, size_.height)).clone());
-    frame.right = toBgr(both(cv::Rect(size_.width, 0, size_.width, size_.height)).clone());
+    frame.left = toBgr8(both(cv::Rect(0, 0, size_.width, size_.height)).clone(), "video frame");
+    frame.right = toBgr8(both(cv::Rect(size_.width, 0, size_.width, size_.height)).clone(), "video frame");
     ++index_;
     return true;
   }

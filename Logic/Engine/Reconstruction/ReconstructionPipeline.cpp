@@ -4,6 +4,7 @@
 #include "Core/Error.h"
 #include "Core/SurfaceMeasurement.h"
 #include "Fusion/PointFusion.h"
+#include "IO/ImageFile.h"
 #include "Refinement/KeyFrameRefiner.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
@@ -22,15 +23,6 @@ using Clock = std::chrono::steady_clock;
 
 double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-cv::Mat toBgr(const cv::Mat& image) {
-  if (image.type() == CV_8UC3) return image;
-  require(image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 4),
-          "reconstruction: frames must be 8-bit grey, BGR or BGRA");
-  cv::Mat bgr;
-  cv::cvtColor(image, bgr, image.channels() == 4 ? cv::COLOR_BGRA2BGR : cv::COLOR_GRAY2BGR);
-  return bgr;
 }
 
 /// The disparity map without the estimates whose depth lies outside the working range [minDepthMm, maxDepthMm].
@@ -125,7 +117,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   result.frameIndex = s.tracker.frameCount();
   const auto start = Clock::now();
 
-  cv::Mat leftBgr = toBgr(left), rightBgr = toBgr(right);
+  cv::Mat leftBgr = toBgr8(left, "reconstruction: frames"), rightBgr = toBgr8(right, "reconstruction: frames");
   if (s.rectifier) {
     s.rectifier->rectify(leftBgr, rightBgr, result.leftRectified, result.rightRectified);
   } else {
