@@ -100,6 +100,10 @@ const std::vector<Field>& fields() {
        "takes colours from where the scope's light is even."},
       {"newPointStepPx", "New point step", Fusion, true, TM_ACCESS(fusion.newPointStepPx), 0, 1000, 1, 0, " px",
        "New model points at every k-th pixel in x and y (1: the video's full resolution, as the paper)."},
+      {"conflictMinWeight", "Outlier guard", Fusion, true, TM_ACCESS(fusion.conflictMinWeight), 0, 1000000, 1, 0,
+       " observations",
+       "A measurement that contradicts a model point seen at least this many times is taken as a stereo outlier and "
+       "not added (0: off). Keeps long scans free of piled-up outliers."},
       {"maxPoints", "Point budget", Fusion, true, TM_ACCESS(fusion.maxPoints), 0, 2000000000, 100000, 0, " points",
        "New points are refused once the model holds this many (memory bound of a long scan)."},
   };

@@ -7,6 +7,7 @@
 #include "Core/KernelProfiler.h"
 #include "SyntheticScan.h"
 #include "Tracking/OrbFeatures.h"
+#include "Core/Statistics.h"
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
@@ -32,11 +33,6 @@ after 2 warm-up runs, on frames 0 and 2 of a synthetic scan. On the CPU it also 
 features, levels, FAST threshold, Harris score) and BFMatcher::knnMatch on the same frames.
 )";
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 double medianMs(int repeats, const std::function<void()>& work) {
   std::vector<double> ms;

@@ -3,6 +3,7 @@
 #include "Arguments.h"
 #include "Commands.h"
 #include "Core/Error.h"
+#include "Core/KernelProfiler.h"
 #include "Reconstruction/ReconstructionPipeline.h"
 #include "IO/MeshPly.h"
 #include "IO/PointCloudPly.h"
@@ -10,10 +11,12 @@
 #include "Reconstruction/TimingTable.h"
 #include "SyntheticScan.h"
 #include "TissueSurface.h"
+#include "Core/Statistics.h"
 
 #include <opencv2/core/utility.hpp>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,7 +30,7 @@ namespace tissuemosaic::cli {
 namespace {
 
 const char* const help = R"(usage: tissuemosaic bench reconstruct [--width 960] [--height 540] [--frames 60] [--device cpu|cuda|auto]
-                                    [--seed S] [--params p.yml] [--out DIR]
+                                    [--seed S] [--params p.yml] [--out DIR] [--stream] [--supersampling N]
 
 Renders a synthetic scan (before timing), then runs the whole reconstruction on it (stereo, tracking, key-frame
 refinement, TSDF fusion) starting from the true first pose, and prints one JSON object: the median and mean
@@ -37,10 +40,34 @@ surface (RMSE, 95th percentile, shares beyond 1, 5 and 50 mm), the share of the 
 that are gross errors (> 3 px from the truth, or where the truth has no surface), the model size
 and the peak host and device memory.
 
+--stream renders each frame just before it is processed (outside the timed stages) instead of all of them first,
+so that the peak host memory is the pipeline's own: for long runs (a 5-minute scan at 30 fps is --frames 9000).
+"memory" lists the resident host memory, the peak device memory and the model size at each quarter of the run:
+bounded memory shows as a plateau. --supersampling (default 2) sets the renderer's anti-aliasing; 1 renders about
+4x faster.
+
 --out DIR also writes DIR/model.ply (the fused model), DIR/keyframes.txt (TUM) and the scan's ground truth
 DIR/groundtruth/surface.ply (the surface both eyes saw) and DIR/groundtruth/trajectory.txt, for
 `tissuemosaic eval` on a machine that has it.
 )";
+
+
+/// Host and device memory and the model size after `frame` frames.
+struct MemorySample {
+  int frame;
+  double hostMib, peakDeviceMib;
+  std::size_t modelPoints;
+};
+
+/// The resident set of this process now (/proc/self/statm), MiB; 0 where that file does not exist.
+double residentHostMib() {
+  std::FILE* file = std::fopen("/proc/self/statm", "r");
+  if (!file) return 0;
+  long pages = 0, resident = 0;
+  const int read = std::fscanf(file, "%ld %ld", &pages, &resident);
+  std::fclose(file);
+  return read == 2 ? resident * (sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0)) : 0;
+}
 
 }  // namespace
 
@@ -50,35 +77,53 @@ int runBenchReconstruct(const Words& words) {
     return 0;
   }
   const Arguments arguments(words);
-  arguments.allowOnly({"width", "height", "frames", "device", "seed", "params", "out"});
+  arguments.allowOnly({"width", "height", "frames", "device", "seed", "params", "out", "stream", "supersampling"});
   synthetic::SyntheticScanOptions options;
   options.width = arguments.integer("width", 960);
   options.height = arguments.integer("height", 540);
   options.frames = arguments.integer("frames", 60);
   options.seed = static_cast<uint32_t>(arguments.integer("seed", 1));
+  options.supersampling = arguments.integer("supersampling", options.supersampling);
   require(options.frames >= 3, "--frames must be at least 3");
+  const bool stream = arguments.has("stream");
   const Device device = parseDevice(arguments.text("device", "auto"));
   ReconstructionParameters parameters;
   if (arguments.has("params")) parameters = ReconstructionParameters::readFile(arguments.required("params"));
 
   const synthetic::SyntheticScan scan(options);
-  std::vector<synthetic::SyntheticScanFrame> frames;
-  for (int k = 0; k < scan.frameCount(); ++k) {
-    std::fprintf(stderr, "\rbench reconstruct: rendering frame %d/%d", k + 1, scan.frameCount());
-    frames.push_back(scan.renderFrame(k));
+  std::vector<synthetic::SyntheticScanFrame> rendered;
+  if (!stream) {
+    for (int k = 0; k < scan.frameCount(); ++k) {
+      std::fprintf(stderr, "\rbench reconstruct: rendering frame %d/%d", k + 1, scan.frameCount());
+      rendered.push_back(scan.renderFrame(k));
+    }
+    std::fprintf(stderr, "\n");
   }
-  std::fprintf(stderr, "\n");
+  std::vector<MemorySample> memory;
 
   ReconstructionPipeline pipeline(scan.geometry(), parameters, device, scan.T_world_camera(0));
   TimingTable timing;
   int lost = 0;
+  std::vector<double> surfaceMs, modelSampleMs, keyFrameMatchingMs, intermediateMatchingMs, solveMs;
   // Stereo against the truth on the key frames (what fusion receives): the worst share of gross errors (> 3 px).
   double worstKeyFrameGross = 0, keyFrameGrossSum = 0;
   int worstKeyFrame = -1, keyFramesScored = 0;
-  for (const synthetic::SyntheticScanFrame& frame : frames) {
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    const synthetic::SyntheticScanFrame frame = stream ? scan.renderFrame(k) : rendered[static_cast<std::size_t>(k)];
     std::fprintf(stderr, "\rbench reconstruct: frame %d/%d", frame.index + 1, scan.frameCount());
     const FrameResult result = pipeline.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    const int quarter = scan.frameCount() / 4;
+    if (k + 1 == scan.frameCount() || (quarter > 0 && (k + 1) % quarter == 0 && memory.size() < 3)) {
+      memory.push_back({k + 1, residentHostMib(), pipeline.peakDeviceBytes() / (1024.0 * 1024.0), pipeline.modelPointCount()});
+    }
     lost += !result.tracked;
+    if (result.keyFrame && frame.index > 0) {
+      surfaceMs.push_back(result.refinementPartsMs.surface);
+      modelSampleMs.push_back(result.refinementPartsMs.modelSample);
+      keyFrameMatchingMs.push_back(result.refinementPartsMs.keyFrameMatching);
+      intermediateMatchingMs.push_back(result.refinementPartsMs.intermediateMatching);
+      solveMs.push_back(result.refinementPartsMs.solve);
+    }
     if (result.keyFrame) {
       int gross = 0, estimates = 0;
       for (int y = 0; y < frame.disparityPx.rows; ++y) {
@@ -145,20 +190,32 @@ int runBenchReconstruct(const Words& words) {
     writeMeshPly((folder / "groundtruth" / "surface.ply").string(), scan.seenSurfaceMesh(0.5),
                  "the true surface seen by both eyes, world frame, mm");
   }
+  if (profiling::enabled()) {
+    std::fprintf(stderr, "kernel profile (TM_PROFILE_KERNELS; each launch synchronised):\n%s", profiling::report().c_str());
+  }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
+  std::string memoryJson = "[";
+  for (std::size_t i = 0; i < memory.size(); ++i) {
+    memoryJson += cv::format("%s{\"frame\": %d, \"host_resident_mib\": %.1f, \"peak_device_mib\": %.1f, \"model_points\": %zu}",
+                             i ? ", " : "", memory[i].frame, memory[i].hostMib, memory[i].peakDeviceMib,
+                             memory[i].modelPoints);
+  }
+  memoryJson += "]";
   std::printf("{\"command\": \"bench reconstruct\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d, \"key_frames\": %zu, "
               "\"model_points\": %zu, \"key_frame_position_rmse_mm\": %.4f, \"model_rmse_mm\": %.4f, \"model_p95_mm\": %.4f, \"peak_host_mib\": %.1f, "
               "\"peak_device_mib\": %.1f,\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
               "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
-              "\"worst_frame\": %d},\n \"timing\": %s}\n",
+              "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": {\"surface\": %.4f, \"model_sample\": %.4f, "
+              "\"key_frame_matching\": %.4f, \"intermediate_matching\": %.4f, \"solve\": %.4f},\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cv::getNumThreads(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
-              timing.toJson().c_str());
+              memoryJson.c_str(), median(surfaceMs), median(modelSampleMs), median(keyFrameMatchingMs), median(intermediateMatchingMs),
+              median(solveMs), timing.toJson().c_str());
   return 0;
 }
 

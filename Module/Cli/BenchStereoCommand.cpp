@@ -7,6 +7,7 @@
 #include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
 #include "SyntheticStereoScene.h"
+#include "Core/Statistics.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
@@ -31,11 +32,6 @@ refinement, total) over N runs after 2 warm-up runs, on a synthetic tissue pair.
 StereoSGBM (MODE_SGBM_3WAY) on the same pair and disparity range (rounded up to a multiple of 16, as SGBM needs).
 )";
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 }  // namespace
 

@@ -3,9 +3,11 @@
 #include "Arguments.h"
 #include "Commands.h"
 #include "Core/Error.h"
+#include "Core/KernelProfiler.h"
 #include "Stereo/StereoMatcher.h"
 #include "SyntheticScan.h"
 #include "Tracking/FrameTracker.h"
+#include "Core/Statistics.h"
 
 #include <opencv2/core/utility.hpp>
 
@@ -27,12 +29,6 @@ DynamicR1PPnP ("pnp") and their sum ("tracking"), plus the stereo stage for refe
 TissueMosaic's extractor on CUDA and to OpenCV's on the CPU.
 )";
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 }  // namespace
 
@@ -61,7 +57,7 @@ int runBenchTrack(const Words& words) {
   const synthetic::SyntheticScan scan(options);
   StereoMatcher matcher(device, StereoParameters{});
   FrameTracker tracker(scan.geometry(), trackerOptions, scan.T_world_camera(0));
-  std::vector<double> orbVoting, pnp, tracking, stereo;
+  std::vector<double> orbVoting, pnp, tracking, stereo, extract, matching, subPixel, voting;
   int lost = 0;
   for (int k = 0; k < scan.frameCount(); ++k) {
     std::fprintf(stderr, "\rbench track: frame %d/%d", k + 1, scan.frameCount());
@@ -73,15 +69,25 @@ int runBenchTrack(const Words& words) {
     if (k < 2) continue;  // warm-up (and the first frame has nothing to match)
     orbVoting.push_back(result.orbVotingMs);
     pnp.push_back(result.pnpMs);
+    extract.push_back(result.extractMs);
+    matching.push_back(result.matchMs);
+    subPixel.push_back(result.subPixelMs);
+    voting.push_back(result.voteMs);
     tracking.push_back(result.orbVotingMs + result.pnpMs);
     stereo.push_back(stereoMs.total());
   }
   std::fprintf(stderr, "\n");
+  if (profiling::enabled()) {
+    std::fprintf(stderr, "kernel profile (TM_PROFILE_KERNELS; each launch synchronised):\n%s", profiling::report().c_str());
+  }
   std::printf("{\"command\": \"bench track\", \"device\": \"%s\", \"device_name\": \"%s\", \"features\": \"%s\", "
               "\"width\": %d, \"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d,\n"
-              " \"median_ms\": {\"orb_voting\": %.4f, \"pnp\": %.4f, \"tracking\": %.4f, \"stereo\": %.4f}}\n",
+              " \"median_ms\": {\"orb_voting\": %.4f, \"pnp\": %.4f, \"tracking\": %.4f, \"stereo\": %.4f},\n"
+              " \"orb_voting_parts_median_ms\": {\"extract_and_lift\": %.4f, \"match\": %.4f, \"subpixel\": %.4f, "
+              "\"vote\": %.4f}}\n",
               deviceLabel(device), deviceDescription(device).c_str(), features.c_str(), options.width, options.height,
-              options.frames, lost, cv::getNumThreads(), median(orbVoting), median(pnp), median(tracking), median(stereo));
+              options.frames, lost, cv::getNumThreads(), median(orbVoting), median(pnp), median(tracking), median(stereo),
+              median(extract), median(matching), median(subPixel), median(voting));
   return 0;
 }
 

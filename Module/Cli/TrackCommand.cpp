@@ -10,6 +10,7 @@
 #include "IO/TrajectoryTum.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
+#include "Core/Statistics.h"
 
 #include <opencv2/core/persistence.hpp>
 
@@ -71,18 +72,7 @@ std::vector<std::filesystem::path> framesIn(const std::string& folder, const cha
   return frames;
 }
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
-double mean(const std::vector<double>& values) {
-  double sum = 0;
-  for (double v : values) sum += v;
-  return values.empty() ? 0 : sum / static_cast<double>(values.size());
-}
 
 }  // namespace
 

@@ -255,6 +255,35 @@ TEST(HammingMatcher, EqualsBruteForce) {
   EXPECT_THROW(matcher.match(a, b, 9), Error);
 }
 
+TEST(HammingMatcher, MatchesSeveralPairsAtOnceAsOneByOne) {
+  cv::Mat a(200, 32, CV_8U), b(350, 32, CV_8U), c(40, 32, CV_8U);
+  cv::randu(a, 0, 256);
+  cv::randu(b, 0, 256);
+  cv::randu(c, 0, 256);
+  for (int i = 0; i < 30; ++i) a.row(i).copyTo(b.row(2 * i));  // exact matches and ties
+  const std::vector<std::pair<cv::Mat, cv::Mat>> pairs{
+      {a, b}, {c, b.rowRange(100, 102)}, {a.rowRange(0, 0), b}, {c, cv::Mat()}, {b.rowRange(10, 60), a}};
+  HammingMatcher matcher(Device::Cpu);
+  const auto together = matcher.matchPairs(pairs, 3);
+  ASSERT_EQ(together.size(), pairs.size());
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    const auto alone = matcher.match(pairs[p].first, pairs[p].second, 3);
+    ASSERT_EQ(together[p].size(), alone.size()) << "pair " << p;
+    for (std::size_t i = 0; i < alone.size(); ++i) {
+      ASSERT_EQ(together[p][i].size(), alone[i].size()) << "pair " << p << " row " << i;
+      for (std::size_t j = 0; j < alone[i].size(); ++j) {
+        EXPECT_EQ(together[p][i][j].queryIdx, alone[i][j].queryIdx);
+        EXPECT_EQ(together[p][i][j].trainIdx, alone[i][j].trainIdx);
+        EXPECT_EQ(together[p][i][j].distance, alone[i][j].distance);
+      }
+    }
+  }
+  EXPECT_EQ(together[1][0].size(), 2u) << "two B rows give two matches";
+  EXPECT_TRUE(together[2].empty());
+  EXPECT_EQ(together[3].size(), 40u);
+  EXPECT_TRUE(together[3][0].empty()) << "an empty B gives no matches";
+}
+
 TEST(OrbQuality, MatchesAdjacentScanFramesAtLeastNearlyAsWellAsOpenCv) {
   const synthetic::SyntheticScan scan(scanOptions());
   const RectifiedGeometry& g = scan.geometry();

@@ -86,6 +86,36 @@ TEST(OrbCuda, ExtractsTheSameFeaturesAsTheCpu) {
   compareExtractors(shapes, OrbParameters{}, "hand-made shapes 260x200");
 }
 
+TEST(OrbCuda, MatchesPairsWithTiesLikeTheCpu) {
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  cv::Mat a(500, 32, CV_8U), b(700, 32, CV_8U);
+  cv::randu(a, 0, 256);
+  cv::randu(b, 0, 256);
+  // Exact duplicates and near copies: equal distances must resolve to the lower index on both backends.
+  for (int i = 0; i < 200; ++i) {
+    a.row(i).copyTo(b.row(3 * i));
+    if (i % 4 == 0) a.row(i).copyTo(b.row(3 * i + 1));
+    b.at<uint8_t>(3 * i + 2, i % 32) = a.at<uint8_t>(i, i % 32) ^ 1;
+  }
+  const std::vector<std::pair<cv::Mat, cv::Mat>> pairs{{a, b}, {b.rowRange(0, 300), a}, {a, b.rowRange(5, 7)}};
+  HammingMatcher cpu(Device::Cpu), gpu(Device::Cuda);
+  for (int k : {1, 3, 8}) {
+    const auto x = cpu.matchPairs(pairs, k), y = gpu.matchPairs(pairs, k);
+    long different = 0, compared = 0;
+    for (std::size_t p = 0; p < pairs.size(); ++p) {
+      ASSERT_EQ(x[p].size(), y[p].size());
+      for (std::size_t i = 0; i < x[p].size(); ++i) {
+        different += x[p][i].size() != y[p][i].size();
+        for (std::size_t j = 0; j < std::min(x[p][i].size(), y[p][i].size()); ++j, ++compared) {
+          different += x[p][i][j].trainIdx != y[p][i][j].trainIdx || x[p][i][j].distance != y[p][i][j].distance;
+        }
+      }
+    }
+    std::printf("k = %d: %ld matches compared, %ld differ\n", k, compared, different);
+    EXPECT_EQ(different, 0);
+  }
+}
+
 TEST(OrbCuda, MatchesLikeTheCpu) {
   if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
   OrbExtractor extractor(Device::Cpu);

@@ -5,6 +5,7 @@
 #include "Tracking/PnpSolver.h"
 #include "Tracking/TrackingParameters.h"
 
+#include <Eigen/Geometry>
 #include <opencv2/core/persistence.hpp>
 
 #include <gtest/gtest.h>
@@ -78,6 +79,51 @@ TEST(PnpSolver, SucceedsAtNinetyPercentOutliers) {
   }
   EXPECT_GE(r1Successes, 49) << "R1PPnP success rate " << r1Successes / double(trials);
   EXPECT_GE(dynamicSuccesses, 45) << "DynamicR1PPnP success rate " << dynamicSuccesses / double(trials);
+}
+
+TEST(PnpSolver, APoseGuessGivesTheSamePoseInFewerIterations) {
+  const TrackingParameters parameters;
+  int plainIterations = 0, warmIterations = 0;
+  const int trials = 20;
+  for (int trial = 0; trial < trials; ++trial) {
+    const SyntheticPnpCase scene = makeSyntheticPnpCase(900 + trial, 800, 0.3, 1.0);
+    const PnpResult plain =
+        solveDynamicR1Ppnp(scene.pointsMm, scene.pixelsPx, scene.candidates, scene.intrinsics, parameters);
+    // The previous frame of a scan: about 1 mm and 0.5 degrees away from the truth.
+    Eigen::Matrix4d guess = scene.T_camera_world;
+    guess.block<3, 3>(0, 0) = Eigen::AngleAxisd(0.5 * M_PI / 180, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix() *
+                              guess.block<3, 3>(0, 0);
+    guess.block<3, 1>(0, 3) += Eigen::Vector3d(0.6, -0.5, 0.6);
+    const PnpResult warm = solveDynamicR1Ppnp(scene.pointsMm, scene.pixelsPx, scene.candidates, scene.intrinsics,
+                                              parameters, {}, &guess);
+    ASSERT_TRUE(plain.success && warm.success) << plain.failureReason << warm.failureReason;
+    // Both as close to the truth as 1 px noise allows (they may settle on inlier sets that differ by a match or two).
+    double rotationDeg = 0, centreMm = 0, plainDeg = 0, plainMm = 0;
+    poseDifference(warm.T_camera_world, scene.T_camera_world, rotationDeg, centreMm);
+    poseDifference(plain.T_camera_world, scene.T_camera_world, plainDeg, plainMm);
+    EXPECT_LT(rotationDeg, std::max(0.05, 1.5 * plainDeg)) << "trial " << trial;
+    EXPECT_LT(centreMm, std::max(0.1, 1.5 * plainMm)) << "trial " << trial;
+    plainIterations += plain.innerIterations;
+    warmIterations += warm.innerIterations;
+    // A wrong guess (far from the truth) costs iterations, never the answer.
+    Eigen::Matrix4d wrong = scene.T_camera_world;
+    wrong.block<3, 1>(0, 3) += Eigen::Vector3d(40, -30, 20);
+    const PnpResult misled = solveDynamicR1Ppnp(scene.pointsMm, scene.pixelsPx, scene.candidates, scene.intrinsics,
+                                                parameters, {}, &wrong);
+    ASSERT_TRUE(misled.success) << misled.failureReason;
+    poseDifference(misled.T_camera_world, scene.T_camera_world, rotationDeg, centreMm);
+    EXPECT_LT(rotationDeg, 1.0);
+    EXPECT_LT(centreMm, 2.0);
+  }
+  std::printf("re-weighting iterations over %d solves: %d from the weak-perspective start, %d from the guess\n", trials,
+              plainIterations, warmIterations);
+  EXPECT_LT(warmIterations, 0.7 * plainIterations) << "the guess should shorten the iterations";
+  Eigen::Matrix4d notFinite = Eigen::Matrix4d::Identity();
+  notFinite(0, 3) = std::numeric_limits<double>::quiet_NaN();
+  const SyntheticPnpCase scene = makeSyntheticPnpCase(1, 100, 0.0, 0.0);
+  EXPECT_THROW(solveDynamicR1Ppnp(scene.pointsMm, scene.pixelsPx, scene.candidates, scene.intrinsics, parameters, {},
+                                  &notFinite),
+               Error);
 }
 
 TEST(PnpSolver, VoteOrderPutsInliersFirst) {

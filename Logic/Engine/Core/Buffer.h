@@ -47,6 +47,18 @@ public:
     if (device_ == Device::Cuda) cuda::copyDeviceToHost(host, data_, count_ * sizeof(T));
     else if (count_) std::memcpy(host, data_, count_ * sizeof(T));
   }
+  /// Copies `count` host elements into this buffer from element `offset` on.
+  void uploadPart(const T* host, std::size_t count, std::size_t offset = 0) {
+    require(offset + count <= count_, "Buffer::uploadPart: beyond the end of the buffer");
+    if (device_ == Device::Cuda) cuda::copyHostToDevice(data_ + offset, host, count * sizeof(T));
+    else if (count) std::memcpy(data_ + offset, host, count * sizeof(T));
+  }
+  /// Copies the first `count` elements of this buffer into host memory.
+  void downloadPart(T* host, std::size_t count) const {
+    require(count <= count_, "Buffer::downloadPart: beyond the end of the buffer");
+    if (device_ == Device::Cuda) cuda::copyDeviceToHost(host, data_, count * sizeof(T));
+    else if (count) std::memcpy(host, data_, count * sizeof(T));
+  }
   std::vector<T> toHost() const {
     std::vector<T> host(count_);
     download(host.data());
@@ -83,5 +95,12 @@ private:
   T* data_ = nullptr;
   std::size_t count_ = 0;
 };
+
+/// Grows `buffer` to hold at least `count` elements on `device`, with a quarter to spare; never shrinks, so that
+/// per-frame calls reuse it. The contents are lost when it grows.
+template <class T>
+void reserveBuffer(Buffer<T>& buffer, Device device, std::size_t count) {
+  if (buffer.size() < count || buffer.device() != device) buffer = Buffer<T>(device, count + count / 4);
+}
 
 }  // namespace tissuemosaic

@@ -12,6 +12,8 @@ bool compiledIn();
 /// Empty when a CUDA device can be used, otherwise the reason (no driver, no device, ...).
 std::string deviceProblem();
 std::string deviceName();
+/// Streaming multiprocessors of the current GPU (queried once).
+int multiprocessorCount();
 /// Bytes of device memory in use on the current GPU (by every process and the context), from cudaMemGetInfo.
 std::size_t deviceBytesInUse();
 void* allocate(std::size_t bytes);

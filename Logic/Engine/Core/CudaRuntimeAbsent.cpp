@@ -11,6 +11,7 @@ namespace {
 bool compiledIn() { return false; }
 std::string deviceProblem() { return "this build of TissueMosaic has no CUDA backend"; }
 std::string deviceName() { absent(); }
+int multiprocessorCount() { absent(); }
 std::size_t deviceBytesInUse() { absent(); }
 void* allocate(std::size_t) { absent(); }
 void release(void*) noexcept {}

@@ -15,4 +15,23 @@ void record(const std::string& kernel, double milliseconds);
 std::string report();
 void reset();
 
+/// Records the wall time of a host section (from construction to destruction) under `name` when profiling is on;
+/// costs one branch when it is off.
+class ScopedTimer {
+public:
+  explicit ScopedTimer(const char* name) : name_(name), on_(enabled()) {
+    if (on_) start_ = std::chrono::steady_clock::now();
+  }
+  ~ScopedTimer() {
+    if (on_) record(name_, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count());
+  }
+  ScopedTimer(const ScopedTimer&) = delete;
+  ScopedTimer& operator=(const ScopedTimer&) = delete;
+
+private:
+  const char* name_;
+  bool on_;
+  std::chrono::steady_clock::time_point start_;
+};
+
 }  // namespace tissuemosaic::profiling

@@ -62,7 +62,11 @@ struct ParallelFor<CudaBackend> {
   template <class Functor>
   static void run(int64_t count, const Functor& functor, int64_t /*grain*/) {
     if (count <= 0) return;
-    constexpr int threads = 256;
+    // 256 threads a block, fewer for small counts (features, cells, matches: heavy, latency-bound items) so that
+    // every multiprocessor gets at least two blocks.
+    int threads = 256;
+    const int64_t wantedBlocks = 2 * static_cast<int64_t>(cuda::multiprocessorCount());
+    while (threads > 32 && (count + threads - 1) / threads < wantedBlocks) threads /= 2;
     const int64_t blocks = std::min<int64_t>((count + threads - 1) / threads, 65535);
     const bool profile = profiling::enabled();
     std::chrono::steady_clock::time_point start;

@@ -110,6 +110,7 @@ struct FusionSettings {
   int coverageRadiusPx;
   int newPointStepPx;
   float colourFullWeightFraction, colourMinWeight;
+  float conflictMinWeight;        ///< FusionParameters::conflictMinWeight; 0: off
 };
 
 constexpr uint64_t kEmptyDepthKey = ~uint64_t(0);
@@ -162,7 +163,8 @@ TM_HOST_DEVICE TM_FORCE_INLINE bool measurementAgrees(const MeasurementView& m, 
 // ---- kernels ------------------------------------------------------------------------------------------------------
 
 /// Per model point: project it into the key frame; every pixel of its (2r+1)^2 neighbourhood whose measurement
-/// agrees with it counts as covered (so a revisit from nearer or farther adds no second layer); when its own pixel
+/// agrees with it counts as covered (so a revisit from nearer or farther adds no second layer); its own pixel also
+/// counts as covered when it disagrees but the point is well observed (conflictMinWeight); when its own pixel
 /// agrees, the point merges: TSDF running average of its position along its viewing ray, of its normal, and of its
 /// colour weighted by the centre-to-edge colour weight; weights capped at maxWeight.
 struct MergeModelPoints {
@@ -196,9 +198,16 @@ struct MergeModelPoints {
         }
       }
     }
-    if (!ownAgrees) return;
-
     const float weight = positionWeight.w;
+    if (!ownAgrees) {
+      // A well-observed model point that the measurement contradicts: the pixel is an outlier, not new surface.
+      if (settings.conflictMinWeight > 0 && weight >= settings.conflictMinWeight &&
+          isFinite(measurement.pointsMm.at(px, py))) {
+        setFlag(covered + static_cast<int64_t>(py) * width + px);
+      }
+      return;
+    }
+
     const float averagedScale = 1.0f + (ownRayScale - 1.0f) / (weight + 1.0f);
     const Float3 centre = pose.cameraCentreWorld;
     const Float3 moved = centre + averagedScale * (p - centre);

@@ -30,6 +30,7 @@ void FusionParameters::validate() const {
   requireRange("colourMinWeight", colourMinWeight, 1e-3, 1.0);
   requireRange("maxPoints", maxPoints, 1, 1 << 30);
   requireRange("newPointStepPx", newPointStepPx, 1, 64);
+  requireRange("conflictMinWeight", conflictMinWeight, 0, 1000000);
   requireRange("minDepthMm", minDepthMm, 0.0, 1e6);
   requireRange("maxDepthMm", maxDepthMm, minDepthMm, 1e6);
   requireRange("normalRadiusPx", normalRadiusPx, 1, 32);
@@ -41,7 +42,7 @@ void FusionParameters::write(cv::FileStorage& storage) const {
   storage << "truncationMm" << truncationMm << "maxWeight" << maxWeight;
   storage << "maxNormalAngleDeg" << maxNormalAngleDeg << "coverageRadiusPx" << coverageRadiusPx;
   storage << "colourFullWeightFraction" << colourFullWeightFraction << "colourMinWeight" << colourMinWeight;
-  storage << "maxPoints" << maxPoints << "newPointStepPx" << newPointStepPx;
+  storage << "maxPoints" << maxPoints << "newPointStepPx" << newPointStepPx << "conflictMinWeight" << conflictMinWeight;
   storage << "minDepthMm" << minDepthMm << "maxDepthMm" << maxDepthMm;
   storage << "normalRadiusPx" << normalRadiusPx << "maxDepthJumpMm" << maxDepthJumpMm;
   storage << "}";
@@ -59,6 +60,7 @@ FusionParameters FusionParameters::read(const cv::FileNode& node) {
   readKey(node, "colourMinWeight", p.colourMinWeight);
   readKey(node, "maxPoints", p.maxPoints);
   readKey(node, "newPointStepPx", p.newPointStepPx);
+  readKey(node, "conflictMinWeight", p.conflictMinWeight);
   readKey(node, "minDepthMm", p.minDepthMm);
   readKey(node, "maxDepthMm", p.maxDepthMm);
   readKey(node, "normalRadiusPx", p.normalRadiusPx);

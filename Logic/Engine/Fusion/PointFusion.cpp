@@ -65,6 +65,7 @@ fusion::FusionSettings fusionSettings(const RectifiedGeometry& geometry, const F
   s.newPointStepPx = p.newPointStepPx;
   s.colourFullWeightFraction = static_cast<float>(p.colourFullWeightFraction);
   s.colourMinWeight = static_cast<float>(p.colourMinWeight);
+  s.conflictMinWeight = static_cast<float>(p.conflictMinWeight);
   return s;
 }
 

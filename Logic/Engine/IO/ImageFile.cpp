@@ -2,7 +2,6 @@
 
 #include "Core/Error.h"
 
-#include <opencv2/imgproc.hpp>
 
 #include <filesystem>
 
@@ -31,15 +30,6 @@ ImagePair loadImagePair(const std::string& leftPath, const std::string& rightPat
           "the stereo images differ in size: left '" + leftPath + "' is " + sizeText(pair.left) + " but right '" +
               rightPath + "' is " + sizeText(pair.right));
   return pair;
-}
-
-cv::Mat toBgr8(const cv::Mat& image, const std::string& what) {
-  if (image.type() == CV_8UC3) return image;
-  require(image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 4),
-          what + " must be 8-bit grey, BGR or BGRA");
-  cv::Mat bgr;
-  cv::cvtColor(image, bgr, image.channels() == 4 ? cv::COLOR_BGRA2BGR : cv::COLOR_GRAY2BGR);
-  return bgr;
 }
 
 }  // namespace tissuemosaic

@@ -13,10 +13,6 @@ namespace tissuemosaic {
 /// image 'path': the file is not a readable image (corrupt or unsupported format)" instead of returning an empty Mat.
 cv::Mat loadImage(const std::string& path, int flags = cv::IMREAD_COLOR);
 
-/// An 8-bit grey, BGR or BGRA image as 8-bit BGR (a BGR image is returned as it is, not copied). Throws Error
-/// "<what> must be 8-bit grey, BGR or BGRA" for any other type.
-cv::Mat toBgr8(const cv::Mat& image, const std::string& what);
-
 struct ImagePair {
   cv::Mat left, right;
 };

@@ -1,6 +1,7 @@
 #include "IO/StereoFrameSource.h"
 
 #include "Core/Error.h"
+#include "Core/PixelFormat.h"
 #include "IO/ImageFile.h"
 
 #include <opencv2/imgproc.hpp>

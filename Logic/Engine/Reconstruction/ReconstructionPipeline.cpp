@@ -2,9 +2,9 @@
 
 #include "Core/CudaRuntime.h"
 #include "Core/Error.h"
+#include "Core/PixelFormat.h"
 #include "Core/SurfaceMeasurement.h"
 #include "Fusion/PointFusion.h"
-#include "IO/ImageFile.h"
 #include "Refinement/KeyFrameRefiner.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
@@ -147,15 +147,21 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     const SurfaceMeasurement measurement =
         measureSurface(withinWorkingRange(result.disparityPx, s.geometry, s.parameters.fusion), result.leftRectified, s.geometry, s.device, s.parameters.fusion.normalRadiusPx,
                        s.parameters.fusion.maxDepthJumpMm);
+    result.refinementPartsMs.surface = millisecondsSince(stageStart);
+    const auto sampleStart = Clock::now();
     std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;
     if (s.fusion.pointCount() > 0) {
       s.fusion.sampleVisible(result.T_world_camera, s.parameters.refinement.icpSamples, modelPointsWorldMm,
                              modelNormalsWorld);
     }
+    result.refinementPartsMs.modelSample = millisecondsSince(sampleStart);
     const RefinementResult refinement = s.refiner.refineKeyFrame(
         result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera, measurement, modelPointsWorldMm,
         modelNormalsWorld);
     s.lastRefinementMessage = refinement.message;
+    result.refinementPartsMs.keyFrameMatching = refinement.keyFrameMatchingMs;
+    result.refinementPartsMs.intermediateMatching = refinement.intermediateMatchingMs;
+    result.refinementPartsMs.solve = refinement.solveMs;
     result.refined = refinement.refined;
     result.matchedKeyFrames = refinement.matchedKeyFrames;
     if (refinement.refined) {

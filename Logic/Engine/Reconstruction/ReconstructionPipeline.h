@@ -31,6 +31,12 @@ struct StageTimesMs {
   double total = 0;
 };
 
+/// The refinement stage of a key frame in parts (milliseconds): the stereo surface measurement, the model points
+/// seen from the tracked pose, the matching with earlier key frames and with intermediate frames, and the LM solve.
+struct RefinementPartsMs {
+  double surface = 0, modelSample = 0, keyFrameMatching = 0, intermediateMatching = 0, solve = 0;
+};
+
 struct FrameResult {
   int frameIndex = 0;
   bool tracked = false;
@@ -44,6 +50,7 @@ struct FrameResult {
   std::size_t modelPoints = 0;
   bool pointBudgetReached = false;
   StageTimesMs timesMs;
+  RefinementPartsMs refinementPartsMs;  ///< key frames only
   cv::Mat leftRectified, rightRectified;  ///< 8-bit BGR
   cv::Mat disparityPx;                    ///< CV_32F, NaN = none
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW

@@ -1,4 +1,5 @@
 #include "Reconstruction/TimingTable.h"
+#include "Core/Statistics.h"
 
 #include <opencv2/core.hpp>
 
@@ -13,14 +14,6 @@ std::vector<double> stageValues(const StageTimesMs& t) {
   return {t.videoReading, t.stereo, t.orbVoting, t.pnp, t.refinement, t.tsdf, t.total};
 }
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const std::size_t middle = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(middle), values.end());
-  const double upper = values[middle];
-  if (values.size() % 2 == 1) return upper;
-  return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(middle)));
-}
 
 std::vector<std::vector<double>> byStage(const std::vector<StageTimesMs>& frames) {
   std::vector<std::vector<double>> stages(TimingTable::stageNames().size());

@@ -14,7 +14,6 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
-#include <mutex>
 #include <limits>
 #include <numeric>
 
@@ -112,28 +111,26 @@ struct KeyFrameRefiner::Impl {
   FeatureParameters features;
   Device device;
   HammingMatcher matcher;
+  SubPixelMatcher subPixel;
   std::mutex matcherMutex;  ///< frames are matched in parallel; the matcher (its device buffers) serves one at a time
   std::deque<StoredKeyFrame, Eigen::aligned_allocator<StoredKeyFrame>> keyFrames;
   std::vector<IntermediateFrame, Eigen::aligned_allocator<IntermediateFrame>> intermediates;
 
   Impl(const RectifiedGeometry& g, const RefinementParameters& p, const TrackingParameters& t,
        const FeatureParameters& f, Device d)
-      : geometry(g), parameters(p), tracking(t), features(f), device(d), matcher(d) {}
+      : geometry(g), parameters(p), tracking(t), features(f), device(d), matcher(d),
+        subPixel(d, f.maxRefinementShiftPx) {}
 
   PinholeIntrinsics intrinsics() const { return {geometry.focalPx, geometry.focalPx, geometry.cxLeftPx, geometry.cyPx}; }
 
-  /// Matches query descriptors (rows with world points queryWorld and pixels queryPx) against a frame's features:
-  /// the nearest descriptor is the primary match, the next ones DynamicR1PPnP's candidates.
-  MatchSet match(const cv::Mat& queryDescriptors, const Points3d& queryWorld, const std::vector<cv::Point2f>& queryPx,
-                 const StereoFeatures& frame) {
+  int matchK() const { return std::min(8, 1 + features.candidatesPerFeature); }
+
+  /// Descriptor matches (knn: one list per query row, from HammingMatcher) of query rows with world points
+  /// queryWorld and pixels queryPx in a frame's features: the nearest descriptor is the primary match, the next
+  /// ones DynamicR1PPnP's candidates.
+  MatchSet toMatchSet(const std::vector<std::vector<cv::DMatch>>& knn, const Points3d& queryWorld,
+                      const std::vector<cv::Point2f>& queryPx, const StereoFeatures& frame) const {
     MatchSet set;
-    if (queryDescriptors.empty() || frame.descriptors.empty()) return set;
-    const int k = std::min(8, 1 + features.candidatesPerFeature);
-    std::vector<std::vector<cv::DMatch>> knn;
-    {
-      const std::lock_guard<std::mutex> lock(matcherMutex);
-      knn = matcher.match(queryDescriptors, frame.descriptors, k);
-    }
     for (const std::vector<cv::DMatch>& list : knn) {
       if (list.empty() || list[0].distance > features.maxHammingDistance) continue;
       const int q = list[0].queryIdx;
@@ -158,39 +155,57 @@ struct KeyFrameRefiner::Impl {
     return set;
   }
 
-  /// Sub-pixel positions of the inliers (as the tracker refines its matches): each inlier's pixel is moved so that
-  /// the window there matches the window at its query pixel; an inlier whose window does not lock on is dropped.
-  void refineInliers(std::vector<Inlier>& inliers, const MatchSet& set, const cv::Mat& queryGrey,
-                     const cv::Mat& frameGrey) const {
-    if (!features.subPixelRefinement || queryGrey.empty() || frameGrey.empty()) return;
-    std::vector<uint8_t> locked(inliers.size(), 0);
-    parallelFor<CpuBackend>(
-        static_cast<int64_t>(inliers.size()),
-        [&](int64_t i) {
-          Inlier& inlier = inliers[static_cast<std::size_t>(i)];
-          const Eigen::Vector2d& from = set.fromPx[inlier.match];
-          cv::Point2f to(static_cast<float>(inlier.pixelPx.x()), static_cast<float>(inlier.pixelPx.y()));
-          locked[static_cast<std::size_t>(i)] = refineMatchLucasKanade(
-              queryGrey, frameGrey, cv::Point2f(static_cast<float>(from.x()), static_cast<float>(from.y())), to, 5,
-              features.maxRefinementShiftPx);
-          inlier.pixelPx = Eigen::Vector2d(to.x, to.y);
-        },
-        16);
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < inliers.size(); ++i) {
-      if (locked[i]) inliers[kept++] = inliers[i];
+  /// Sub-pixel positions of the inliers of every frame (as the tracker refines its matches), in one call: each
+  /// inlier's pixel is moved so that the window there matches the window at its query pixel in the key frame; an
+  /// inlier whose window does not lock on is dropped.
+  /// frameIds: the frame indices of the key frame and of the frames (the images' names in the matcher's cache).
+  void refineInliers(std::vector<std::vector<Inlier>>& inlierSets, const std::vector<MatchSet>& sets,
+                     const cv::Mat& keyFrameGrey, int keyFrameIndex, const std::vector<cv::Mat>& frameGreys,
+                     const std::vector<int>& frameIndices) {
+    if (!features.subPixelRefinement || keyFrameGrey.empty()) return;
+    std::vector<cv::Mat> images{keyFrameGrey};
+    std::vector<int64_t> ids{keyFrameIndex};
+    std::vector<SubPixelMatchQuery> queries;
+    for (std::size_t f = 0; f < inlierSets.size(); ++f) {
+      if (frameGreys[f].empty()) continue;
+      images.push_back(frameGreys[f]);
+      ids.push_back(frameIndices[f]);
+      for (const Inlier& inlier : inlierSets[f]) {
+        SubPixelMatchQuery query;
+        query.referenceImage = 0;
+        query.image = static_cast<int>(images.size()) - 1;
+        const Eigen::Vector2d& from = sets[f].fromPx[inlier.match];
+        query.fromPx = cv::Point2f(static_cast<float>(from.x()), static_cast<float>(from.y()));
+        query.toPx = cv::Point2f(static_cast<float>(inlier.pixelPx.x()), static_cast<float>(inlier.pixelPx.y()));
+        queries.push_back(query);
+      }
     }
-    inliers.resize(kept);
+    const std::vector<SubPixelMatchAnswer> answers = subPixel.refine(images, queries, ids);
+    std::size_t q = 0;
+    for (std::size_t f = 0; f < inlierSets.size(); ++f) {
+      if (frameGreys[f].empty()) continue;
+      std::vector<Inlier>& inliers = inlierSets[f];
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < inliers.size(); ++i, ++q) {
+        if (!answers[q].locked) continue;
+        inliers[kept] = inliers[i];
+        inliers[kept++].pixelPx = Eigen::Vector2d(answers[q].toPx.x, answers[q].toPx.y);
+      }
+      inliers.resize(kept);
+    }
   }
 
-  /// DynamicR1PPnP on the matches. Returns the inliers as (match index, train feature, pixel) when the solve
-  /// succeeds with at least minInliers and its pose lies within the correction limits of T_world_expected.
+  /// DynamicR1PPnP on the matches, started from T_world_expected (the frame's tracked pose). Returns the inliers as
+  /// (match index, train feature, pixel) when the solve succeeds with at least minInliers and its pose lies within
+  /// the correction limits of T_world_expected.
   std::vector<Inlier> solveInliers(const MatchSet& set, int minInliers, const Eigen::Matrix4d& T_world_expected) {
     std::vector<Inlier> inliers;
     if (static_cast<int>(set.query.size()) < std::max(minInliers, 4)) return inliers;
     const HistogramVote vote = histogramVote(set.fromPx, set.pixelsPx, features.voteBinPx);
-    const PnpResult pnp =
-        solveDynamicR1Ppnp(set.pointsWorldMm, set.pixelsPx, set.candidates, intrinsics(), tracking, vote.order);
+    // The tracked pose starts the first hypothesis near its answer (PnpSolver.h: same iteration, fewer steps).
+    const Eigen::Matrix4d T_camera_world_guess = inverseRigid(T_world_expected);
+    const PnpResult pnp = solveDynamicR1Ppnp(set.pointsWorldMm, set.pixelsPx, set.candidates, intrinsics(), tracking,
+                                             vote.order, &T_camera_world_guess);
     if (!pnp.success || static_cast<int>(pnp.inlierIndices.size()) < minInliers) return inliers;
     double degrees = 0, mm = 0;
     correction(inverseRigid(pnp.T_camera_world), T_world_expected, degrees, mm);
@@ -308,6 +323,9 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
                                                  const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
                                                  const std::vector<Eigen::Vector3f>& /*modelNormalsWorld*/) {
   const auto start = std::chrono::steady_clock::now();
+  const auto millisecondsSince = [](std::chrono::steady_clock::time_point from) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - from).count();
+  };
   require(isRigid(T_world_camera), "refinement: the key frame's pose is not a rigid transform");
   require(features.pointsCameraMm.size() == features.keypoints.size() &&
               features.descriptors.rows == static_cast<int>(features.keypoints.size()),
@@ -320,8 +338,7 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
     result.message = message;
     s.store(frameIndex, features, result.T_world_camera);
     s.intermediates.clear();
-    result.milliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    result.milliseconds = millisecondsSince(start);
     return result;
   };
 
@@ -344,6 +361,7 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
 
   // 1. Earlier key frames that overlap: their matched points are fixed. The frames are matched and solved in
   // parallel (independent), then merged in order: the same result as one after the other.
+  auto partStart = std::chrono::steady_clock::now();
   const std::vector<int> overlapping = s.overlappingKeyFrames(T_world_camera);
   struct KeyFrameMatch {
     Points3d world;
@@ -351,13 +369,16 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
     std::vector<Inlier> inliers;
   };
   std::vector<KeyFrameMatch> keyFrameMatches(overlapping.size());
+  std::vector<std::pair<cv::Mat, cv::Mat>> keyFramePairs;
+  for (int c : overlapping) keyFramePairs.emplace_back(s.keyFrames[static_cast<std::size_t>(c)].descriptors, features.descriptors);
+  const auto keyFrameKnn = s.matcher.matchPairs(keyFramePairs, s.matchK());
   parallelFor<CpuBackend>(
       static_cast<int64_t>(overlapping.size()),
       [&](int64_t c) {
         const StoredKeyFrame& kf = s.keyFrames[static_cast<std::size_t>(overlapping[static_cast<std::size_t>(c)])];
         KeyFrameMatch& m = keyFrameMatches[static_cast<std::size_t>(c)];
         for (const Eigen::Vector3f& point : kf.pointsWorldMm) m.world.push_back(point.cast<double>());
-        m.set = s.match(kf.descriptors, m.world, kf.pixelsPx, features);
+        m.set = s.toMatchSet(keyFrameKnn[static_cast<std::size_t>(c)], m.world, kf.pixelsPx, features);
         m.inliers = s.solveInliers(m.set, p.minKeyFrameInliers, T_world_camera);
       },
       1);
@@ -371,6 +392,9 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
     }
   }
 
+  result.keyFrameMatchingMs = millisecondsSince(partStart);
+  partStart = std::chrono::steady_clock::now();
+
   // 2. Intermediate frames: observations of the key frame's features (with depth).
   std::vector<Observation> observations;
   std::vector<int> frameOfSlot;  // intermediate index per pose slot 1..
@@ -380,17 +404,26 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
     // Matched and solved in parallel, merged in order (as for the key frames above).
     std::vector<MatchSet> sets(s.intermediates.size());
     std::vector<std::vector<Inlier>> inlierSets(s.intermediates.size());
+    std::vector<std::pair<cv::Mat, cv::Mat>> framePairs;
+    for (const IntermediateFrame& frame : s.intermediates) framePairs.emplace_back(liftedDescriptors, frame.features.descriptors);
+    const auto frameKnn = s.matcher.matchPairs(framePairs, s.matchK());
     parallelFor<CpuBackend>(
         static_cast<int64_t>(s.intermediates.size()),
         [&](int64_t f) {
           const IntermediateFrame& frame = s.intermediates[static_cast<std::size_t>(f)];
           MatchSet& set = sets[static_cast<std::size_t>(f)];
           std::vector<Inlier>& inliers = inlierSets[static_cast<std::size_t>(f)];
-          set = s.match(liftedDescriptors, liftedWorld, liftedPx, frame.features);
+          set = s.toMatchSet(frameKnn[static_cast<std::size_t>(f)], liftedWorld, liftedPx, frame.features);
           inliers = s.solveInliers(set, p.minFrameInliers, frame.T_world_camera);
-          s.refineInliers(inliers, set, features.grey, frame.features.grey);
         },
         1);
+    std::vector<cv::Mat> frameGreys;
+    std::vector<int> frameIndices;
+    for (const IntermediateFrame& frame : s.intermediates) {
+      frameGreys.push_back(frame.features.grey);
+      frameIndices.push_back(frame.frameIndex);
+    }
+    s.refineInliers(inlierSets, sets, features.grey, frameIndex, frameGreys, frameIndices);
     for (std::size_t f = 0; f < s.intermediates.size(); ++f) {
       const MatchSet& set = sets[f];
       const std::vector<Inlier>& inliers = inlierSets[f];
@@ -402,6 +435,8 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
       }
     }
   }
+
+  result.intermediateMatchingMs = millisecondsSince(partStart);
 
   // The bundle adjustment's points: fixed tracks (seen by an earlier key frame) and free tracks seen again.
   std::vector<int> seenElsewhere(n, 0);
@@ -477,7 +512,9 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
   problem.poses.push_back(toPose(T_camera_world));
   for (int f : frameOfSlot) problem.poses.push_back(toPose(inverseRigid(s.intermediates[f].T_world_camera)));
 
+  partStart = std::chrono::steady_clock::now();
   const refinement::RefinementSolution solution = refinement::solveRefinement(problem, p, s.device);
+  result.solveMs = millisecondsSince(partStart);
   result.initialCost = solution.initialCost;
   result.finalCost = solution.finalCost;
   result.iterations = solution.iterations;
@@ -515,6 +552,7 @@ std::size_t KeyFrameRefiner::storedBytes() const {
 void KeyFrameRefiner::reset() {
   impl_->keyFrames.clear();
   impl_->intermediates.clear();
+  impl_->subPixel.forgetImages();
 }
 
 Device KeyFrameRefiner::device() const { return impl_->device; }

@@ -54,6 +54,8 @@ struct RefinementResult {
   double initialCost = 0, finalCost = 0;  ///< f_BA + beta f_ICP (robust) before and after
   int iterations = 0;          ///< pose LM iterations run
   double milliseconds = 0;     ///< the whole refineKeyFrame call
+  /// Parts of it: matching and solving against the earlier key frames, against the intermediate frames, and LM.
+  double keyFrameMatchingMs = 0, intermediateMatchingMs = 0, solveMs = 0;
   std::string message;         ///< what happened (why not refined)
   /// Refined poses of the intermediate frames in the bundle adjustment (empty when not refined).
   std::vector<FramePose, Eigen::aligned_allocator<FramePose>> intermediatePoses;

@@ -1,7 +1,6 @@
 #include "Tracking/FrameTracker.h"
 
 #include "Core/Error.h"
-#include "Core/ParallelFor.h"
 #include "Tracking/HistogramVoting.h"
 #include "Tracking/KeyFrameDecision.h"
 #include "Tracking/OrbFeatures.h"
@@ -56,6 +55,7 @@ struct FrameTracker::Impl {
   cv::BFMatcher matcher{cv::NORM_HAMMING, false};
   std::unique_ptr<OrbExtractor> ownExtractor;  ///< FeatureExtractor::TissueMosaicOrb
   std::unique_ptr<HammingMatcher> ownMatcher;
+  std::unique_ptr<SubPixelMatcher> subPixel;
 
   StereoFeatures extract(const cv::Mat& leftRectified, const cv::Mat& disparityPx) {
     if (!ownExtractor) return extractStereoFeatures(*orb, leftRectified, disparityPx, geometry);
@@ -82,7 +82,25 @@ struct FrameTracker::Impl {
   int lastKeyFrameIndex = -1;
   Eigen::Matrix4d T_world_lastKeyFrame = Eigen::Matrix4d::Identity();
 
+  /// The reference before the current one (for the constant-velocity prediction); index -1: none.
+  int previousReferenceIndex = -1;
+  Eigen::Matrix4d T_world_previousReference = Eigen::Matrix4d::Identity();
+
+  /// The pose predicted for frame `frameIndex`: the reference's pose moved on by the motion from the previous
+  /// reference when both steps are one frame (constant velocity), else the reference's pose.
+  Eigen::Matrix4d predictedPose(int frameIndex) const {
+    if (previousReferenceIndex >= 0 && reference.frameIndex - previousReferenceIndex == 1 &&
+        frameIndex - reference.frameIndex == 1) {
+      return reference.T_world_camera * (inverseRigid(T_world_previousReference) * reference.T_world_camera);
+    }
+    return reference.T_world_camera;
+  }
+
   void setReference(const StereoFeatures& features, const Eigen::Matrix4d& T_world_camera, int frameIndex) {
+    if (reference.frameIndex >= 0 && reference.frameIndex != frameIndex) {
+      previousReferenceIndex = reference.frameIndex;
+      T_world_previousReference = reference.T_world_camera;
+    }
     reference = Reference();
     reference.frameIndex = frameIndex;
     reference.T_world_camera = T_world_camera;
@@ -112,6 +130,7 @@ FrameTracker::FrameTracker(const RectifiedGeometry& geometry, const FrameTracker
           "tracker: the start pose is not a rigid transform");
   impl_->geometry = geometry;
   impl_->options = options;
+  impl_->subPixel = std::make_unique<SubPixelMatcher>(options.featureDevice, options.features.maxRefinementShiftPx);
   impl_->T_world_start = T_world_startCamera;
   const FeatureParameters& f = options.features;
   if (options.extractor == FeatureExtractor::TissueMosaicOrb) {
@@ -145,6 +164,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   result.frameIndex = s.frames++;
   const auto start = std::chrono::steady_clock::now();
   s.lastFeatures = s.extract(leftRectified, disparityPx);
+  result.extractMs = millisecondsSince(start);
   s.lastTracked = false;
   const StereoFeatures& features = s.lastFeatures;
   result.features = static_cast<int>(features.keypoints.size());
@@ -164,61 +184,61 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   // Reference features (with depth) against all current ones: the best match is the primary, the next ones are
   // DynamicR1PPnP's candidates.
   const FeatureParameters& fp = s.options.features;
+  auto partStart = std::chrono::steady_clock::now();
   std::vector<std::vector<cv::DMatch>> knn;
   if (!s.reference.descriptors.empty() && !features.descriptors.empty())
     knn = s.match(s.reference.descriptors, features.descriptors, 1 + fp.candidatesPerFeature);
+  result.matchMs = millisecondsSince(partStart);
+  partStart = std::chrono::steady_clock::now();
   Points3d points;
   Pixels2d pixels, fromPx;
   std::vector<std::vector<CandidateMatch>> candidates;
-  // With sub-pixel refinement, a match whose window does not lock onto the reference window is dropped: it is
+  // The primary match and the candidates within the Hamming limit, then (optionally) all of them refined to
+  // sub-pixel accuracy in one call. A match whose window does not lock onto the reference window is dropped: it is
   // either wrong or too poorly textured to be located better than ORB's pixel grid.
-  const auto locate = [&](const cv::Point2f& from, cv::Point2f& to) {
-    return !fp.subPixelRefinement ||
-           refineMatchLucasKanade(s.reference.grey, features.grey, from, to, 5, fp.maxRefinementShiftPx);
-  };
-  // The refinements are independent: run them in parallel, then assemble in match order (the same result as a
-  // serial loop).
-  struct Located {
-    bool usable = false;
-    cv::Point2f from, to;
-    std::vector<std::pair<bool, cv::Point2f>> further;
-  };
-  std::vector<Located> located(knn.size());
-  parallelFor<CpuBackend>(
-      static_cast<int64_t>(knn.size()),
-      [&](int64_t i) {
-        const std::vector<cv::DMatch>& list = knn[static_cast<std::size_t>(i)];
-        Located& entry = located[static_cast<std::size_t>(i)];
-        if (list.empty() || list[0].distance > fp.maxHammingDistance) return;
-        entry.from = s.reference.pixelsPx[list[0].queryIdx];
-        entry.to = features.keypoints[list[0].trainIdx].pt;
-        if (!locate(entry.from, entry.to)) return;
-        entry.usable = true;
-        for (std::size_t j = 1; j < list.size(); ++j) {
-          if (list[j].distance > fp.maxHammingDistance) break;
-          cv::Point2f p = features.keypoints[list[j].trainIdx].pt;
-          const bool ok = locate(entry.from, p);
-          entry.further.emplace_back(ok, p);
-        }
-      },
-      16);
+  std::vector<SubPixelMatchQuery> queries;
+  std::vector<int> firstQuery(knn.size(), -1), queryCount(knn.size(), 0);
   for (std::size_t i = 0; i < knn.size(); ++i) {
-    const Located& entry = located[i];
-    if (!entry.usable) continue;
+    const std::vector<cv::DMatch>& list = knn[i];
+    if (list.empty() || list[0].distance > fp.maxHammingDistance) continue;
+    firstQuery[i] = static_cast<int>(queries.size());
+    for (std::size_t j = 0; j < list.size() && list[j].distance <= fp.maxHammingDistance; ++j) {
+      SubPixelMatchQuery query;
+      query.referenceImage = 0;
+      query.image = 1;
+      query.fromPx = s.reference.pixelsPx[list[0].queryIdx];
+      query.toPx = features.keypoints[list[j].trainIdx].pt;
+      queries.push_back(query);
+    }
+    queryCount[i] = static_cast<int>(queries.size()) - firstQuery[i];
+  }
+  std::vector<SubPixelMatchAnswer> answers(queries.size());
+  if (fp.subPixelRefinement) {
+    answers = s.subPixel->refine({s.reference.grey, features.grey}, queries, {s.reference.frameIndex, result.frameIndex});
+  } else {
+    for (std::size_t q = 0; q < queries.size(); ++q) answers[q] = {queries[q].toPx, true};
+  }
+  for (std::size_t i = 0; i < knn.size(); ++i) {
+    if (firstQuery[i] < 0 || !answers[firstQuery[i]].locked) continue;
+    const SubPixelMatchQuery& primary = queries[firstQuery[i]];
+    const cv::Point2f to = answers[firstQuery[i]].toPx;
     points.push_back(s.reference.pointsWorldMm[knn[i][0].queryIdx]);
-    fromPx.emplace_back(entry.from.x, entry.from.y);
-    pixels.emplace_back(entry.to.x, entry.to.y);
+    fromPx.emplace_back(primary.fromPx.x, primary.fromPx.y);
+    pixels.emplace_back(to.x, to.y);
     std::vector<CandidateMatch> further;
-    for (const auto& [ok, p] : entry.further) {
-      if (!ok) continue;
+    for (int q = firstQuery[i] + 1; q < firstQuery[i] + queryCount[i]; ++q) {
+      if (!answers[q].locked) continue;
       CandidateMatch candidate;
-      candidate.pixelPx = Eigen::Vector2d(p.x, p.y);
+      candidate.pixelPx = Eigen::Vector2d(answers[q].toPx.x, answers[q].toPx.y);
       further.push_back(candidate);
     }
     candidates.push_back(std::move(further));
   }
   result.matches = static_cast<int>(points.size());
+  result.subPixelMs = millisecondsSince(partStart);
+  partStart = std::chrono::steady_clock::now();
   const HistogramVote vote = histogramVote(fromPx, pixels, fp.voteBinPx);
+  result.voteMs = millisecondsSince(partStart);
   result.orbVotingMs = millisecondsSince(start);
 
   const auto lost = [&](const std::string& why) {
@@ -233,7 +253,10 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   }
   const PinholeIntrinsics intrinsics{s.geometry.focalPx, s.geometry.focalPx, s.geometry.cxLeftPx, s.geometry.cyPx};
   const auto pnpStart = std::chrono::steady_clock::now();
-  const PnpResult pnp = solveDynamicR1Ppnp(points, pixels, candidates, intrinsics, s.options.tracking, vote.order);
+  // The pose predicted from the last two tracked frames starts the first hypothesis near its answer.
+  const Eigen::Matrix4d T_camera_world_guess = inverseRigid(s.predictedPose(result.frameIndex));
+  const PnpResult pnp =
+      solveDynamicR1Ppnp(points, pixels, candidates, intrinsics, s.options.tracking, vote.order, &T_camera_world_guess);
   result.pnpMs = millisecondsSince(pnpStart);
   if (!pnp.success) return lost(pnp.failureReason);
   result.inliers = static_cast<int>(pnp.inlierIndices.size());

@@ -51,6 +51,8 @@ struct TrackResult {
   double rmsErrorPx = 0;         ///< inliers' reprojection error
   double orbVotingMs = 0;        ///< ORB detection, description, lifting, matching and histogram voting
   double pnpMs = 0;              ///< DynamicR1PPnP
+  /// orbVotingMs in parts: ORB and lifting, descriptor matching, sub-pixel refinement of the matches, voting.
+  double extractMs = 0, matchMs = 0, subPixelMs = 0, voteMs = 0;
   std::string failureReason;     ///< empty when tracked
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };

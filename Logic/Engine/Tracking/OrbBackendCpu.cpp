@@ -7,8 +7,10 @@ void runOrbPipelineCpu(OrbLevelWorkspace* levels, int levelCount, const OrbSetti
   runOrbPipeline<CpuBackend>(levels, levelCount, settings, pattern);
 }
 
-void hammingKnnCpu(const uint64_t* a, int rowsA, const uint64_t* b, int rowsB, int k, int* indices, int* distances) {
-  hammingKnn<CpuBackend>(a, rowsA, b, rowsB, k, indices, distances);
+void hammingKnnCpu(const HammingKnn& knn, int rowsA) { parallelFor<CpuBackend>(rowsA, knn, 16); }
+
+void refineSubPixelCpu(const subpixel::LucasKanadeRefine& refine, int count) {
+  parallelFor<CpuBackend>(count, refine, 16);
 }
 
 }  // namespace tissuemosaic::orb

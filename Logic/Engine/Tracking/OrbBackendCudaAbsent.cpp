@@ -8,7 +8,11 @@ void runOrbPipelineCuda(OrbLevelWorkspace*, int, const OrbSettings&, const int8_
   throw Error("this build of TissueMosaic has no CUDA backend");
 }
 
-void hammingKnnCuda(const uint64_t*, int, const uint64_t*, int, int, int*, int*) {
+void hammingKnnCuda(const HammingKnn&, int) {
+  throw Error("this build of TissueMosaic has no CUDA backend");
+}
+
+void refineSubPixelCuda(const subpixel::LucasKanadeRefine&, int) {
   throw Error("this build of TissueMosaic has no CUDA backend");
 }
 

@@ -1,11 +1,13 @@
 #include "Tracking/OrbFeatures.h"
 
 #include "Core/Error.h"
+#include "Core/KernelProfiler.h"
 #include "Core/ParameterChecks.h"
 #include "Tracking/OrbPipeline.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <string>
 
@@ -159,11 +161,15 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& grey) {
   const cv::Mat input = grey.isContinuous() ? grey : grey.clone();
   Impl& s = *impl_;
   s.prepare(input.cols, input.rows);
-  s.levels[0].image.buffer().upload(input.ptr<uint8_t>());
+  {
+    profiling::ScopedTimer timer("host: ORB upload");
+    s.levels[0].image.buffer().upload(input.ptr<uint8_t>());
+  }
   const orb::OrbSettings settings{s.parameters.fastThreshold, s.parameters.edgeThresholdPx};
   if (s.device == Device::Cuda) orb::runOrbPipelineCuda(s.levels.data(), static_cast<int>(s.levels.size()), settings, s.pattern.data());
   else orb::runOrbPipelineCpu(s.levels.data(), static_cast<int>(s.levels.size()), settings, s.pattern.data());
 
+  profiling::ScopedTimer timer("host: ORB download and sort");
   struct Entry {
     OrbKeypoint keypoint;
     int64_t response;
@@ -193,6 +199,7 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& grey) {
       entries.push_back({k, f.response, descriptorStore[l].data() + static_cast<std::size_t>(i) * orb::kDescriptorBytes});
     }
   }
+  profiling::ScopedTimer sortTimer("host: ORB sort");
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
     if (a.response != b.response) return a.response > b.response;
     if (a.keypoint.level != b.keypoint.level) return a.keypoint.level < b.keypoint.level;
@@ -213,11 +220,11 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& grey) {
 
 struct HammingMatcher::Impl {
   Device device;
-  Buffer<uint64_t> a, b;
-  Buffer<int> indices, distances;
+  Buffer<uint64_t> input;  ///< A rows, B rows, segment tables
+  Buffer<int> output;      ///< indices, distances
 };
 
-HammingMatcher::HammingMatcher(Device device) : impl_(new Impl{device, {}, {}, {}, {}}) {
+HammingMatcher::HammingMatcher(Device device) : impl_(new Impl{device, {}, {}}) {
   requireCuda(device, "Hamming matching");
 }
 
@@ -226,40 +233,81 @@ Device HammingMatcher::device() const { return impl_->device; }
 
 namespace {
 
-void uploadDescriptors(Buffer<uint64_t>& buffer, Device device, const cv::Mat& descriptors, const char* name) {
+/// Appends a descriptor matrix's rows (4 words each) to `words`.
+void appendDescriptors(std::vector<uint64_t>& words, const cv::Mat& descriptors, const char* name) {
+  if (descriptors.empty()) return;
   require(descriptors.type() == CV_8UC1 && descriptors.cols == orb::kDescriptorBytes,
           std::string("Hamming matching: ") + name + " must be CV_8U with 32 bytes a row");
   const cv::Mat rows = descriptors.isContinuous() ? descriptors : descriptors.clone();
-  const std::size_t words = static_cast<std::size_t>(rows.rows) * 4;
-  if (buffer.size() != words || buffer.device() != device) buffer = Buffer<uint64_t>(device, words);
-  std::vector<uint64_t> host(words);
-  std::memcpy(host.data(), rows.data, words * sizeof(uint64_t));
-  buffer.upload(host.data());
+  const std::size_t first = words.size();
+  words.resize(first + static_cast<std::size_t>(rows.rows) * 4);
+  std::memcpy(words.data() + first, rows.data, static_cast<std::size_t>(rows.rows) * orb::kDescriptorBytes);
 }
 
 }  // namespace
 
 std::vector<std::vector<cv::DMatch>> HammingMatcher::match(const cv::Mat& descriptorsA, const cv::Mat& descriptorsB,
                                                            int k) {
+  return matchPairs({{descriptorsA, descriptorsB}}, k)[0];
+}
+
+std::vector<std::vector<std::vector<cv::DMatch>>> HammingMatcher::matchPairs(
+    const std::vector<std::pair<cv::Mat, cv::Mat>>& pairs, int k) {
   require(k >= 1 && k <= orb::kMaxMatchK, "Hamming matching: k must be in [1, 8], got " + std::to_string(k));
   Impl& s = *impl_;
-  const int rowsA = descriptorsA.empty() ? 0 : descriptorsA.rows, rowsB = descriptorsB.empty() ? 0 : descriptorsB.rows;
-  std::vector<std::vector<cv::DMatch>> result(rowsA);
-  if (rowsA == 0 || rowsB == 0) return result;
-  uploadDescriptors(s.a, s.device, descriptorsA, "descriptorsA");
-  uploadDescriptors(s.b, s.device, descriptorsB, "descriptorsB");
-  const std::size_t outputs = static_cast<std::size_t>(rowsA) * k;
-  if (s.indices.size() != outputs) {
-    s.indices = Buffer<int>(s.device, outputs);
-    s.distances = Buffer<int>(s.device, outputs);
+  std::vector<std::vector<std::vector<cv::DMatch>>> result(pairs.size());
+  std::vector<uint64_t> aWords, bWords;
+  std::vector<int> aBegin{0}, bBegin{0};
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    const cv::Mat& A = pairs[p].first;
+    const cv::Mat& B = pairs[p].second;
+    result[p].resize(A.empty() ? 0 : A.rows);
+    // A pair with an empty side contributes no rows: its rows of A have no matches.
+    if (A.empty() || B.empty()) {
+      aBegin.push_back(aBegin.back());
+      bBegin.push_back(bBegin.back());
+      continue;
+    }
+    appendDescriptors(aWords, A, "descriptorsA");
+    appendDescriptors(bWords, B, "descriptorsB");
+    aBegin.push_back(aBegin.back() + A.rows);
+    bBegin.push_back(bBegin.back() + B.rows);
   }
-  if (s.device == Device::Cuda) orb::hammingKnnCuda(s.a.data(), rowsA, s.b.data(), rowsB, k, s.indices.data(), s.distances.data());
-  else orb::hammingKnnCpu(s.a.data(), rowsA, s.b.data(), rowsB, k, s.indices.data(), s.distances.data());
-  const std::vector<int> indices = s.indices.toHost(), distances = s.distances.toHost();
-  for (int row = 0; row < rowsA; ++row) {
-    for (int j = 0; j < k; ++j) {
-      const int index = indices[static_cast<std::size_t>(row) * k + j];
-      if (index >= 0) result[row].emplace_back(row, index, static_cast<float>(distances[static_cast<std::size_t>(row) * k + j]));
+  const int rowsA = aBegin.back();
+  if (rowsA == 0) return result;
+  profiling::ScopedTimer timer("host: match upload, kernel, download and lists");
+  const std::size_t outputs = static_cast<std::size_t>(rowsA) * k;
+  // One upload (A rows, B rows, then both segment tables as ints) and one download (indices, then distances):
+  // each transfer costs tens of microseconds whatever its size.
+  const std::size_t tableWords = (aBegin.size() + bBegin.size() + 1) / 2;
+  std::vector<uint64_t> staging(aWords.size() + bWords.size() + tableWords, 0);
+  std::copy(aWords.begin(), aWords.end(), staging.begin());
+  std::copy(bWords.begin(), bWords.end(), staging.begin() + static_cast<std::ptrdiff_t>(aWords.size()));
+  int* tables = reinterpret_cast<int*>(staging.data() + aWords.size() + bWords.size());
+  std::copy(aBegin.begin(), aBegin.end(), tables);
+  std::copy(bBegin.begin(), bBegin.end(), tables + aBegin.size());
+  reserveBuffer(s.input, s.device, staging.size());
+  reserveBuffer(s.output, s.device, 2 * outputs);
+  s.input.uploadPart(staging.data(), staging.size());
+  const uint64_t* deviceWords = s.input.data();
+  const int* deviceTables = reinterpret_cast<const int*>(deviceWords + aWords.size() + bWords.size());
+  const orb::HammingKnn knn{deviceWords, deviceWords + aWords.size(),
+                            orb::MatchSegments{deviceTables, deviceTables + aBegin.size(), static_cast<int>(pairs.size())},
+                            k, s.output.data(), s.output.data() + outputs};
+  if (s.device == Device::Cuda) orb::hammingKnnCuda(knn, rowsA);
+  else orb::hammingKnnCpu(knn, rowsA);
+  std::vector<int> downloaded(2 * outputs);
+  s.output.downloadPart(downloaded.data(), downloaded.size());
+  const int* indices = downloaded.data();
+  const int* distances = downloaded.data() + outputs;
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    const int first = aBegin[p];
+    for (int row = first; row < aBegin[p + 1]; ++row) {
+      std::vector<cv::DMatch>& list = result[p][row - first];
+      for (int j = 0; j < k; ++j) {
+        const std::size_t at = static_cast<std::size_t>(row) * k + j;
+        if (indices[at] >= 0) list.emplace_back(row - first, indices[at], static_cast<float>(distances[at]));
+      }
     }
   }
   return result;

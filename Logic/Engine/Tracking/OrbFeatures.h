@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace tissuemosaic {
@@ -87,6 +88,10 @@ public:
   /// shape as cv::BFMatcher::knnMatch. Rows have fewer than k matches only when B has fewer than k rows.
   /// 1 <= k <= 8.
   std::vector<std::vector<cv::DMatch>> match(const cv::Mat& descriptorsA, const cv::Mat& descriptorsB, int k = 3);
+  /// Several (A, B) pairs at once (one upload, one launch): result[p] equals match(pairs[p].first,
+  /// pairs[p].second, k). An empty A or B gives no matches for that pair.
+  std::vector<std::vector<std::vector<cv::DMatch>>> matchPairs(const std::vector<std::pair<cv::Mat, cv::Mat>>& pairs,
+                                                               int k = 3);
 
   Device device() const;
 

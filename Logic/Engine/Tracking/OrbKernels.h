@@ -437,14 +437,42 @@ struct Describe {
 
 // ---- brute-force Hamming matching ---------------------------------------------------------------------------------
 
-/// Per row of A: the k nearest rows of B (distance asc, index asc); index -1 where B has fewer than k rows.
+/// Matching several (A, B) pairs in one call: the rows of all A's, then of all B's, are stacked; pair s owns A rows
+/// [aBegin[s], aBegin[s + 1]) and B rows [bBegin[s], bBegin[s + 1]). Reported B indices are within the pair's B.
+struct MatchSegments {
+  const int* aBegin;  ///< segmentCount + 1 entries
+  const int* bBegin;  ///< segmentCount + 1 entries
+  int segmentCount;
+
+  /// The pair that owns stacked A row `row`.
+  TM_HOST_DEVICE int segmentOf(int64_t row) const {
+    int low = 0, high = segmentCount - 1;
+    while (low < high) {
+      const int middle = (low + high + 1) / 2;
+      if (aBegin[middle] <= row) low = middle;
+      else high = middle - 1;
+    }
+    return low;
+  }
+};
+
+/// Hamming distance of two 256-bit descriptors (4 words each).
+TM_HOST_DEVICE TM_FORCE_INLINE int hammingDistance(uint64_t a0, uint64_t a1, uint64_t a2, uint64_t a3, const uint64_t* q) {
+  return popcount64(a0 ^ q[0]) + popcount64(a1 ^ q[1]) + popcount64(a2 ^ q[2]) + popcount64(a3 ^ q[3]);
+}
+
+/// Per stacked row of A: the k nearest rows of its pair's B (distance asc, index asc); index -1 where that B has
+/// fewer than k rows. The CPU runs this per row; CUDA runs a warp per row (OrbBackendCuda.cu) with the same result.
 struct HammingKnn {
   const uint64_t* a;  ///< 4 words per row
   const uint64_t* b;
-  int rowsB, k;
+  MatchSegments segments;
+  int k;
   int* indices;
   int* distances;
   TM_HOST_DEVICE void operator()(int64_t row) const {
+    const int s = segments.segmentOf(row);
+    const int bFirst = segments.bBegin[s], rowsB = segments.bBegin[s + 1] - bFirst;
     const uint64_t a0 = a[4 * row], a1 = a[4 * row + 1], a2 = a[4 * row + 2], a3 = a[4 * row + 3];
     int bestIndex[kMaxMatchK], bestDistance[kMaxMatchK];
     for (int j = 0; j < k; ++j) {
@@ -452,8 +480,7 @@ struct HammingKnn {
       bestDistance[j] = 1 << 30;
     }
     for (int r = 0; r < rowsB; ++r) {
-      const uint64_t* q = b + 4 * static_cast<int64_t>(r);
-      const int d = popcount64(a0 ^ q[0]) + popcount64(a1 ^ q[1]) + popcount64(a2 ^ q[2]) + popcount64(a3 ^ q[3]);
+      const int d = hammingDistance(a0, a1, a2, a3, b + 4 * static_cast<int64_t>(bFirst + r));
       if (d >= bestDistance[k - 1]) continue;  // rows come in index order: equal distances keep the lower index
       int j = k - 1;
       while (j > 0 && d < bestDistance[j - 1]) {

@@ -6,6 +6,7 @@
 #include "Core/Buffer.h"
 #include "Core/Image.h"
 #include "OrbKernels.h"
+#include "SubPixelKernels.h"
 
 namespace tissuemosaic::orb {
 
@@ -38,8 +39,12 @@ struct OrbSettings {
 void runOrbPipelineCpu(OrbLevelWorkspace* levels, int levelCount, const OrbSettings& settings, const int8_t* pattern);
 void runOrbPipelineCuda(OrbLevelWorkspace* levels, int levelCount, const OrbSettings& settings, const int8_t* pattern);
 
-/// k nearest rows of b for every row of a (descriptors as 4 words per row); indices/distances: rowsA * k.
-void hammingKnnCpu(const uint64_t* a, int rowsA, const uint64_t* b, int rowsB, int k, int* indices, int* distances);
-void hammingKnnCuda(const uint64_t* a, int rowsA, const uint64_t* b, int rowsB, int k, int* indices, int* distances);
+/// The k nearest rows of its pair's B for every stacked row of A (HammingKnn); indices/distances: rowsA * k.
+void hammingKnnCpu(const HammingKnn& knn, int rowsA);
+void hammingKnnCuda(const HammingKnn& knn, int rowsA);
+
+/// Sub-pixel refinement of `count` matches (SubPixelKernels.h); the functor's pointers are on the backend's device.
+void refineSubPixelCpu(const subpixel::LucasKanadeRefine& refine, int count);
+void refineSubPixelCuda(const subpixel::LucasKanadeRefine& refine, int count);
 
 }  // namespace tissuemosaic::orb

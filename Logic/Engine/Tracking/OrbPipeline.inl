@@ -40,11 +40,6 @@ void runOrbPipeline(OrbLevelWorkspace* levels, int levelCount, const OrbSettings
   }
 }
 
-template <class Backend>
-void hammingKnn(const uint64_t* a, int rowsA, const uint64_t* b, int rowsB, int k, int* indices, int* distances) {
-  parallelFor<Backend>(rowsA, HammingKnn{a, b, rowsB, k, indices, distances}, 16);
-}
-
 }  // namespace
 
 }  // namespace tissuemosaic::orb

@@ -1,6 +1,7 @@
 #include "Tracking/PnpBenchmark.h"
 
 #include "Core/Error.h"
+#include "Core/Statistics.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -43,12 +44,6 @@ std::string jsonEscape(const std::string& text) {
   return out;
 }
 
-double median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const std::size_t h = values.size() / 2;
-  return values.size() % 2 ? values[h] : 0.5 * (values[h - 1] + values[h]);
-}
 
 struct Outcome {
   bool success = false;

@@ -110,7 +110,7 @@ bool polish(const Points3d& points, const std::vector<BestMatch>& matches, const
     const double angle = delta.head<3>().norm();
     if (angle > 0) R = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix() * R;
     t += delta.tail<3>();
-    if (angle < 1e-12 && delta.tail<3>().norm() < 1e-12) break;
+    if (angle < 1e-10 && delta.tail<3>().norm() < 1e-8) break;  // below 1e-8 deg and 10 nm: converged
   }
   // Re-orthonormalise against drift.
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -144,7 +144,7 @@ int refine(const Points3d& points, const Pixels2d& pixels, const std::vector<std
 
 PnpResult solve(const Points3d& points, const Pixels2d& pixels,
                 const std::vector<std::vector<CandidateMatch>>& candidates, const PinholeIntrinsics& k,
-                const TrackingParameters& params, const std::vector<int>& voteOrder) {
+                const TrackingParameters& params, const std::vector<int>& voteOrder, const Eigen::Matrix4d* guess) {
   params.validate();
   const int n = static_cast<int>(points.size());
   require(pixels.size() == points.size(), "PnP: " + std::to_string(points.size()) + " 3D points but " +
@@ -234,7 +234,7 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
     if (explained[o]) continue;
     // A hypothesis must beat the best so far to matter: abandon it early when it is far behind.
     const int abortBelow = std::max(params.minInliers, best.inliers / 2);
-    const Hypothesis hypothesis = solver.solve(o, abortBelow);
+    const Hypothesis hypothesis = solver.solve(o, abortBelow, h == 0 ? guess : nullptr);
     innerIterations += hypothesis.iterations;
     if (!hypothesis.valid) continue;
     Hypothesis polished = hypothesis;
@@ -292,14 +292,17 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
 
 PnpResult solveR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx, const PinholeIntrinsics& intrinsics,
                       const TrackingParameters& parameters, const std::vector<int>& voteOrder) {
-  return solve(pointsMm, pixelsPx, {}, intrinsics, parameters, voteOrder);
+  return solve(pointsMm, pixelsPx, {}, intrinsics, parameters, voteOrder, nullptr);
 }
 
 PnpResult solveDynamicR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx,
                              const std::vector<std::vector<CandidateMatch>>& candidates,
                              const PinholeIntrinsics& intrinsics, const TrackingParameters& parameters,
-                             const std::vector<int>& voteOrder) {
-  return solve(pointsMm, pixelsPx, candidates, intrinsics, parameters, voteOrder);
+                             const std::vector<int>& voteOrder, const Eigen::Matrix4d* T_camera_world_guess) {
+  if (T_camera_world_guess) {
+    require(T_camera_world_guess->allFinite(), "DynamicR1PPnP: the pose guess is not finite");
+  }
+  return solve(pointsMm, pixelsPx, candidates, intrinsics, parameters, voteOrder, T_camera_world_guess);
 }
 
 void poseDifference(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double& rotationDeg, double& centreMm) {

@@ -11,6 +11,8 @@ namespace tissuemosaic::detail {
 namespace {
 constexpr float behindCameraError2 = 1e12f;  // px^2 given to a match whose point falls behind the camera
 constexpr float minDepthRatio = 1e-6f;        // Y_z = depth / depth(o) below this: behind the camera
+constexpr double kSettledRotation = 1e-5;      // Frobenius change of R between iterations (about 1e-5 rad)
+constexpr double kSettledScale = 1e-5;         // relative change of the scale mu between iterations
 }  // namespace
 
 HypothesisSolver::HypothesisSolver(const PnpProblem& problem, const TrackingParameters& parameters)
@@ -105,7 +107,7 @@ int HypothesisSolver::evaluate(const Eigen::Matrix3d& R, double mu, float xo, fl
   return count;
 }
 
-Hypothesis HypothesisSolver::solve(int o, int abortBelowInliers) {
+Hypothesis HypothesisSolver::solve(int o, int abortBelowInliers, const Eigen::Matrix4d* guess) {
   Hypothesis result;
   const float xo = p_.xn[o], yo = p_.yn[o];
   sx_ = p_.X - p_.X[o];
@@ -125,11 +127,23 @@ Hypothesis HypothesisSolver::solve(int o, int abortBelowInliers) {
     std::fill(firstSeen_.begin(), firstSeen_.end(), -1);
   }
   candidatesActive_ = false;
+  if (guess) {
+    // Y = x_o + mu R S with mu = 1 / depth(o) under the guess: evaluate() sets the depths and weights it implies.
+    const Eigen::Matrix3d Rg = guess->block<3, 3>(0, 0);
+    const Eigen::Vector3d Xo = Eigen::Vector3d(p_.X[o], p_.Y[o], p_.Z[o]) + p_.originMm;
+    const double depthO = (Rg * Xo + guess->block<3, 1>(0, 3)).z();
+    if (depthO > 0 && std::isfinite(depthO) && Rg.allFinite()) evaluate(Rg, 1.0 / depthO, xo, yo, 0);
+  }
   const int checkIteration = std::min(8, params_.maxInnerIterations - 1);
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity(), bestR = R;
   double mu = 0, bestMu = 0;
   int bestInliers = -1, stagnant = 0;
   const int patience = 3;  // iterations without more inliers before a hypothesis counts as settled
+  // Once the candidates have ramped in (or without candidates), a pose that no longer moves has settled even when
+  // the inlier count still creeps up by one now and then; the caller polishes it on its inliers anyway.
+  int settledFrom = dynamic_ ? params_.maxInnerIterations : 0;
+  Eigen::Matrix3d previousR = R;
+  double previousMu = 0;
   for (int k = 0; k < params_.maxInnerIterations; ++k) {
     Eigen::Matrix3d M;
     double denominator = 0;
@@ -145,6 +159,9 @@ Hypothesis HypothesisSolver::solve(int o, int abortBelowInliers) {
     // which outliers' uncorrelated P drag towards 0 at 90 % outliers and the iteration never recovers.
     mu = std::sqrt(pNorm2_ / denominator);
     if (!(mu > 0) || !std::isfinite(mu)) break;  // control point would lie behind the camera
+    const double rotationChange = (R - previousR).norm(), scaleChange = std::abs(mu - previousMu) / mu;
+    previousR = R;
+    previousMu = mu;
     const int inliers = evaluate(R, mu, xo, yo, k);
     if (inliers > bestInliers) {
       bestInliers = inliers;
@@ -155,7 +172,12 @@ Hypothesis HypothesisSolver::solve(int o, int abortBelowInliers) {
       // DynamicR1PPnP: once the primary matches have settled the pose, let the candidates in and go on.
       if (!dynamic_ || candidatesActive_ || bestInliers < abortBelowInliers) break;
       candidatesActive_ = true;
+      settledFrom = k + params_.candidateRampIterations;
       stagnant = 0;
+    }
+    if (k >= settledFrom && bestInliers >= abortBelowInliers && rotationChange < kSettledRotation &&
+        scaleChange < kSettledScale) {
+      break;
     }
     if (k == checkIteration && bestInliers < abortBelowInliers) return result;
   }

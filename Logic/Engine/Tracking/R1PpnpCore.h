@@ -40,8 +40,10 @@ public:
   HypothesisSolver(const PnpProblem& problem, const TrackingParameters& parameters);
   /// Runs the re-weighting iterations with control point `controlIndex`. A hypothesis that still has fewer than
   /// abortBelowInliers inliers after the check iteration is abandoned early (returned invalid): that is what keeps
-  /// 1-point RANSAC fast at 90 % outliers.
-  Hypothesis solve(int controlIndex, int abortBelowInliers);
+  /// 1-point RANSAC fast at 90 % outliers. guess (optional, T_camera_world): start the iterations from this pose's
+  /// depths and weights instead of the weak-perspective start (all depths equal, all weights 1): the same iteration,
+  /// but from near its end when the guess is close (e.g. the previous frame's pose): several times fewer iterations.
+  Hypothesis solve(int controlIndex, int abortBelowInliers, const Eigen::Matrix4d* guess = nullptr);
 
 private:
   void procrustes(float xo, float yo, Eigen::Matrix3d& M, double& denominator);

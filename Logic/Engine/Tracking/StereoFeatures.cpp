@@ -1,6 +1,7 @@
 #include "Tracking/StereoFeatures.h"
 
 #include "Core/Error.h"
+#include "Core/KernelProfiler.h"
 #include "Core/ParameterChecks.h"
 
 #include <opencv2/imgproc.hpp>
@@ -95,9 +96,16 @@ StereoFeatures extractStereoFeatures(const FeatureDetector& detect, const cv::Ma
           "tracking: the disparity map must be CV_32F and of the left image's size");
   StereoFeatures features;
   cv::Mat& grey = features.grey;
-  if (leftRectified.channels() == 3) cv::cvtColor(leftRectified, grey, cv::COLOR_BGR2GRAY);
-  else grey = leftRectified.clone();
-  detect(grey, features.keypoints, features.descriptors);
+  {
+    profiling::ScopedTimer timer("host: features grey");
+    if (leftRectified.channels() == 3) cv::cvtColor(leftRectified, grey, cv::COLOR_BGR2GRAY);
+    else grey = leftRectified.clone();
+  }
+  {
+    profiling::ScopedTimer timer("host: features detect");
+    detect(grey, features.keypoints, features.descriptors);
+  }
+  profiling::ScopedTimer timer("host: features lift");
   const double nan = std::numeric_limits<double>::quiet_NaN();
   features.pointsCameraMm.assign(features.keypoints.size(), Eigen::Vector3d(nan, nan, nan));
   for (std::size_t i = 0; i < features.keypoints.size(); ++i) {

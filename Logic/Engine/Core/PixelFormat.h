@@ -1,0 +1,15 @@
+#pragma once
+/// @file PixelFormat.h
+/// @brief Conversions between the pixel formats the engine accepts. Kept apart from image file I/O so that code
+/// which only converts (the pipeline, the benchmarks) does not pull in the image codecs.
+#include <opencv2/core.hpp>
+
+#include <string>
+
+namespace tissuemosaic {
+
+/// An 8-bit grey, BGR or BGRA image as 8-bit BGR (a BGR image is returned as it is, not copied). Throws Error
+/// "<what> must be 8-bit grey, BGR or BGRA" for any other type.
+cv::Mat toBgr8(const cv::Mat& image, const std::string& what);
+
+}  // namespace tissuemosaic
