@@ -18,6 +18,7 @@ namespace orb {
 OrbLevelWorkspace::OrbLevelWorkspace(Device device, int width, int height, const CellGrid& grid_, int budget_)
     : grid(grid_), budget(budget_), scaleQ16(65536), image(device, width, height), smoothingRows(device, width, height),
       smoothed(device, width, height), fastScores(device, width, height), responses(device, width, height),
+      rowCandidates(device, static_cast<std::size_t>(grid_.cellCount()) * grid_.cellSize * grid_.perCell),
       slots(device, static_cast<std::size_t>(grid_.cellCount()) * grid_.perCell), histogram(device, kResponseBins),
       cellAbove(device, grid_.cellCount()), cellAtThreshold(device, grid_.cellCount()),
       cellOffsets(device, grid_.cellCount()), control(device, kControlCount), selected(device, budget_),
@@ -176,6 +177,7 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& grey) {
     const uint8_t* descriptor;
   };
   std::vector<Entry> entries;
+  entries.reserve(static_cast<std::size_t>(s.parameters.maxFeatures));
   std::vector<std::vector<uint8_t>> descriptorStore(s.levels.size());
   for (std::size_t l = 0; l < s.levels.size(); ++l) {
     const orb::OrbLevelWorkspace& w = s.levels[l];
@@ -200,7 +202,11 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& grey) {
     }
   }
   profiling::ScopedTimer sortTimer("host: ORB sort");
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+  // Sorted by index (entries are 56 bytes): response first, then level, row and column.
+  std::vector<int> order(entries.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&entries](int i, int j) {
+    const Entry &a = entries[i], &b = entries[j];
     if (a.response != b.response) return a.response > b.response;
     if (a.keypoint.level != b.keypoint.level) return a.keypoint.level < b.keypoint.level;
     if (a.keypoint.levelY != b.keypoint.levelY) return a.keypoint.levelY < b.keypoint.levelY;
@@ -209,9 +215,10 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& grey) {
   OrbFeatures features;
   features.keypoints.reserve(entries.size());
   features.descriptors.create(static_cast<int>(entries.size()), orb::kDescriptorBytes, CV_8U);
-  for (std::size_t i = 0; i < entries.size(); ++i) {
-    features.keypoints.push_back(entries[i].keypoint);
-    std::copy_n(entries[i].descriptor, orb::kDescriptorBytes, features.descriptors.ptr<uint8_t>(static_cast<int>(i)));
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const Entry& entry = entries[static_cast<std::size_t>(order[i])];
+    features.keypoints.push_back(entry.keypoint);
+    std::copy_n(entry.descriptor, orb::kDescriptorBytes, features.descriptors.ptr<uint8_t>(static_cast<int>(i)));
   }
   return features;
 }

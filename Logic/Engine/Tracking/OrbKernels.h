@@ -247,43 +247,73 @@ struct CellGrid {
   TM_HOST_DEVICE int cellCount() const { return cellsX * cellsY; }
 };
 
-/// Per cell: its best perCell maxima by (response desc, raster index), written to slots [cell * perCell, ...);
-/// empty slots have response 0.
-struct CellBest {
+/// A candidate of a cell: Harris response (0: none) and raster index.
+struct CellCandidate {
+  int64_t response;
+  int index;
+};
+
+/// Inserts (r, index) into a list of the best `count` candidates, best first (response desc, raster index asc).
+TM_HOST_DEVICE TM_FORCE_INLINE void insertBest(int64_t r, int index, int64_t* bestResponse, int* bestIndex, int count) {
+  const int last = count - 1;
+  if (r <= 0 || !better(r, index, bestResponse[last], bestIndex[last])) return;
+  int j = last;
+  while (j > 0 && better(r, index, bestResponse[j - 1], bestIndex[j - 1])) {
+    bestResponse[j] = bestResponse[j - 1];
+    bestIndex[j] = bestIndex[j - 1];
+    --j;
+  }
+  bestResponse[j] = r;
+  bestIndex[j] = index;
+}
+
+/// Per row of a cell (item = cell * cellSize + row): the row's best perCell maxima, to rows[item * perCell, ...).
+/// Splitting the cells into rows gives the GPU cellSize times more, shorter work items; the top perCell of a cell
+/// is the top perCell of its rows' lists, so CellBest's result is the same as scanning the cell.
+struct CellRowBest {
   ImageView<const int64_t> responses;
   CellGrid grid;
-  LevelKeypoint* slots;
-  TM_HOST_DEVICE void operator()(int64_t cell) const {
-    const int cx = static_cast<int>(cell % grid.cellsX), cy = static_cast<int>(cell / grid.cellsX);
+  CellCandidate* rows;
+  TM_HOST_DEVICE void operator()(int64_t item) const {
+    const int cell = static_cast<int>(item / grid.cellSize), row = static_cast<int>(item % grid.cellSize);
+    const int cx = cell % grid.cellsX, cy = cell / grid.cellsX;
     int64_t bestResponse[kMaxPerCell];
     int bestIndex[kMaxPerCell];
     for (int j = 0; j < grid.perCell; ++j) {
       bestResponse[j] = 0;
       bestIndex[j] = 0;
     }
-    const int x0 = cx * grid.cellSize, y0 = cy * grid.cellSize;
+    const int y = cy * grid.cellSize + row, x0 = cx * grid.cellSize;
     const int x1 = x0 + grid.cellSize < responses.width ? x0 + grid.cellSize : responses.width;
-    const int y1 = y0 + grid.cellSize < responses.height ? y0 + grid.cellSize : responses.height;
-    const int last = grid.perCell - 1;
-    for (int y = y0; y < y1; ++y) {
-      for (int x = x0; x < x1; ++x) {
-        const int64_t r = responses.at(x, y);
-        const int index = y * responses.width + x;
-        if (r <= 0 || !better(r, index, bestResponse[last], bestIndex[last])) continue;
-        int j = last;
-        while (j > 0 && better(r, index, bestResponse[j - 1], bestIndex[j - 1])) {
-          bestResponse[j] = bestResponse[j - 1];
-          bestIndex[j] = bestIndex[j - 1];
-          --j;
-        }
-        bestResponse[j] = r;
-        bestIndex[j] = index;
-      }
+    if (y < responses.height) {
+      for (int x = x0; x < x1; ++x) insertBest(responses.at(x, y), y * responses.width + x, bestResponse, bestIndex, grid.perCell);
+    }
+    for (int j = 0; j < grid.perCell; ++j) rows[item * grid.perCell + j] = {bestResponse[j], bestIndex[j]};
+  }
+};
+
+/// Per cell: its best perCell maxima by (response desc, raster index), merged from its rows' lists (CellRowBest)
+/// and written to slots [cell * perCell, ...); empty slots have response 0.
+struct CellBest {
+  const CellCandidate* rows;
+  int width;  ///< of the level image, to turn raster indices into positions
+  CellGrid grid;
+  LevelKeypoint* slots;
+  TM_HOST_DEVICE void operator()(int64_t cell) const {
+    int64_t bestResponse[kMaxPerCell];
+    int bestIndex[kMaxPerCell];
+    for (int j = 0; j < grid.perCell; ++j) {
+      bestResponse[j] = 0;
+      bestIndex[j] = 0;
+    }
+    const int64_t first = cell * grid.cellSize * grid.perCell, count = static_cast<int64_t>(grid.cellSize) * grid.perCell;
+    for (int64_t k = first; k < first + count; ++k) {
+      insertBest(rows[k].response, rows[k].index, bestResponse, bestIndex, grid.perCell);
     }
     for (int j = 0; j < grid.perCell; ++j) {
       LevelKeypoint& slot = slots[cell * grid.perCell + j];
-      slot.x = bestIndex[j] % responses.width;
-      slot.y = bestIndex[j] / responses.width;
+      slot.x = bestIndex[j] % width;
+      slot.y = bestIndex[j] / width;
       slot.response = bestResponse[j];
       slot.m10 = 0;
       slot.m01 = 0;

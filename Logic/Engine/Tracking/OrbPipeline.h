@@ -21,6 +21,7 @@ struct OrbLevelWorkspace {
   Image<uint8_t> smoothed;
   Image<uint8_t> fastScores;
   Image<int64_t> responses;
+  Buffer<CellCandidate> rowCandidates;  ///< grid.cellCount() * grid.cellSize * grid.perCell (CellRowBest)
   Buffer<LevelKeypoint> slots;    ///< grid.cellCount() * grid.perCell
   Buffer<int> histogram;          ///< kResponseBins
   Buffer<int> cellAbove, cellAtThreshold, cellOffsets;

@@ -15,7 +15,9 @@ void runLevel(OrbLevelWorkspace& w, const OrbSettings& settings, const int8_t* p
   parallelFor<Backend>(pixels, SmoothColumns{w.smoothingRows.view(), w.smoothed.view()});
   parallelFor<Backend>(pixels, FastScores{w.image.view(), w.fastScores.view(), settings.fastThreshold, settings.border});
   parallelFor<Backend>(pixels, MaximaResponses{w.image.view(), w.fastScores.view(), w.responses.view()});
-  parallelFor<Backend>(cells, CellBest{w.responses.view(), w.grid, w.slots.data()}, 1);
+  parallelFor<Backend>(static_cast<int64_t>(cells) * w.grid.cellSize,
+                       CellRowBest{w.responses.view(), w.grid, w.rowCandidates.data()}, 64);
+  parallelFor<Backend>(cells, CellBest{w.rowCandidates.data(), w.image.view().width, w.grid, w.slots.data()}, 1);
   w.histogram.setZero();
   parallelFor<Backend>(static_cast<int64_t>(w.slots.size()), ResponseHistogram{w.slots.data(), w.histogram.data()});
   parallelFor<Backend>(1, ResponseThreshold{w.histogram.data(), w.control.data(), w.budget}, 1);
