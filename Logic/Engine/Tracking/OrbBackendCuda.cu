@@ -12,6 +12,21 @@ namespace {
 constexpr int kWarp = 32;
 constexpr int kWarpsPerBlock = 4;
 
+/// Launches `kernel(argument, count)` with a warp per item; with TM_PROFILE_KERNELS synchronised and timed as `name`.
+template <class Argument>
+void launchWarpPerItem(const char* name, void (*kernel)(Argument, int), const Argument& argument, int count) {
+  if (count <= 0) return;
+  const bool profile = profiling::enabled();
+  if (profile) cuda::synchronize();
+  const auto start = std::chrono::steady_clock::now();
+  kernel<<<(count + kWarpsPerBlock - 1) / kWarpsPerBlock, kWarp * kWarpsPerBlock>>>(argument, count);
+  cuda::checkLaunch(name);
+  if (profile) {
+    cuda::synchronize();
+    profiling::record(name, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+}
+
 /// (distance, index) as one ordered key: the smaller key is the nearer row, ties to the lower index.
 __device__ __forceinline__ uint64_t matchKey(int distance, int index) {
   return (static_cast<uint64_t>(distance) << 32) | static_cast<uint32_t>(index);
@@ -60,21 +75,7 @@ __global__ void hammingKnnWarpKernel(HammingKnn knn, int rowsA) {
 }  // namespace
 
 void hammingKnnCuda(const HammingKnn& knn, int rowsA) {
-  if (rowsA <= 0) return;
-  const bool profile = profiling::enabled();
-  std::chrono::steady_clock::time_point start;
-  if (profile) {
-    cuda::synchronize();
-    start = std::chrono::steady_clock::now();
-  }
-  const int blocks = (rowsA + kWarpsPerBlock - 1) / kWarpsPerBlock;
-  hammingKnnWarpKernel<<<blocks, kWarp * kWarpsPerBlock>>>(knn, rowsA);
-  cuda::checkLaunch("Hamming kNN kernel");
-  if (profile) {
-    cuda::synchronize();
-    profiling::record("hammingKnnWarpKernel",
-                      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-  }
+  launchWarpPerItem("hammingKnnWarpKernel", hammingKnnWarpKernel, knn, rowsA);
 }
 
 namespace {
@@ -134,21 +135,7 @@ __global__ void lucasKanadeWarpKernel(subpixel::LucasKanadeRefine refine, int co
 }  // namespace
 
 void refineSubPixelCuda(const subpixel::LucasKanadeRefine& refine, int count) {
-  if (count <= 0) return;
-  const bool profile = profiling::enabled();
-  std::chrono::steady_clock::time_point start;
-  if (profile) {
-    cuda::synchronize();
-    start = std::chrono::steady_clock::now();
-  }
-  const int blocks = (count + kWarpsPerBlock - 1) / kWarpsPerBlock;
-  lucasKanadeWarpKernel<<<blocks, kWarp * kWarpsPerBlock>>>(refine, count);
-  cuda::checkLaunch("Lucas-Kanade kernel");
-  if (profile) {
-    cuda::synchronize();
-    profiling::record("lucasKanadeWarpKernel",
-                      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-  }
+  launchWarpPerItem("lucasKanadeWarpKernel", lucasKanadeWarpKernel, refine, count);
 }
 
 }  // namespace tissuemosaic::orb
