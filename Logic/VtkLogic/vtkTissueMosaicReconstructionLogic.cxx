@@ -6,6 +6,7 @@
 
 #include "Core/Device.h"
 #include "Core/Error.h"
+#include "Core/Stopwatch.h"
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
@@ -148,7 +149,7 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           const Clock::time_point start = Clock::now();
           tissuemosaic::StereoFrame frame;
           if (!source->next(frame)) return;
-          const double readingMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+          const double readingMs = tissuemosaic::millisecondsSince(start);
           FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
           result.timesMs.videoReading += readingMs;  // the pipeline counts its rectification here
           result.timesMs.total += readingMs;  // the paper's total includes reading the video

@@ -8,6 +8,7 @@
 #include "SyntheticScan.h"
 #include "Tracking/OrbFeatures.h"
 #include "Core/Statistics.h"
+#include "Core/Stopwatch.h"
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
@@ -39,7 +40,7 @@ double medianMs(int repeats, const std::function<void()>& work) {
   for (int run = 0; run < repeats + 2; ++run) {
     const auto start = std::chrono::steady_clock::now();
     work();
-    const double elapsed = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double elapsed = millisecondsSince(start);
     if (run >= 2) ms.push_back(elapsed);
   }
   return median(ms);

@@ -8,6 +8,7 @@
 #include "Stereo/StereoMatcher.h"
 #include "SyntheticStereoScene.h"
 #include "Core/Statistics.h"
+#include "Core/Stopwatch.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
@@ -107,7 +108,7 @@ int runBenchStereo(const Words& words) {
     for (int run = 0; run < repeats + 2; ++run) {
       const auto start = std::chrono::steady_clock::now();
       sgbm->compute(leftGrey, rightGrey, sgbmDisparity);
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      const double ms = millisecondsSince(start);
       if (run >= 2) sgbmMs.push_back(ms);
     }
     cv::Mat sgbmFloat;

@@ -8,6 +8,7 @@
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
+#include "Core/Stopwatch.h"
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
@@ -167,7 +168,7 @@ int runReconstruct(const Words& words) {
   for (int index = 0; maxFrames < 0 || index < maxFrames; ++index) {
     const auto readStart = std::chrono::steady_clock::now();
     if (!source->next(frame)) break;
-    const double readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - readStart).count();
+    const double readMs = millisecondsSince(readStart);
     FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
     result.timesMs.videoReading += readMs;
     result.timesMs.total += readMs;

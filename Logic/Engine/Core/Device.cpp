@@ -19,12 +19,17 @@ std::string cudaUnavailableReason() {
   return cuda::deviceProblem();
 }
 
+void requireUsableDevice(Device device, const std::string& what) {
+  if (device != Device::Cuda) return;
+  const std::string reason = cudaUnavailableReason();
+  if (!reason.empty()) throw Error(what + " was asked for, but " + reason);
+}
+
 Device parseDevice(const std::string& text) {
   if (text == "cpu") return Device::Cpu;
   if (text == "auto") return cudaAvailable() ? Device::Cuda : Device::Cpu;
   if (text == "cuda") {
-    const std::string reason = cudaUnavailableReason();
-    if (!reason.empty()) throw Error("--device cuda was asked for, but " + reason);
+    requireUsableDevice(Device::Cuda, "--device cuda");
     return Device::Cuda;
   }
   throw Error("unknown device '" + text + "': expected cpu, cuda or auto");

@@ -13,6 +13,9 @@ bool cudaAvailable();
 bool cudaCompiledIn();
 /// Why CUDA cannot be used (empty when it can).
 std::string cudaUnavailableReason();
+/// For Device::Cuda where CUDA cannot be used, throws Error "<what> was asked for, but <why>"; else nothing.
+/// Every engine component calls this rather than falling back to the CPU.
+void requireUsableDevice(Device device, const std::string& what);
 
 /// Parses "cpu", "cuda" or "auto" (auto: CUDA when available, else CPU). Throws Error on other text, and on
 /// "cuda" when CUDA cannot be used, saying why: asking for CUDA never silently falls back to the CPU.

@@ -36,10 +36,7 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
           "measureSurface: the rectified geometry has no 4x4 CV_64F Q matrix");
   require(normalRadiusPx >= 1, "measureSurface: normalRadiusPx must be at least 1");
   require(maxDepthJumpMm > 0, "measureSurface: maxDepthJumpMm must be positive");
-  if (device == Device::Cuda) {
-    const std::string reason = cudaUnavailableReason();
-    if (!reason.empty()) throw Error("measureSurface on CUDA was asked for, but " + reason);
-  }
+  requireUsableDevice(device, "measureSurface on CUDA");
 
   const int width = disparityPx.cols, height = disparityPx.rows;
   surface::Reprojection reprojection{};

@@ -1,6 +1,8 @@
 #include "PointFusion.h"
 
 #include "Core/Error.h"
+#include "Core/RigidTransform.h"
+#include "Core/Stopwatch.h"
 #include "FusionPipeline.h"
 
 #include <Eigen/LU>
@@ -35,8 +37,7 @@ fusion::FramePose framePose(const Eigen::Matrix4d& T_world_camera) {
   require(T_world_camera.allFinite(), "PointFusion: the camera pose has non-finite entries");
   const Eigen::Matrix3d R = T_world_camera.topLeftCorner<3, 3>();
   const Eigen::Vector3d t = T_world_camera.topRightCorner<3, 1>();
-  require((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-6 && R.determinant() > 0 &&
-              T_world_camera.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1)),
+  require(isRigidTransform(T_world_camera),
           "PointFusion: T_world_camera must be a rigid transform (rotation and translation)");
   const Eigen::Matrix3d Rt = R.transpose();
   const Eigen::Vector3d tInverse = -Rt * t;
@@ -86,10 +87,7 @@ PointFusion::PointFusion(const RectifiedGeometry& geometry, const FusionParamete
   parameters_.validate();
   require(geometry.imageSize.width > 0 && geometry.imageSize.height > 0 && geometry.focalPx > 0,
           "PointFusion: the rectified geometry has no image size or focal length");
-  if (device == Device::Cuda) {
-    const std::string reason = cudaUnavailableReason();
-    if (!reason.empty()) throw Error("CUDA point fusion was asked for, but " + reason);
-  }
+  requireUsableDevice(device, "CUDA point fusion");
   model_ = std::make_unique<fusion::FusionModel>(device, geometry.imageSize.width, geometry.imageSize.height);
 }
 
@@ -120,7 +118,7 @@ FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const 
   stats.merged = counts.merged;
   stats.added = counts.added;
   stats.refusedForBudget = counts.refused;
-  stats.milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.milliseconds = millisecondsSince(start);
   return stats;
 }
 

@@ -3,6 +3,7 @@
 #include "Core/CudaRuntime.h"
 #include "Core/Error.h"
 #include "Core/PixelFormat.h"
+#include "Core/Stopwatch.h"
 #include "Core/SurfaceMeasurement.h"
 #include "Fusion/PointFusion.h"
 #include "Refinement/KeyFrameRefiner.h"
@@ -20,10 +21,6 @@ namespace tissuemosaic {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double millisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 /// The disparity map without the estimates whose depth lies outside the working range [minDepthMm, maxDepthMm].
 cv::Mat withinWorkingRange(const cv::Mat& disparityPx, const RectifiedGeometry& g, const FusionParameters& fusion) {

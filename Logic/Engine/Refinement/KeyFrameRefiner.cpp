@@ -2,6 +2,8 @@
 
 #include "Core/Error.h"
 #include "Core/ParallelFor.h"
+#include "Core/RigidTransform.h"
+#include "Core/Stopwatch.h"
 #include "Refinement/RefinementSolver.h"
 #include "Tracking/HistogramVoting.h"
 #include "Tracking/OrbFeatures.h"
@@ -26,19 +28,6 @@ using refinement::Pose;
 
 constexpr int kOverlapSamples = 200;  ///< stored points projected per earlier key frame to measure its overlap
 constexpr double kMinDepthMm = 0.1;   ///< nearer than this a point counts as behind the camera
-
-Eigen::Matrix4d inverseRigid(const Eigen::Matrix4d& T) {
-  Eigen::Matrix4d inverse = Eigen::Matrix4d::Identity();
-  inverse.block<3, 3>(0, 0) = T.block<3, 3>(0, 0).transpose();
-  inverse.block<3, 1>(0, 3) = -T.block<3, 3>(0, 0).transpose() * T.block<3, 1>(0, 3);
-  return inverse;
-}
-
-bool isRigid(const Eigen::Matrix4d& T) {
-  const Eigen::Matrix3d R = T.block<3, 3>(0, 0);
-  return T.allFinite() && (R * R.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-6 && R.determinant() > 0 &&
-         T.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1));
-}
 
 Pose toPose(const Eigen::Matrix4d& T_camera_world) {
   Pose pose;
@@ -110,9 +99,8 @@ struct KeyFrameRefiner::Impl {
   TrackingParameters tracking;
   FeatureParameters features;
   Device device;
-  HammingMatcher matcher;
+  HammingMatcher matcher;  ///< all frames of a step in one call
   SubPixelMatcher subPixel;
-  std::mutex matcherMutex;  ///< frames are matched in parallel; the matcher (its device buffers) serves one at a time
   std::deque<StoredKeyFrame, Eigen::aligned_allocator<StoredKeyFrame>> keyFrames;
   std::vector<IntermediateFrame, Eigen::aligned_allocator<IntermediateFrame>> intermediates;
 
@@ -290,7 +278,7 @@ KeyFrameRefiner::~KeyFrameRefiner() = default;
 
 void KeyFrameRefiner::addIntermediateFrame(int frameIndex, const StereoFeatures& features,
                                            const Eigen::Matrix4d& T_world_camera) {
-  require(isRigid(T_world_camera), "refinement: the intermediate frame's pose is not a rigid transform");
+  require(isRigidTransform(T_world_camera), "refinement: the intermediate frame's pose is not a rigid transform");
   require(features.pointsCameraMm.size() == features.keypoints.size() &&
               features.descriptors.rows == static_cast<int>(features.keypoints.size()),
           "refinement: the intermediate frame's features are inconsistent");
@@ -323,10 +311,7 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
                                                  const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
                                                  const std::vector<Eigen::Vector3f>& /*modelNormalsWorld*/) {
   const auto start = std::chrono::steady_clock::now();
-  const auto millisecondsSince = [](std::chrono::steady_clock::time_point from) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - from).count();
-  };
-  require(isRigid(T_world_camera), "refinement: the key frame's pose is not a rigid transform");
+  require(isRigidTransform(T_world_camera), "refinement: the key frame's pose is not a rigid transform");
   require(features.pointsCameraMm.size() == features.keypoints.size() &&
               features.descriptors.rows == static_cast<int>(features.keypoints.size()),
           "refinement: the key frame's features are inconsistent");

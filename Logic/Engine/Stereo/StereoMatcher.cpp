@@ -1,6 +1,7 @@
 #include "StereoMatcher.h"
 
 #include "Core/Error.h"
+#include "Core/Stopwatch.h"
 #include "StereoPipeline.h"
 
 #include <opencv2/imgproc.hpp>
@@ -70,10 +71,7 @@ struct StereoMatcher::Impl {
 
 StereoMatcher::StereoMatcher(Device device, const StereoParameters& parameters) : impl_(new Impl{device, parameters, {}}) {
   parameters.validate();
-  if (device == Device::Cuda) {
-    const std::string reason = cudaUnavailableReason();
-    if (!reason.empty()) throw Error("CUDA stereo matching was asked for, but " + reason);
-  }
+  requireUsableDevice(device, "CUDA stereo matching");
 }
 
 StereoMatcher::~StereoMatcher() = default;
@@ -105,7 +103,7 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
   workspace->left.buffer().upload(left.ptr<float>());
   workspace->right.buffer().upload(right.ptr<float>());
   synchronize(impl_->device);
-  t.upload = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  t.upload = millisecondsSince(start);
 
   if (impl_->device == Device::Cuda) stereo::runStereoPipelineCuda(*workspace, p, t);
   else stereo::runStereoPipelineCpu(*workspace, p, t);
@@ -113,7 +111,7 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
   start = std::chrono::steady_clock::now();
   cv::Mat disparity(left.rows, left.cols, CV_32F);
   workspace->smoothed.buffer().download(disparity.ptr<float>());
-  t.download = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  t.download = millisecondsSince(start);
   return disparity;
 }
 

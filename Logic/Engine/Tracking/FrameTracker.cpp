@@ -1,6 +1,8 @@
 #include "Tracking/FrameTracker.h"
 
 #include "Core/Error.h"
+#include "Core/RigidTransform.h"
+#include "Core/Stopwatch.h"
 #include "Tracking/HistogramVoting.h"
 #include "Tracking/KeyFrameDecision.h"
 #include "Tracking/OrbFeatures.h"
@@ -16,17 +18,6 @@
 namespace tissuemosaic {
 
 namespace {
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-Eigen::Matrix4d inverseRigid(const Eigen::Matrix4d& T) {
-  Eigen::Matrix4d inverse = Eigen::Matrix4d::Identity();
-  inverse.block<3, 3>(0, 0) = T.block<3, 3>(0, 0).transpose();
-  inverse.block<3, 1>(0, 3) = -T.block<3, 3>(0, 0).transpose() * T.block<3, 1>(0, 3);
-  return inverse;
-}
 
 /// The frame new frames are matched against: its features with depth, their world points, and its pose.
 struct Reference {

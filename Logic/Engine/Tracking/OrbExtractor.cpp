@@ -32,11 +32,6 @@ void requireRange(double value, double low, double high, const char* name) {
   parameters::requireRange("ORB", name, value, low, high);
 }
 
-void requireCuda(Device device, const char* what) {
-  if (device != Device::Cuda) return;
-  const std::string reason = cudaUnavailableReason();
-  if (!reason.empty()) throw Error(std::string(what) + " on CUDA was asked for, but " + reason);
-}
 
 /// splitmix64: a fixed integer generator, so the pattern is the same with every compiler and library.
 uint64_t nextRandom(uint64_t& state) {
@@ -142,7 +137,7 @@ struct OrbExtractor::Impl {
 
 OrbExtractor::OrbExtractor(Device device, const OrbParameters& parameters) : impl_(new Impl{device, parameters, {}, {}}) {
   parameters.validate();
-  requireCuda(device, "ORB extraction");
+  requireUsableDevice(device, "ORB extraction on CUDA");
   const std::vector<int8_t>& table = pattern();
   impl_->pattern = Buffer<int8_t>(device, table.size());
   impl_->pattern.upload(table.data());
@@ -232,7 +227,7 @@ struct HammingMatcher::Impl {
 };
 
 HammingMatcher::HammingMatcher(Device device) : impl_(new Impl{device, {}, {}}) {
-  requireCuda(device, "Hamming matching");
+  requireUsableDevice(device, "Hamming matching on CUDA");
 }
 
 HammingMatcher::~HammingMatcher() = default;
@@ -240,15 +235,15 @@ Device HammingMatcher::device() const { return impl_->device; }
 
 namespace {
 
-/// Appends a descriptor matrix's rows (4 words each) to `words`.
-void appendDescriptors(std::vector<uint64_t>& words, const cv::Mat& descriptors, const char* name) {
-  if (descriptors.empty()) return;
+void requireDescriptors(const cv::Mat& descriptors, const char* name) {
   require(descriptors.type() == CV_8UC1 && descriptors.cols == orb::kDescriptorBytes,
           std::string("Hamming matching: ") + name + " must be CV_8U with 32 bytes a row");
+}
+
+/// Copies a descriptor matrix's rows (4 words each) to `target`.
+void copyDescriptors(uint64_t* target, const cv::Mat& descriptors) {
   const cv::Mat rows = descriptors.isContinuous() ? descriptors : descriptors.clone();
-  const std::size_t first = words.size();
-  words.resize(first + static_cast<std::size_t>(rows.rows) * 4);
-  std::memcpy(words.data() + first, rows.data, static_cast<std::size_t>(rows.rows) * orb::kDescriptorBytes);
+  std::memcpy(target, rows.data, static_cast<std::size_t>(rows.rows) * orb::kDescriptorBytes);
 }
 
 }  // namespace
@@ -263,22 +258,19 @@ std::vector<std::vector<std::vector<cv::DMatch>>> HammingMatcher::matchPairs(
   require(k >= 1 && k <= orb::kMaxMatchK, "Hamming matching: k must be in [1, 8], got " + std::to_string(k));
   Impl& s = *impl_;
   std::vector<std::vector<std::vector<cv::DMatch>>> result(pairs.size());
-  std::vector<uint64_t> aWords, bWords;
   std::vector<int> aBegin{0}, bBegin{0};
   for (std::size_t p = 0; p < pairs.size(); ++p) {
     const cv::Mat& A = pairs[p].first;
     const cv::Mat& B = pairs[p].second;
     result[p].resize(A.empty() ? 0 : A.rows);
     // A pair with an empty side contributes no rows: its rows of A have no matches.
-    if (A.empty() || B.empty()) {
-      aBegin.push_back(aBegin.back());
-      bBegin.push_back(bBegin.back());
-      continue;
+    const bool matched = !A.empty() && !B.empty();
+    if (matched) {
+      requireDescriptors(A, "descriptorsA");
+      requireDescriptors(B, "descriptorsB");
     }
-    appendDescriptors(aWords, A, "descriptorsA");
-    appendDescriptors(bWords, B, "descriptorsB");
-    aBegin.push_back(aBegin.back() + A.rows);
-    bBegin.push_back(bBegin.back() + B.rows);
+    aBegin.push_back(aBegin.back() + (matched ? A.rows : 0));
+    bBegin.push_back(bBegin.back() + (matched ? B.rows : 0));
   }
   const int rowsA = aBegin.back();
   if (rowsA == 0) return result;
@@ -286,19 +278,23 @@ std::vector<std::vector<std::vector<cv::DMatch>>> HammingMatcher::matchPairs(
   const std::size_t outputs = static_cast<std::size_t>(rowsA) * k;
   // One upload (A rows, B rows, then both segment tables as ints) and one download (indices, then distances):
   // each transfer costs tens of microseconds whatever its size.
+  const std::size_t aWords = static_cast<std::size_t>(rowsA) * 4, bWords = static_cast<std::size_t>(bBegin.back()) * 4;
   const std::size_t tableWords = (aBegin.size() + bBegin.size() + 1) / 2;
-  std::vector<uint64_t> staging(aWords.size() + bWords.size() + tableWords, 0);
-  std::copy(aWords.begin(), aWords.end(), staging.begin());
-  std::copy(bWords.begin(), bWords.end(), staging.begin() + static_cast<std::ptrdiff_t>(aWords.size()));
-  int* tables = reinterpret_cast<int*>(staging.data() + aWords.size() + bWords.size());
+  std::vector<uint64_t> staging(aWords + bWords + tableWords, 0);
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    if (aBegin[p + 1] == aBegin[p]) continue;
+    copyDescriptors(staging.data() + 4 * static_cast<std::size_t>(aBegin[p]), pairs[p].first);
+    copyDescriptors(staging.data() + aWords + 4 * static_cast<std::size_t>(bBegin[p]), pairs[p].second);
+  }
+  int* tables = reinterpret_cast<int*>(staging.data() + aWords + bWords);
   std::copy(aBegin.begin(), aBegin.end(), tables);
   std::copy(bBegin.begin(), bBegin.end(), tables + aBegin.size());
   reserveBuffer(s.input, s.device, staging.size());
   reserveBuffer(s.output, s.device, 2 * outputs);
   s.input.uploadPart(staging.data(), staging.size());
   const uint64_t* deviceWords = s.input.data();
-  const int* deviceTables = reinterpret_cast<const int*>(deviceWords + aWords.size() + bWords.size());
-  const orb::HammingKnn knn{deviceWords, deviceWords + aWords.size(),
+  const int* deviceTables = reinterpret_cast<const int*>(deviceWords + aWords + bWords);
+  const orb::HammingKnn knn{deviceWords, deviceWords + aWords,
                             orb::MatchSegments{deviceTables, deviceTables + aBegin.size(), static_cast<int>(pairs.size())},
                             k, s.output.data(), s.output.data() + outputs};
   if (s.device == Device::Cuda) orb::hammingKnnCuda(knn, rowsA);

@@ -65,10 +65,7 @@ SubPixelMatcher::SubPixelMatcher(Device device, double maxShiftPx, int halfWindo
   require(halfWindowPx >= 1 && halfWindowPx <= subpixel::kMaxHalfWindowPx,
           "sub-pixel matching: the half window must be 1 to " + std::to_string(subpixel::kMaxHalfWindowPx) + " px");
   require(maxShiftPx > 0 && std::isfinite(maxShiftPx), "sub-pixel matching: the largest shift must be positive");
-  if (device == Device::Cuda) {
-    const std::string reason = cudaUnavailableReason();
-    if (!reason.empty()) throw Error("sub-pixel matching on CUDA was asked for, but " + reason);
-  }
+  requireUsableDevice(device, "sub-pixel matching on CUDA");
 }
 
 SubPixelMatcher::~SubPixelMatcher() = default;
