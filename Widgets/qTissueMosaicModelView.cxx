@@ -39,11 +39,18 @@ public:
   bool live = false;        ///< a scan is running: reduce renders that would be slow
   vtkNew<vtkCallbackCommand> interaction;
 
-  /// The level-of-detail budget for the next interaction, from the last full render's speed.
+  /// The smallest level of detail; also what is drawn while the speed of this view is still unknown.
+  static constexpr vtkIdType kSmallestSubsample = 20000;
+
+  /// The level-of-detail budget for the next reduced render, from the speed of the last render of a large
+  /// model (0: every point). Until that speed is known, the smallest subsample: a first live render of a large
+  /// model must not stall the interface to find out.
   void updateBudget() {
     vtkIdType budget = 0;
-    if (interactiveFrameTimeMs > 0 && msPerPoint > 0) {
-      budget = std::max<vtkIdType>(20000, static_cast<vtkIdType>(interactiveFrameTimeMs / msPerPoint));
+    if (interactiveFrameTimeMs > 0) {
+      budget = msPerPoint > 0
+                   ? std::max(kSmallestSubsample, static_cast<vtkIdType>(interactiveFrameTimeMs / msPerPoint))
+                   : kSmallestSubsample;
     }
     scene->SetInteractivePointBudget(budget);
   }
@@ -65,6 +72,9 @@ qTissueMosaicModelView::qTissueMosaicModelView(QWidget* parent) : QWidget(parent
   d->widget->setObjectName("modelVtkWidget");
   d->widget->setRenderWindow(d->window);
   d->window->AddRenderer(d->renderer);
+  // Multisampling multiplies the per-pixel work of software OpenGL (8 samples: an empty frame took 80 ms instead of
+  // 8 on llvmpipe) for edges that points barely have; the offscreen snapshot draws without it too.
+  d->window->SetMultiSamples(0);
   d->scene->AddToRenderer(d->renderer);
   vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
   d->interaction->SetClientData(d);
@@ -131,7 +141,8 @@ void qTissueMosaicModelView::render() {
   if (!userInteracting) {
     const vtkIdType modelPoints = d->model ? d->model->GetNumberOfPoints() : 0;
     d->updateBudget();
-    d->scene->SetInteracting(d->live && d->msPerPoint * modelPoints > d->interactiveFrameTimeMs);
+    const vtkIdType budget = d->scene->GetInteractivePointBudget();
+    d->scene->SetInteracting(d->live && budget > 0 && modelPoints > budget);
   }
   QElapsedTimer timer;
   timer.start();
@@ -141,7 +152,7 @@ void qTissueMosaicModelView::render() {
   // The speed estimate includes the frame's fixed costs, so it errs toward reducing: a growing model switches to
   // the subsample before a full draw of it would ever stall the interface.
   const vtkIdType points = d->scene->GetDrawnModelPoints();
-  if (points > 20000) d->msPerPoint = double(d->lastRenderMs) / points;
+  if (points >= Private::kSmallestSubsample / 2) d->msPerPoint = double(d->lastRenderMs) / points;
 }
 
 void qTissueMosaicModelView::setLiveUpdates(bool live) {

@@ -30,6 +30,17 @@ QString pointCountText(long long points) {
   return QObject::tr("%1 points").arg(points);
 }
 
+/// QProgressBar::setValue repaints synchronously, and in a window with an OpenGL view every repaint composes the
+/// whole window (tens of ms with software OpenGL). With updates off, the change waits for the next paint of the
+/// window instead, together with the 3D view's.
+void setProgressDeferred(QProgressBar* bar, int maximum, int value, const QString& format) {
+  bar->setUpdatesEnabled(false);
+  bar->setRange(0, maximum);
+  bar->setValue(value);
+  bar->setFormat(format);
+  bar->setUpdatesEnabled(true);  // schedules an (asynchronous) update
+}
+
 }  // namespace
 
 qTissueMosaicMainWindow::qTissueMosaicMainWindow(QWidget* parent) : QMainWindow(parent) {
@@ -111,9 +122,7 @@ qTissueMosaicMainWindow::qTissueMosaicMainWindow(QWidget* parent) : QMainWindow(
     this->statusBar()->showMessage(text, 8000);
   });
   connect(&this->Demo, &qTissueMosaicDemoInput::progress, this, [this](int written, int frames) {
-    this->Progress->setRange(0, frames);
-    this->Progress->setValue(written);
-    this->Progress->setFormat(tr("demo: frame %v of %m"));
+    setProgressDeferred(this->Progress, frames, written, tr("demo: frame %v of %m"));
   });
   connect(&this->Demo, &qTissueMosaicDemoInput::finished, this, &qTissueMosaicMainWindow::onDemoFinished);
 
@@ -221,17 +230,17 @@ void qTissueMosaicMainWindow::updateStatusBar() {
   const auto& status = logic->GetStatus();
   this->TrackingLabel->setText(QString::fromStdString(logic->GetTrackingStateText()));
   // Lost tracking must catch the eye.
-  this->TrackingLabel->setStyleSheet(status.framesProcessed > 0 && !status.tracked
-                                         ? "QLabel { color: white; background: #c62828; padding: 1px 6px; }"
-                                         : "QLabel { padding: 1px 6px; }");
+  const QString trackingStyle = status.framesProcessed > 0 && !status.tracked
+                                    ? "QLabel { color: white; background: #c62828; padding: 1px 6px; }"
+                                    : "QLabel { padding: 1px 6px; }";
+  if (this->TrackingLabel->styleSheet() != trackingStyle) this->TrackingLabel->setStyleSheet(trackingStyle);
   this->FpsLabel->setText(tr("%1 fps").arg(status.framesPerSecond, 0, 'f', 1));
   this->KeyFramesLabel->setText(tr("%1 key frames").arg(status.keyFrames));
   this->PointsLabel->setText(pointCountText(status.modelPoints));
   if (!this->Demo.isRunning()) {
     const int total = status.framesInInput > 0 ? status.framesInInput : logic->GetInputFrameCount();
-    this->Progress->setRange(0, std::max(total, 1));
-    this->Progress->setValue(std::min(status.framesProcessed, std::max(total, 1)));
-    this->Progress->setFormat(total > 0 ? tr("frame %v / %m") : tr("%v frames"));
+    setProgressDeferred(this->Progress, std::max(total, 1), std::min(status.framesProcessed, std::max(total, 1)),
+                        total > 0 ? tr("frame %v / %m") : tr("%v frames"));
   }
 }
 
