@@ -71,4 +71,20 @@ void synchronize() { check(cudaDeviceSynchronize(), "cudaDeviceSynchronize"); }
 
 void checkLaunch(const char* what) { check(cudaGetLastError(), what); }
 
+void* createEvent() {
+  cudaEvent_t event = nullptr;
+  check(cudaEventCreate(&event), "cudaEventCreate");
+  return event;
+}
+void destroyEvent(void* event) noexcept {
+  if (event) cudaEventDestroy(static_cast<cudaEvent_t>(event));
+}
+void recordEvent(void* event) { check(cudaEventRecord(static_cast<cudaEvent_t>(event)), "cudaEventRecord"); }
+double millisecondsBetween(void* from, void* to) {
+  check(cudaEventSynchronize(static_cast<cudaEvent_t>(to)), "cudaEventSynchronize");
+  float ms = 0.0f;
+  check(cudaEventElapsedTime(&ms, static_cast<cudaEvent_t>(from), static_cast<cudaEvent_t>(to)), "cudaEventElapsedTime");
+  return ms;
+}
+
 }  // namespace tissuemosaic::cuda

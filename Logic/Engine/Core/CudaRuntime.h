@@ -25,5 +25,11 @@ void setZero(void* device, std::size_t bytes);
 void synchronize();
 /// Throws Error naming `what` when the last kernel launch failed.
 void checkLaunch(const char* what);
+/// Time marks queued on the default stream behind the work launched before them (cudaEvent_t as an opaque handle).
+void* createEvent();
+void destroyEvent(void* event) noexcept;
+void recordEvent(void* event);
+/// Milliseconds of device time between two recorded marks; waits until `to` is reached.
+double millisecondsBetween(void* from, void* to);
 
 }  // namespace tissuemosaic::cuda

@@ -21,5 +21,9 @@ void copyDeviceToDevice(void*, const void*, std::size_t) { absent(); }
 void setZero(void*, std::size_t) { absent(); }
 void synchronize() { absent(); }
 void checkLaunch(const char*) { absent(); }
+void* createEvent() { absent(); }
+void destroyEvent(void*) noexcept {}
+void recordEvent(void*) { absent(); }
+double millisecondsBetween(void*, void*) { absent(); }
 
 }  // namespace tissuemosaic::cuda

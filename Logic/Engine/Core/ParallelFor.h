@@ -12,7 +12,6 @@
 
 #include "KernelProfiler.h"
 
-#include <chrono>
 #include <typeinfo>
 
 #if defined(__CUDACC__)
@@ -35,18 +34,13 @@ struct ParallelFor<CpuBackend> {
     if (count <= 0) return;
     grain = std::max<int64_t>(1, grain);
     const int64_t tasks = (count + grain - 1) / grain;
-    const bool profile = profiling::enabled();
-    const auto start = profile ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
+    profiling::ScopedTimer timer(typeid(Functor).name());
     cv::parallel_for_(cv::Range(0, static_cast<int>(tasks)), [&](const cv::Range& range) {
       for (int64_t task = range.start; task < range.end; ++task) {
         const int64_t end = std::min(count, (task + 1) * grain);
         for (int64_t i = task * grain; i < end; ++i) functor(i);
       }
     });
-    if (profile) {
-      profiling::record(typeid(Functor).name(),
-                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-    }
   }
 };
 
@@ -68,19 +62,9 @@ struct ParallelFor<CudaBackend> {
     const int64_t wantedBlocks = 2 * static_cast<int64_t>(cuda::multiprocessorCount());
     while (threads > 32 && (count + threads - 1) / threads < wantedBlocks) threads /= 2;
     const int64_t blocks = std::min<int64_t>((count + threads - 1) / threads, 65535);
-    const bool profile = profiling::enabled();
-    std::chrono::steady_clock::time_point start;
-    if (profile) {
-      cuda::synchronize();
-      start = std::chrono::steady_clock::now();
-    }
+    profiling::ScopedTimer timer(typeid(Functor).name(), cuda::synchronize);
     parallelForKernel<<<static_cast<unsigned>(blocks), threads>>>(count, functor);
     cuda::checkLaunch("parallelFor kernel");
-    if (profile) {
-      cuda::synchronize();
-      profiling::record(typeid(Functor).name(),
-                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-    }
   }
 };
 #endif

@@ -49,6 +49,7 @@ template <class Sample>
 TM_HOST_DEVICE TM_FORCE_INLINE void chessboardColumnSums(const Sample& sample, int r, float& even, float& odd) {
   even = 0.0f;
   odd = 0.0f;
+  TM_UNROLL
   for (int dy = -r; dy <= r; ++dy) {
     const float v = sample(dy);
     if ((dy & 1) == 0) even += v;
@@ -57,15 +58,13 @@ TM_HOST_DEVICE TM_FORCE_INLINE void chessboardColumnSums(const Sample& sample, i
 }
 
 /// Window sum at column x from column sums: columns x+dx with dx even contribute their `even` sum, dx odd their
-/// `odd` sum. column(dx) returns the (even, odd) pair of column x+dx through references.
+/// `odd` sum. column(dx, even) returns that sum of column x+dx (only the one needed is read: on the GPU the column
+/// sums live in shared memory, whose reads bound the cost volume's speed).
 template <class Column>
 TM_HOST_DEVICE TM_FORCE_INLINE float chessboardWindowSum(const Column& column, int r) {
   float sum = 0.0f;
-  for (int dx = -r; dx <= r; ++dx) {
-    float even, odd;
-    column(dx, even, odd);
-    sum += (dx & 1) == 0 ? even : odd;
-  }
+  TM_UNROLL
+  for (int dx = -r; dx <= r; ++dx) sum += column(dx, (dx & 1) == 0);
   return sum;
 }
 
@@ -128,19 +127,9 @@ struct WindowStatistics {
     int x, y;
     pixelCoordinates(index, width, x, y);
     const float s = chessboardWindowSum(
-        [&](int dx, float& e, float& o) {
-          const int c = clampIndex(x + dx, width);
-          e = evenSum.at(c, y);
-          o = oddSum.at(c, y);
-        },
-        radius);
+        [&](int dx, bool even) { return (even ? evenSum : oddSum).at(clampIndex(x + dx, width), y); }, radius);
     const float s2 = chessboardWindowSum(
-        [&](int dx, float& e, float& o) {
-          const int c = clampIndex(x + dx, width);
-          e = evenSumSq.at(c, y);
-          o = oddSumSq.at(c, y);
-        },
-        radius);
+        [&](int dx, bool even) { return (even ? evenSumSq : oddSumSq).at(clampIndex(x + dx, width), y); }, radius);
     sum[index] = s;
     inverseNorm[index] = windowInverseNorm(s, s2, chessboardPixelCount(radius), minStdDev);
   }
@@ -223,11 +212,11 @@ struct RemoveOutliers {
       bool smooth = true;
       for (int s0 = 1; s0 <= inImage && smooth; s0 += kRayFetch) {
         int16_t values[kRayFetch];
-#pragma unroll
+TM_UNROLL
         for (int j = 0; j < kRayFetch; ++j) {
           values[j] = s0 + j <= inImage ? input.at(x + (s0 + j) * dx, y + (s0 + j) * dy) : kNoDisparity;
         }
-#pragma unroll
+TM_UNROLL
         for (int j = 0; j < kRayFetch; ++j) {
           const int16_t value = values[j];
           if (!smooth || value == kNoDisparity) continue;
@@ -272,8 +261,35 @@ TM_HOST_DEVICE TM_FORCE_INLINE int16_t radialFillValue(const int* hitValue, cons
   return lines >= minLines ? static_cast<int16_t>(floorf(weightedSum / weightSum + 0.5f)) : kNoDisparity;
 }
 
-/// II.B hole filling, method 1 (the GPU's form): walks the 8 rays of each hole up to radius px for the nearest
-/// estimate, then radialFillValue.
+/// The nearest estimate from (x, y) along radial direction k within radius px: its value and its distance in steps
+/// (0: none). The ray walk of hole filling method 1.
+TM_HOST_DEVICE TM_FORCE_INLINE void nearestAlongRay(ImageView<const int16_t> input, int x, int y, int k, int radius,
+                                                    int& value, int& distance) {
+  int dx, dy;
+  radialDirection(k, dx, dy);
+  distance = 0;
+  value = 0;
+  const int inImage = stepsInside(x, y, dx, dy, input.width, input.height, radius);
+  for (int s0 = 1; s0 <= inImage && distance == 0; s0 += kRayFetch) {
+    int16_t values[kRayFetch];
+TM_UNROLL
+    for (int j = 0; j < kRayFetch; ++j) {
+      values[j] = s0 + j <= inImage ? input.at(x + (s0 + j) * dx, y + (s0 + j) * dy) : kNoDisparity;
+    }
+TM_UNROLL
+    for (int j = 0; j < kRayFetch; ++j) {
+      if (distance == 0 && values[j] != kNoDisparity) {
+        distance = s0 + j;
+        value = values[j];
+      }
+    }
+  }
+}
+
+/// II.B hole filling, method 1 (the GPU's form): walks the rays of each hole up to radius px for the nearest
+/// estimate, then radialFillValue. A line needs a hit at both ends, so the opposite ray of a ray without a hit is not
+/// walked, and the walks stop once fewer than minLines lines remain possible: holes far from any estimate (an
+/// image border that no disparity can match) cost a few walks instead of eight, with the same result.
 struct FillHolesRadial {
   ImageView<const int16_t> input;
   ImageView<int16_t> output;
@@ -289,26 +305,13 @@ struct FillHolesRadial {
     pixelCoordinates(index, input.width, x, y);
     int hitValue[8];
     int hitDistance[8];
-    for (int k = 0; k < 8; ++k) {
-      int dx, dy;
-      radialDirection(k, dx, dy);
-      hitDistance[k] = 0;
-      hitValue[k] = 0;
-      const int inImage = stepsInside(x, y, dx, dy, input.width, input.height, radius);
-      for (int s0 = 1; s0 <= inImage && hitDistance[k] == 0; s0 += kRayFetch) {
-        int16_t values[kRayFetch];
-#pragma unroll
-        for (int j = 0; j < kRayFetch; ++j) {
-          values[j] = s0 + j <= inImage ? input.at(x + (s0 + j) * dx, y + (s0 + j) * dy) : kNoDisparity;
-        }
-#pragma unroll
-        for (int j = 0; j < kRayFetch; ++j) {
-          if (hitDistance[k] == 0 && values[j] != kNoDisparity) {
-            hitDistance[k] = s0 + j;
-            hitValue[k] = values[j];
-          }
-        }
-      }
+    int linesWithoutEnd = 0;
+    for (int k = 0; k < 4; ++k) {
+      nearestAlongRay(input, x, y, k, radius, hitValue[k], hitDistance[k]);
+      hitValue[k + 4] = 0;
+      hitDistance[k + 4] = 0;
+      if (hitDistance[k] > 0) nearestAlongRay(input, x, y, k + 4, radius, hitValue[k + 4], hitDistance[k + 4]);
+      if (hitDistance[k + 4] == 0 && ++linesWithoutEnd > 4 - minLines) return;  // stays a hole
     }
     output[index] = radialFillValue(hitValue, hitDistance, minLines, maxEndDifferencePx);
   }

@@ -45,14 +45,14 @@ void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& p
 /// Backend-specific ZNCC cost volume + winner (argmax, lowest disparity on ties) from the window statistics. The
 /// right-view winners are found in the same pass (rightBestDisparity).
 void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs);
+void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);
 /// The CPU launcher of the window statistics (banded and vectorised; the same sums as WindowColumnSums +
 /// WindowStatistics, which the GPU runs).
+void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,
+                                int radius, float minStdDev);
 /// The CPU launcher of radial hole filling: per-direction sweeps for the nearest estimates (same answers as the
 /// ray walks of FillHolesRadial, which the GPU runs), then radialFillValue per hole.
 void fillHolesRadialCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, int minLines,
                         float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue);
-void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,
-                                int radius, float minStdDev);
-void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);
 
 }  // namespace tissuemosaic::stereo

@@ -1,13 +1,14 @@
 // The section II pipeline, written once and instantiated per backend (included by StereoBackendCpu.cpp and
 // StereoBackendCuda.cu only).
 #include "Core/ParallelFor.h"
+#include "Core/StageClock.h"
 #include "StereoPipeline.h"
 #if defined(__CUDACC__)
 #include "BoxFilterCuda.cuh"
 #endif
 
-#include <chrono>
 #include <type_traits>
+#include <vector>
 
 namespace tissuemosaic::stereo {
 
@@ -125,21 +126,13 @@ struct PipelineSteps {
   }
 };
 
-double elapsedMs(std::chrono::steady_clock::time_point& start, Device device) {
-  synchronize(device);
-  const auto now = std::chrono::steady_clock::now();
-  const double ms = std::chrono::duration<double, std::milli>(now - start).count();
-  start = now;
-  return ms;
-}
-
 }  // namespace
 
 template <class Backend>
 void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimingsMs& timings,
                        void (*znccVolume)(const ZnccVolumeInputs&)) {
   PipelineSteps<Backend> steps{w, p};
-  auto start = std::chrono::steady_clock::now();
+  StageClock clock(w.device);
 
   steps.windowStatistics(w.left, w.sumLeft, w.inverseNormLeft);
   steps.windowStatistics(w.right, w.sumRight, w.inverseNormRight);
@@ -148,14 +141,18 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
                               w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx, p.disparityCount(),
                               w.volume.data(), w.volumeLayout(), w.znccDisparity.view(), w.rightZnccDisparity.view(),
                               w.rightWinnerKeys.data()});
-  timings.zncc = elapsedMs(start, w.device);
+  clock.mark();
 
   steps.outliersAndHoles();
   w.filledDisparity.buffer().copyFrom(w.discrete.buffer());
-  timings.outliersHoles = elapsedMs(start, w.device);
+  clock.mark();
 
   steps.refinement();
-  timings.refinement = elapsedMs(start, w.device);
+  clock.mark();
+  const std::vector<double> stageMs = clock.stageMilliseconds();  // waits for the device
+  timings.zncc = stageMs[0];
+  timings.outliersHoles = stageMs[1];
+  timings.refinement = stageMs[2];
 }
 
 }  // namespace tissuemosaic::stereo

@@ -16,15 +16,9 @@ constexpr int kWarpsPerBlock = 4;
 template <class Argument>
 void launchWarpPerItem(const char* name, void (*kernel)(Argument, int), const Argument& argument, int count) {
   if (count <= 0) return;
-  const bool profile = profiling::enabled();
-  if (profile) cuda::synchronize();
-  const auto start = std::chrono::steady_clock::now();
+  profiling::ScopedTimer timer(name, cuda::synchronize);
   kernel<<<(count + kWarpsPerBlock - 1) / kWarpsPerBlock, kWarp * kWarpsPerBlock>>>(argument, count);
   cuda::checkLaunch(name);
-  if (profile) {
-    cuda::synchronize();
-    profiling::record(name, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-  }
 }
 
 /// (distance, index) as one ordered key: the smaller key is the nearer row, ties to the lower index.
