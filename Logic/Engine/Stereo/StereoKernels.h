@@ -91,6 +91,16 @@ TM_HOST_DEVICE TM_FORCE_INLINE int16_t quantisedZncc(float sumLR, float sumL, fl
   return static_cast<int16_t>(textureless ? kNoZncc : q);
 }
 
+/// Both 8-bit grey images widened to the float images the pipeline works on (exact: integers 0..255).
+struct GreyToFloat {
+  ImageView<const uint8_t> leftGrey, rightGrey;
+  ImageView<float> left, right;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    left[index] = static_cast<float>(leftGrey[index]);
+    right[index] = static_cast<float>(rightGrey[index]);
+  }
+};
+
 /// Window statistics, pass 1: chessboard column sums of I and I^2 at every pixel.
 struct WindowColumnSums {
   ImageView<const float> image;

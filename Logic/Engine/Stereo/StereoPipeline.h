@@ -20,7 +20,8 @@ struct StereoWorkspace {
 
   Device device;
   int width, height, disparityCount;
-  Image<float> left, right;                        ///< grey levels 0..255 (integers)
+  Image<uint8_t> leftGrey, rightGrey;              ///< the rectified pair as uploaded: 8-bit grey
+  Image<float> left, right;                        ///< the same grey levels 0..255 as floats (exact integers)
   Image<float> columnEven, columnOdd, columnEvenSq, columnOddSq;
   Image<float> sumLeft, inverseNormLeft, sumRight, inverseNormRight;
   Buffer<int16_t> volume;                          ///< quantised ZNCC, laid out by volumeLayout()

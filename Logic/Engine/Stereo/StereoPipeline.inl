@@ -134,6 +134,8 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
   PipelineSteps<Backend> steps{w, p};
   StageClock clock(w.device);
 
+  parallelFor<Backend>(steps.pixels(), GreyToFloat{w.leftGrey.view(), w.rightGrey.view(), w.left.view(), w.right.view()});
+
   steps.windowStatistics(w.left, w.sumLeft, w.inverseNormLeft);
   steps.windowStatistics(w.right, w.sumRight, w.inverseNormRight);
   const ImageView<const float> left = w.left.view(), right = w.right.view();
