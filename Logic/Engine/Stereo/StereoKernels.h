@@ -199,6 +199,15 @@ TM_HOST_DEVICE TM_FORCE_INLINE int stepsInside(int x, int y, int dx, int dy, int
 /// decision (the GPU walk is latency-bound otherwise). Results are those of a one-step-at-a-time walk.
 constexpr int kRayFetch = 4;
 
+/// Steps s0 .. s0 + kRayFetch - 1 of the ray from (x, y) along (dx, dy); kNoDisparity beyond its last in-image step.
+TM_HOST_DEVICE TM_FORCE_INLINE void fetchRaySteps(ImageView<const int16_t> input, int x, int y, int dx, int dy, int s0,
+                                                  int inImage, int16_t (&values)[kRayFetch]) {
+  TM_UNROLL
+  for (int j = 0; j < kRayFetch; ++j) {
+    values[j] = s0 + j <= inImage ? input.at(x + (s0 + j) * dx, y + (s0 + j) * dy) : kNoDisparity;
+  }
+}
+
 /// II.B outlier test: a disparity is kept when along at least one of the 8 radial directions, within radius r,
 /// consecutive estimates change by at most maxStepPx and at least half of the ray's in-image pixels carry one.
 struct RemoveOutliers {
@@ -222,11 +231,8 @@ struct RemoveOutliers {
       bool smooth = true;
       for (int s0 = 1; s0 <= inImage && smooth; s0 += kRayFetch) {
         int16_t values[kRayFetch];
-TM_UNROLL
-        for (int j = 0; j < kRayFetch; ++j) {
-          values[j] = s0 + j <= inImage ? input.at(x + (s0 + j) * dx, y + (s0 + j) * dy) : kNoDisparity;
-        }
-TM_UNROLL
+        fetchRaySteps(input, x, y, dx, dy, s0, inImage, values);
+        TM_UNROLL
         for (int j = 0; j < kRayFetch; ++j) {
           const int16_t value = values[j];
           if (!smooth || value == kNoDisparity) continue;
@@ -282,11 +288,8 @@ TM_HOST_DEVICE TM_FORCE_INLINE void nearestAlongRay(ImageView<const int16_t> inp
   const int inImage = stepsInside(x, y, dx, dy, input.width, input.height, radius);
   for (int s0 = 1; s0 <= inImage && distance == 0; s0 += kRayFetch) {
     int16_t values[kRayFetch];
-TM_UNROLL
-    for (int j = 0; j < kRayFetch; ++j) {
-      values[j] = s0 + j <= inImage ? input.at(x + (s0 + j) * dx, y + (s0 + j) * dy) : kNoDisparity;
-    }
-TM_UNROLL
+    fetchRaySteps(input, x, y, dx, dy, s0, inImage, values);
+    TM_UNROLL
     for (int j = 0; j < kRayFetch; ++j) {
       if (distance == 0 && values[j] != kNoDisparity) {
         distance = s0 + j;
