@@ -90,21 +90,42 @@ std::string startXvfb(const std::string& xvfb) {
 
 }  // namespace
 
-bool canOpenXDisplay(const std::string& display) {
-  if (display.empty()) return false;
-  // A local server that exists can still refuse a connection now and then when many clients connect at once (seen
-  // with parallel tests on a loaded machine): try a few times before calling it unusable.
+namespace {
+
+Display* sharedConnection = nullptr;
+
+/// XOpenDisplay, retried: a local server that exists can still refuse a connection now and then when many clients
+/// connect at once (seen with parallel tests on a loaded machine). Null when it cannot be opened.
+Display* openXConnection(const std::string& display) {
+  if (display.empty()) return nullptr;
   const bool localSocketExists = display.size() > 1 && display[0] == ':' &&
                                  std::filesystem::exists("/tmp/.X11-unix/X" + display.substr(1, display.find('.') - 1));
   const int attempts = localSocketExists ? 5 : 1;
   for (int attempt = 0; attempt < attempts; ++attempt) {
     if (attempt > 0) std::this_thread::sleep_for(std::chrono::milliseconds(50 << attempt));
-    Display* connection = XOpenDisplay(display.c_str());
-    if (!connection) continue;
-    XCloseDisplay(connection);
-    return true;
+    if (Display* connection = XOpenDisplay(display.c_str())) return connection;
   }
-  return false;
+  return nullptr;
+}
+
+}  // namespace
+
+bool canOpenXDisplay(const std::string& display) {
+  Display* connection = openXConnection(display);
+  if (!connection) return false;
+  XCloseDisplay(connection);
+  return true;
+}
+
+void* sharedXConnection() {
+  const XDisplayStatus status = ensureXDisplay(/*preferPrivate=*/true);
+  const std::lock_guard<std::mutex> lock(displayMutex);
+  if (!sharedConnection) sharedConnection = openXConnection(status.display);
+  if (!sharedConnection) {
+    throw Error("cannot connect to the X display " + status.display + " (" + status.description +
+                "): the X server refused or is gone");
+  }
+  return sharedConnection;
 }
 
 XDisplayStatus ensureXDisplay(bool preferPrivate) {
@@ -147,6 +168,10 @@ XDisplayStatus ensureXDisplay(bool preferPrivate) {
 
 void stopPrivateXServer() {
   if (privateServerPid <= 0) return;
+  if (sharedConnection) {
+    XCloseDisplay(sharedConnection);
+    sharedConnection = nullptr;
+  }
   kill(privateServerPid, SIGTERM);
   waitpid(privateServerPid, nullptr, 0);
   privateServerPid = -1;

@@ -25,6 +25,12 @@ bool canOpenXDisplay(const std::string& display);
 /// Call it before any window, render window or QApplication is created, from one thread.
 XDisplayStatus ensureXDisplay(bool preferPrivate = false);
 
+/// One connection to the display of ensureXDisplay(preferPrivate = true), opened on first use with the retries of
+/// canOpenXDisplay and kept for the life of the process (Xlib's Display*). Give it to VTK render windows
+/// (SetDisplayId): a window that opens its own connection aborts the process when the server refuses it. Throws
+/// Error when the display cannot be opened. Not for use from several threads at once.
+void* sharedXConnection();
+
 /// Stops the private Xvfb, if one was started (also done automatically at exit).
 void stopPrivateXServer();
 

@@ -44,6 +44,7 @@ vtkSmartPointer<vtkRenderWindow> offscreenWindow(int widthPx, int heightPx) {
   require(widthPx >= 16 && heightPx >= 16 && widthPx <= 8192 && heightPx <= 8192,
           "snapshot size " + std::to_string(widthPx) + "x" + std::to_string(heightPx) + " px is out of range");
   auto window = vtkSmartPointer<vtkRenderWindow>::New();
+  window->SetDisplayId(sharedXConnection());  // VTK's own XOpenDisplay aborts the process when it fails
   window->SetOffScreenRendering(1);
   window->SetMultiSamples(0);  // identical pictures on every Mesa: no driver-dependent multisampling
   window->SetSize(widthPx, heightPx);
