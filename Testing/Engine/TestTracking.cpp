@@ -176,3 +176,16 @@ TEST(FrameTracker, ReportsABlankFrameAsLostAndResumes) {
   // Misuse throws: a frame of the wrong size.
   EXPECT_THROW(tracker.track(cv::Mat(10, 10, CV_8UC3, cv::Scalar(0)), cv::Mat(10, 10, CV_32F)), Error);
 }
+
+TEST(FrameTracker, RefusesAStartPoseThatIsNotARigidTransform) {
+  synthetic::SyntheticScanOptions options = shortScan();
+  options.frames = 1;
+  const synthetic::SyntheticScan scan(options);
+  Eigen::Matrix4d mirrored = scan.T_world_camera(0);
+  mirrored.col(0) *= -1.0;  // orthonormal, but a reflection: determinant -1
+  EXPECT_THROW(FrameTracker(scan.geometry(), FrameTrackerOptions{}, mirrored), Error);
+  Eigen::Matrix4d scaled = scan.T_world_camera(0);
+  scaled.block<3, 3>(0, 0) *= 1.01;
+  EXPECT_THROW(FrameTracker(scan.geometry(), FrameTrackerOptions{}, scaled), Error);
+  EXPECT_NO_THROW(FrameTracker(scan.geometry(), FrameTrackerOptions{}, scan.T_world_camera(0)));
+}

@@ -1,5 +1,6 @@
 #include "KeyFrameRefiner.h"
 
+#include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/ParallelFor.h"
 #include "Core/RigidTransform.h"
@@ -270,7 +271,7 @@ KeyFrameRefiner::KeyFrameRefiner(const RectifiedGeometry& geometry, const Refine
   features.validate();
   require(geometry.focalPx > 0 && geometry.imageSize.width > 0 && geometry.imageSize.height > 0,
           "refinement: the rectified geometry has no focal length or image size");
-  require(device == Device::Cpu || cudaAvailable(), "refinement: CUDA cannot be used: " + cudaUnavailableReason());
+  requireUsableDevice(device, "CUDA key-frame refinement");
   impl_ = std::make_unique<Impl>(geometry, parameters, tracking, features, device);
 }
 

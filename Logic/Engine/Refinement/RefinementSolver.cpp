@@ -1,5 +1,6 @@
 #include "RefinementSolver.h"
 
+#include "Core/Device.h"
 #include "Core/Error.h"
 #include "RefinementPipeline.h"
 
@@ -116,7 +117,7 @@ Image<Float3> uploadMap(Device device, const cv::Mat& map) {
 RefinementSolution solveRefinement(const RefinementProblem& problem, const RefinementParameters& parameters,
                                    Device device) {
   parameters.validate();
-  require(device == Device::Cpu || cudaAvailable(), "refinement: CUDA cannot be used: " + cudaUnavailableReason());
+  requireUsableDevice(device, "CUDA refinement");
   const int frames = static_cast<int>(problem.poses.size());
   const int points = static_cast<int>(problem.pointFixed.size());
   require(frames > 0, "refinement: no pose to refine");

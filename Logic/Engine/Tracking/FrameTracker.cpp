@@ -115,10 +115,7 @@ FrameTracker::FrameTracker(const RectifiedGeometry& geometry, const FrameTracker
     : impl_(std::make_unique<Impl>()) {
   options.validate();
   require(geometry.focalPx > 0 && geometry.baselineMm > 0, "tracker: the rectified geometry has no focal length or baseline");
-  require(T_world_startCamera.allFinite() &&
-              (T_world_startCamera.block<3, 3>(0, 0) * T_world_startCamera.block<3, 3>(0, 0).transpose() -
-               Eigen::Matrix3d::Identity()).norm() < 1e-6,
-          "tracker: the start pose is not a rigid transform");
+  require(isRigidTransform(T_world_startCamera), "tracker: the start pose is not a rigid transform");
   impl_->geometry = geometry;
   impl_->options = options;
   impl_->subPixel = std::make_unique<SubPixelMatcher>(options.featureDevice, options.features.maxRefinementShiftPx);
@@ -284,10 +281,7 @@ void FrameTracker::correctLastPose(const Eigen::Matrix4d& T_world_camera) {
   Impl& s = *impl_;
   require(s.lastTracked && s.reference.frameIndex == s.frames - 1,
           "tracker: only the pose of a just-tracked frame can be corrected");
-  require(T_world_camera.allFinite() &&
-              (T_world_camera.block<3, 3>(0, 0) * T_world_camera.block<3, 3>(0, 0).transpose() -
-               Eigen::Matrix3d::Identity()).norm() < 1e-6,
-          "tracker: the corrected pose is not a rigid transform");
+  require(isRigidTransform(T_world_camera), "tracker: the corrected pose is not a rigid transform");
   if (s.lastKeyFrameIndex == s.reference.frameIndex) s.T_world_lastKeyFrame = T_world_camera;
   s.setReference(s.lastFeatures, T_world_camera, s.reference.frameIndex);
 }
