@@ -139,10 +139,9 @@ void qTissueMosaicModelView::render() {
   auto* style = vtkInteractorStyle::SafeDownCast(d->widget->interactor()->GetInteractorStyle());
   const bool userInteracting = style && style->GetState() != VTKIS_NONE;
   if (!userInteracting) {
-    const vtkIdType modelPoints = d->model ? d->model->GetNumberOfPoints() : 0;
+    // The scene reduces only a model larger than the budget (vtkTissueMosaicModelScene::SetInteracting).
     d->updateBudget();
-    const vtkIdType budget = d->scene->GetInteractivePointBudget();
-    d->scene->SetInteracting(d->live && budget > 0 && modelPoints > budget);
+    d->scene->SetInteracting(d->live);
   }
   QElapsedTimer timer;
   timer.start();
