@@ -123,7 +123,9 @@ void qTissueMosaicModelView::requestRender() {
   // can take a large part of a second per frame), and renders come at most at about 30 Hz: the interface keeps
   // responding however often the logic has news. Mouse interaction renders directly, unthrottled.
   const qint64 sinceLastMs = d->sinceRender.isValid() ? d->sinceRender.elapsed() : 1000000;
-  const qint64 waitMs = std::max<qint64>(0, std::max<qint64>(33, 2 * d->lastRenderMs) - sinceLastMs);
+  // At least 1 ms: a zero-time single shot is a posted event, and posted events run in the same pass as the window
+  // repaint that the caller's other updates queued (at low priority, after them): render and repaint back to back.
+  const qint64 waitMs = std::max<qint64>(1, std::max<qint64>(33, 2 * d->lastRenderMs) - sinceLastMs);
   QTimer::singleShot(static_cast<int>(waitMs), this, &qTissueMosaicModelView::render);
 }
 
@@ -145,7 +147,12 @@ void qTissueMosaicModelView::render() {
   }
   QElapsedTimer timer;
   timer.start();
+  // The render ends by asking Qt to repaint the window, and that repaint (software OpenGL composes the whole
+  // window: 30-50 ms on llvmpipe) would run straight after it, before any timer or input: one stall twice as long.
+  // Holding the widget's updates until the next timer pass lets the event loop run between the two halves.
+  d->widget->setUpdatesEnabled(false);
   d->widget->renderWindow()->Render();
+  QTimer::singleShot(1, d->widget, [widget = d->widget] { widget->setUpdatesEnabled(true); });
   d->lastRenderMs = timer.elapsed();
   d->sinceRender.start();
   // The speed estimate includes the frame's fixed costs, so it errs toward reducing: a growing model switches to
@@ -177,6 +184,7 @@ void qTissueMosaicModelView::renderFullModel() {
   d->live = false;  // a picture shows every point, however long it takes
   this->render();
   d->live = live;
+  d->widget->setUpdatesEnabled(true);  // a picture of the window follows: its repaint cannot wait (see render())
 }
 
 bool qTissueMosaicModelView::saveScreenshot(const QString& path) {

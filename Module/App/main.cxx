@@ -1,5 +1,6 @@
 // tissuemosaic-app: the desktop application. With --offscreen it runs on a headless server (a private Xvfb),
 // e.g. `tissuemosaic-app --offscreen --demo --snapshot view.png` runs the demo scan and writes a screenshot.
+#include "qTissueMosaicApplication.h"
 #include "qTissueMosaicMainWindow.h"
 #include "qTissueMosaicModelView.h"
 #include "qTissueMosaicReconstructionParametersWidget.h"
@@ -43,12 +44,13 @@ options:
   --export-trajectory F  write the camera path (TUM) when the scan ends
   --quit-when-done       quit when the scan ends (implied by --offscreen and --snapshot)
   --report-stalls        print the longest event-loop stall (QTimer probe) measured while the scan ran
+  --trace-slow-events MS write every event that takes longer than MS milliseconds to stderr (what a stall was)
   -h, --help             this text
 )";
 
 struct Options {
   bool demo = false, offscreen = false, quitWhenDone = false, reportStalls = false;
-  int demoFrames = 60, demoWidth = 480, demoHeight = 270, snapshotFrame = -1;
+  int demoFrames = 60, demoWidth = 480, demoHeight = 270, snapshotFrame = -1, slowEventMs = 0;
   std::string device = "auto", params, snapshot, exportModel, exportTrajectory;
 };
 
@@ -79,6 +81,7 @@ Options parse(int argc, char** argv) {
     else if (word == "--offscreen") options.offscreen = true;
     else if (word == "--quit-when-done") options.quitWhenDone = true;
     else if (word == "--report-stalls") options.reportStalls = true;
+    else if (word == "--trace-slow-events") options.slowEventMs = positiveInteger(word, value());
     else if (word == "--demo-frames") options.demoFrames = positiveInteger(word, value());
     else if (word == "--demo-size") {
       const std::string size = value();
@@ -129,7 +132,8 @@ int main(int argc, char** argv) {
   if (!prepareDisplay(options)) return 2;
 
   QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
-  QApplication application(argc, argv);
+  qTissueMosaicApplication application(argc, argv);
+  application.setSlowEventThresholdMs(options.slowEventMs);
   application.setApplicationName("TissueMosaic");
 
   qTissueMosaicMainWindow window;

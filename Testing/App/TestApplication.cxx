@@ -104,10 +104,11 @@ TEST(Application, DemoScanEndToEnd) {
   ASSERT_EQ(logic->GetStatus().state, Logic::StateFinished) << logic->GetStatus().errorText;
   std::cout << "[ measured ] longest event-loop stall " << probe.longestStallMs() << " ms (" << probe.ticks()
             << " ticks of a 5 ms timer) during a " << logic->GetStatus().elapsedS << " s scan\n";
-  // A GUI that waited for the worker would stall for whole frames (here ~0.3-1 s each) or the whole scan. Measured
-  // here: 0.15 s under ctest -j2 (docs/DESKTOP.md); the bound leaves room for a busy CI machine with 2 shared
-  // cores and software OpenGL (Mesa llvmpipe).
-  EXPECT_LT(probe.longestStallMs(), 1000.0);
+  // A GUI that waited for the worker would stall for whole frames (here ~0.3-1 s each) or the whole scan; one that
+  // rendered and composed the window in one pass, about twice the measured figure. Measured here: 67 ms
+  // (docs/DESKTOP.md); the bound leaves room for a busy CI machine with 2 shared cores and software OpenGL (Mesa
+  // llvmpipe) running another test beside this one.
+  EXPECT_LT(probe.longestStallMs(), 500.0);
   // ... and the loop ran all along: on average at least one 5 ms tick per 50 ms.
   EXPECT_GT(probe.ticks(), logic->GetStatus().elapsedS * 1000 / 50) << "the event loop was starved";
 

@@ -1,12 +1,16 @@
-// The 3D view's level of detail during a scan (qTissueMosaicModelView): what a live render draws before and after
-// the view knows its own speed, and the full model once the scan ends.
+// The 3D view (qTissueMosaicModelView): its level of detail during a scan (what a live render draws before and after
+// the view knows its own speed, and the full model once the scan ends), and how its renders share the event loop.
 #include "qTissueMosaicModelView.h"
 #include "vtkTissueMosaicModelScene.h"
 #include "vtkTissueMosaicPointCloud.h"
 
 #include "Core/StereoRig.h"
 
+#include <QVTKOpenGLNativeWidget.h>
 #include <gtest/gtest.h>
+
+#include <QCoreApplication>
+#include <QElapsedTimer>
 #include <vtkActor.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
@@ -61,4 +65,27 @@ TEST(ModelView, LiveRendersOfALargeModelStayReducedUntilTheScanEnds) {
   view.setLiveUpdates(true);
   view.render();
   EXPECT_EQ(view.scene()->GetDrawnModelPoints(), points);
+}
+
+// A render and the repaint of the window that shows it run in separate passes of the event loop (on software
+// OpenGL each costs tens of milliseconds; back to back they made one stall twice as long).
+TEST(ModelView, RenderLeavesTheWindowRepaintToALaterEventLoopPass) {
+  vtkSmartPointer<vtkPolyData> model = tissuemosaic::pointCloudToPolyData(sheet(40, 30));
+  qTissueMosaicModelView view;
+  view.resize(320, 240);
+  view.show();
+  view.setSceneData(model, nullptr, nullptr, nullptr);
+  QCoreApplication::processEvents();
+
+  view.render();
+  EXPECT_FALSE(view.vtkWidget()->updatesEnabled()) << "the repaint would run straight after the render";
+  QElapsedTimer waited;
+  waited.start();
+  while (!view.vtkWidget()->updatesEnabled() && waited.elapsed() < 2000) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 10);
+  }
+  EXPECT_TRUE(view.vtkWidget()->updatesEnabled()) << "the repaint never came";
+
+  view.renderFullModel();  // a picture follows at once: no deferral
+  EXPECT_TRUE(view.vtkWidget()->updatesEnabled());
 }
