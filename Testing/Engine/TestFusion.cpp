@@ -90,6 +90,35 @@ TEST(SurfaceMeasurement, PointsEqualDisparityToPointCloud) {
   EXPECT_THROW(measureSurface(disparity, left(cv::Rect(0, 0, 50, 50)).clone(), g, Device::Cpu), Error);
 }
 
+// The mask that lets refinement pick ICP pixels without the maps themselves (they may stay on the device).
+TEST(SurfaceMeasurement, ValidMaskMarksThePixelsWithAPointAndANormal) {
+  const RectifiedGeometry g = fusionGeometry(97, 61, 250, -8);
+  cv::Mat disparity(g.imageSize, CV_32F);
+  cv::RNG rng(11);
+  rng.fill(disparity, cv::RNG::UNIFORM, 20.0, 24.0);
+  for (int i = 0; i < static_cast<int>(disparity.total() / 10); ++i)
+    disparity.at<float>(rng.uniform(0, g.imageSize.height), rng.uniform(0, g.imageSize.width)) = NAN;
+  SurfaceMeasurement m = measureSurface(disparity, test::uniformImage(g), g, Device::Cpu, 1, 50.0);
+  ASSERT_EQ(m.validMask.type(), CV_8U);
+  EXPECT_FALSE(m.onDevice) << "measured on the CPU";
+  long mismatches = 0, valid = 0;
+  for (int y = 0; y < g.imageSize.height; ++y)
+    for (int x = 0; x < g.imageSize.width; ++x) {
+      const cv::Vec3f p = m.pointsCameraMm.at<cv::Vec3f>(y, x), n = m.normalsCamera.at<cv::Vec3f>(y, x);
+      const bool both = std::isfinite(p[0]) && std::isfinite(p[2]) && std::isfinite(n[0]) && std::isfinite(n[2]);
+      mismatches += both != (m.validMask.at<uchar>(y, x) == 255);
+      valid += both;
+    }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_EQ(m.validPixels, valid);
+  EXPECT_GT(valid, static_cast<long>(disparity.total() / 4));  // both kinds of pixel occur
+  EXPECT_LT(valid, static_cast<long>(disparity.total()));
+  // A measurement assembled without a mask gets the same one from its maps.
+  const cv::Mat fromMask = m.validPixelMask();
+  m.validMask.release();
+  EXPECT_EQ(cv::norm(m.validPixelMask(), fromMask, cv::NORM_INF), 0);
+}
+
 TEST(SurfaceMeasurement, NormalsOfATiltedPlaneMatchTheAnalyticNormal) {
   const RectifiedGeometry g = fusionGeometry();
   PlanePatch plane;

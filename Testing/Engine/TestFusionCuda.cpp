@@ -79,6 +79,47 @@ TEST(FusionCuda, MeasuresTheSameSurfaceAsTheCpu) {
   EXPECT_EQ(points, 0);
   EXPECT_EQ(normals, 0);
   EXPECT_EQ(cv::norm(cpu.colourBgr, gpu.colourBgr, cv::NORM_INF), 0);
+  EXPECT_EQ(cv::norm(cpu.validMask, gpu.validMask, cv::NORM_INF), 0);
+  ASSERT_TRUE(gpu.onDevice) << "a CUDA measurement keeps its maps on the device";
+
+  // Kept on the device only: no host maps, the same mask, and the device maps are the same maps.
+  const SurfaceMeasurement kept = measureSurface(disparity, frame.leftRectified, scan.geometry(), Device::Cuda, 2, 2.0,
+                                                 SurfaceMapResidence::DeviceOnly);
+  EXPECT_FALSE(kept.hasHostMaps());
+  EXPECT_EQ(kept.size(), disparity.size());
+  EXPECT_EQ(kept.validPixels, cpu.validPixels);
+  EXPECT_EQ(cv::norm(cpu.validMask, kept.validMask, cv::NORM_INF), 0);
+  cv::Mat keptPoints, keptNormals;
+  kept.hostMaps(keptPoints, keptNormals);
+  EXPECT_EQ(differingPixels(cpu.pointsCameraMm, keptPoints), 0);
+  EXPECT_EQ(differingPixels(cpu.normalsCamera, keptNormals), 0);
+}
+
+// Fusion from maps that never left the device (the reconstruct pipeline's path on CUDA) gives the CPU's model; a
+// CPU fusion given such a measurement downloads the maps.
+TEST(FusionCuda, FusesTheSameModelFromMapsKeptOnTheDevice) {
+  if (!cudaAvailable()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  const synthetic::SyntheticScan scan(scanOptions());
+  const RectifiedGeometry& g = scan.geometry();
+  FusionParameters parameters;
+  PointFusion cpu(g, parameters, Device::Cpu), gpu(g, parameters, Device::Cuda), cpuFromDevice(g, parameters, Device::Cpu);
+  for (int index = 0; index < scan.frameCount(); index += 15) {
+    const synthetic::SyntheticScanFrame frame = scan.renderFrame(index);
+    const SurfaceMeasurement host = measureSurface(frame.disparityPx, frame.leftRectified, g, Device::Cpu);
+    const SurfaceMeasurement kept = measureSurface(frame.disparityPx, frame.leftRectified, g, Device::Cuda, 2, 2.0,
+                                                   SurfaceMapResidence::DeviceOnly);
+    const FusionStats a = cpu.integrate(host, frame.T_world_camera);
+    const FusionStats b = gpu.integrate(kept, frame.T_world_camera);
+    const FusionStats c = cpuFromDevice.integrate(kept, frame.T_world_camera);
+    EXPECT_EQ(a.merged, b.merged);
+    EXPECT_EQ(a.added, b.added);
+    EXPECT_EQ(a.merged, c.merged);
+    EXPECT_EQ(a.added, c.added);
+  }
+  ASSERT_GT(cpu.pointCount(), 0u);
+  double maxPositionMm = 0;
+  EXPECT_EQ(differingModelPoints(cpu.download(), gpu.download(), maxPositionMm), 0);
+  EXPECT_EQ(differingModelPoints(cpu.download(), cpuFromDevice.download(), maxPositionMm), 0);
 }
 
 TEST(FusionCuda, FusesTheSameModelAsTheCpu) {

@@ -68,6 +68,41 @@ TEST(RefinementCuda, IcpTermMatchesCpu) {
   expectSamePose(cpu.T_world_camera, gpu.T_world_camera, "ICP key frame");
 }
 
+// The ICP term read from maps that never left the device (the reconstruct pipeline's path on CUDA).
+TEST(RefinementCuda, IcpTermFromMapsKeptOnTheDeviceMatchesCpu) {
+  if (cudaMissing()) GTEST_SKIP() << "no CUDA device: " << cudaUnavailableReason();
+  const RectifiedGeometry g = testGeometry();
+  const CurvedSurface surface;
+  const SurfaceMeasurement host = surface.measure(g);
+  SurfaceMeasurement kept;  // the same measurement, its maps on the device only
+  auto maps = std::make_shared<SurfaceMapsOnDevice>();
+  const int width = host.pointsCameraMm.cols, height = host.pointsCameraMm.rows;
+  maps->pointsCameraMm = Image<Float3>(Device::Cuda, width, height);
+  maps->normalsCamera = Image<Float3>(Device::Cuda, width, height);
+  maps->pointsCameraMm.buffer().upload(host.pointsCameraMm.ptr<Float3>());
+  maps->normalsCamera.buffer().upload(host.normalsCamera.ptr<Float3>());
+  kept.onDevice = maps;
+  kept.validMask = host.validPixelMask();
+  kept.colourBgr = host.colourBgr;
+  ASSERT_FALSE(kept.hasHostMaps());
+  const std::vector<Eigen::Vector3f> model = surface.sample(30, 22, 90);
+  const Eigen::Matrix4d tracked = pose(Eigen::Vector3d(1, 2, 0), 0.8, Eigen::Vector3d(0.4, -0.3, 1.5));
+  const FeatureScene none(0, 1);
+  const auto refine = [&](Device device, const SurfaceMeasurement& measurement) {
+    KeyFrameRefiner refiner(g, RefinementParameters{}, TrackingParameters{}, FeatureParameters{}, device);
+    return refiner.refineKeyFrame(0, none.observe(Eigen::Matrix4d::Identity(), g, 0, 0, 0, 0, 1), tracked,
+                                  measurement, model, {});
+  };
+  const RefinementResult cpu = refine(Device::Cpu, host), gpu = refine(Device::Cuda, kept);
+  const RefinementResult cpuFromDevice = refine(Device::Cpu, kept);  // downloads the maps
+  ASSERT_TRUE(cpu.refined) << cpu.message;
+  ASSERT_TRUE(gpu.refined) << gpu.message;
+  EXPECT_EQ(cpu.icpPoints, gpu.icpPoints);
+  EXPECT_EQ(cpu.iterations, gpu.iterations);
+  expectSamePose(cpu.T_world_camera, gpu.T_world_camera, "ICP key frame, maps on the device");
+  expectSamePose(cpu.T_world_camera, cpuFromDevice.T_world_camera, "ICP key frame, CPU from device maps");
+}
+
 // The solver directly, with free points, several frames and the ICP term together.
 TEST(RefinementCuda, SolverMatchesCpu) {
   if (cudaMissing()) GTEST_SKIP() << "no CUDA device: " << cudaUnavailableReason();

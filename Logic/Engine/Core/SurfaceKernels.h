@@ -39,10 +39,12 @@ struct DisparityToPoints {
 
 /// Normal from the cross product of the central differences of the points radiusPx away in x and y, turned toward
 /// the camera (n . p < 0); NaN where the point or a neighbour is missing or outside the image, or a neighbour's
-/// depth differs from the centre's by more than maxDepthJumpMm (a depth edge, not a surface).
+/// depth differs from the centre's by more than maxDepthJumpMm (a depth edge, not a surface). valid: 255 where the
+/// pixel has a normal (and so a point), else 0.
 struct PointNormals {
   ImageView<const Float3> pointsMm;
   ImageView<Float3> normals;
+  ImageView<uint8_t> valid;
   int radiusPx;
   float maxDepthJumpMm;
 
@@ -50,6 +52,7 @@ struct PointNormals {
     const int i = static_cast<int>(index);
     const int y = i / pointsMm.width, x = i - y * pointsMm.width;
     normals[index] = nanFloat3();
+    valid[index] = 0;
     const int r = radiusPx;
     if (x < r || y < r || x + r >= pointsMm.width || y + r >= pointsMm.height) return;
     const Float3 p = pointsMm[index];
@@ -64,22 +67,27 @@ struct PointNormals {
     if (!(norm > 0)) return;
     n = ((dot(n, p) > 0 ? -1.0f : 1.0f) / norm) * n;
     normals[index] = n;
+    valid[index] = 255;
   }
 };
 
 /// Points, then normals, on the backend that owns the images (all of one device).
 template <class Backend>
 void measureSurfaceOn(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
-                      const Reprojection& reprojection, int normalRadiusPx, float maxDepthJumpMm) {
+                      ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
+                      float maxDepthJumpMm) {
   parallelFor<Backend>(disparityPx.pixelCount(), DisparityToPoints{disparityPx, pointsMm, reprojection});
-  parallelFor<Backend>(pointsMm.pixelCount(), PointNormals{pointsMm, normals, normalRadiusPx, maxDepthJumpMm});
+  parallelFor<Backend>(pointsMm.pixelCount(),
+                       PointNormals{pointsMm, normals, valid, normalRadiusPx, maxDepthJumpMm});
 }
 
 /// The backend entry points (SurfaceMeasurement.cpp, SurfaceMeasurementCuda.cu; SurfaceMeasurementCudaAbsent.cpp
 /// throws Error without CUDA).
 void measureSurfaceCpu(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
-                       const Reprojection& reprojection, int normalRadiusPx, float maxDepthJumpMm);
+                       ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
+                       float maxDepthJumpMm);
 void measureSurfaceCuda(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
-                        const Reprojection& reprojection, int normalRadiusPx, float maxDepthJumpMm);
+                        ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
+                        float maxDepthJumpMm);
 
 }  // namespace tissuemosaic::surface

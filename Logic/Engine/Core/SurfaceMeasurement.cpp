@@ -6,6 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <cmath>
 #include <string>
 
 namespace tissuemosaic {
@@ -13,15 +14,16 @@ namespace tissuemosaic {
 namespace surface {
 
 void measureSurfaceCpu(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
-                       const Reprojection& reprojection, int normalRadiusPx, float maxDepthJumpMm) {
-  measureSurfaceOn<CpuBackend>(disparityPx, pointsMm, normals, reprojection, normalRadiusPx, maxDepthJumpMm);
+                       ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
+                       float maxDepthJumpMm) {
+  measureSurfaceOn<CpuBackend>(disparityPx, pointsMm, normals, valid, reprojection, normalRadiusPx, maxDepthJumpMm);
 }
 
 }  // namespace surface
 
 SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx,
-                                  double maxDepthJumpMm) {
+                                  double maxDepthJumpMm, SurfaceMapResidence residence) {
   require(!disparityPx.empty() && disparityPx.type() == CV_32FC1, "measureSurface: the disparity map must be a non-empty CV_32FC1 image");
   require(disparityPx.size() == geometry.imageSize,
           "measureSurface: the disparity map is " + std::to_string(disparityPx.cols) + "x" +
@@ -45,28 +47,64 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
 
   const cv::Mat disparity = disparityPx.isContinuous() ? disparityPx : disparityPx.clone();
   Image<float> disparityImage(device, width, height);
-  Image<Float3> points(device, width, height), normals(device, width, height);
+  auto maps = std::make_shared<SurfaceMapsOnDevice>();
+  maps->pointsCameraMm = Image<Float3>(device, width, height);
+  maps->normalsCamera = Image<Float3>(device, width, height);
+  Image<uint8_t> valid(device, width, height);
   disparityImage.buffer().upload(disparity.ptr<float>());
-  if (device == Device::Cuda) {
-    surface::measureSurfaceCuda(disparityImage.view(), points.view(), normals.view(), reprojection, normalRadiusPx,
-                                static_cast<float>(maxDepthJumpMm));
-  } else {
-    surface::measureSurfaceCpu(disparityImage.view(), points.view(), normals.view(), reprojection, normalRadiusPx,
-                               static_cast<float>(maxDepthJumpMm));
-  }
+  const auto measure = device == Device::Cuda ? surface::measureSurfaceCuda : surface::measureSurfaceCpu;
+  measure(disparityImage.view(), maps->pointsCameraMm.view(), maps->normalsCamera.view(), valid.view(), reprojection,
+          normalRadiusPx, static_cast<float>(maxDepthJumpMm));
 
   SurfaceMeasurement measurement;
-  measurement.pointsCameraMm.create(height, width, CV_32FC3);
-  measurement.normalsCamera.create(height, width, CV_32FC3);
-  points.buffer().download(measurement.pointsCameraMm.ptr<Float3>());
-  normals.buffer().download(measurement.normalsCamera.ptr<Float3>());
+  if (device != Device::Cuda || residence == SurfaceMapResidence::HostAndDevice) {
+    measurement.pointsCameraMm.create(height, width, CV_32FC3);
+    measurement.normalsCamera.create(height, width, CV_32FC3);
+    maps->pointsCameraMm.buffer().download(measurement.pointsCameraMm.ptr<Float3>());
+    maps->normalsCamera.buffer().download(measurement.normalsCamera.ptr<Float3>());
+  }
+  measurement.validMask.create(height, width, CV_8U);
+  valid.buffer().download(measurement.validMask.ptr<uint8_t>());
+  measurement.validPixels = cv::countNonZero(measurement.validMask);
+  if (device == Device::Cuda) measurement.onDevice = std::move(maps);
   if (leftRectified.channels() == 3) measurement.colourBgr = leftRectified.clone();
   else cv::cvtColor(leftRectified, measurement.colourBgr, leftRectified.channels() == 1 ? cv::COLOR_GRAY2BGR : cv::COLOR_BGRA2BGR);
-  // A normal exists only where its point does, so valid normals count the pixels with both.
-  cv::Mat normalX;
-  cv::extractChannel(measurement.normalsCamera, normalX, 0);
-  measurement.validPixels = cv::countNonZero(normalX == normalX);
   return measurement;
+}
+
+cv::Size SurfaceMeasurement::size() const {
+  if (hasHostMaps()) return pointsCameraMm.size();
+  if (onDevice) return {onDevice->pointsCameraMm.width(), onDevice->pointsCameraMm.height()};
+  return {};
+}
+
+cv::Mat SurfaceMeasurement::validPixelMask() const {
+  if (!validMask.empty()) return validMask;
+  require(pointsCameraMm.type() == CV_32FC3 && normalsCamera.type() == CV_32FC3 &&
+              pointsCameraMm.size() == normalsCamera.size(),
+          "SurfaceMeasurement: no valid-pixel mask and no CV_32FC3 points and normals of one size");
+  cv::Mat mask(pointsCameraMm.size(), CV_8U);
+  const auto finite = [](const cv::Vec3f& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); };
+  for (int y = 0; y < mask.rows; ++y) {
+    for (int x = 0; x < mask.cols; ++x) {
+      const bool both = finite(pointsCameraMm.at<cv::Vec3f>(y, x)) && finite(normalsCamera.at<cv::Vec3f>(y, x));
+      mask.at<uint8_t>(y, x) = both ? 255 : 0;
+    }
+  }
+  return mask;
+}
+
+void SurfaceMeasurement::hostMaps(cv::Mat& points, cv::Mat& normals) const {
+  if (hasHostMaps() || !onDevice) {
+    points = pointsCameraMm;
+    normals = normalsCamera;
+    return;
+  }
+  const cv::Size mapSize = size();
+  points.create(mapSize, CV_32FC3);
+  normals.create(mapSize, CV_32FC3);
+  onDevice->pointsCameraMm.buffer().download(points.ptr<Float3>());
+  onDevice->normalsCamera.buffer().download(normals.ptr<Float3>());
 }
 
 }  // namespace tissuemosaic

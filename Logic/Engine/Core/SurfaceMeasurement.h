@@ -3,28 +3,58 @@
 /// @brief One stereo frame as a surface seen from the left rectified camera: per pixel the 3D point, its normal and
 /// its colour. Key-frame refinement (the ICP term's q_i and n_i, paper eq. ICPterm) and TSDF fusion both read it.
 #include "Core/Device.h"
+#include "Core/Float3.h"
+#include "Core/Image.h"
 #include "Core/StereoRig.h"
 
 #include <opencv2/core.hpp>
 
+#include <memory>
+
 namespace tissuemosaic {
+
+/// The point and normal maps where measureSurface computed them on CUDA: refinement and fusion on the same device
+/// read them there instead of taking 12 MB per 960x540 frame down to the host and up again.
+struct SurfaceMapsOnDevice {
+  Image<Float3> pointsCameraMm;
+  Image<Float3> normalsCamera;
+};
 
 /// All maps have the rectified image size; "no estimate" is NaN in every channel.
 struct SurfaceMeasurement {
-  cv::Mat pointsCameraMm;  ///< CV_32FC3: X Y Z in the left rectified camera frame (x right, y down, z forward), mm
+  cv::Mat pointsCameraMm;  ///< CV_32FC3: X Y Z in the left rectified camera frame (x right, y down, z forward), mm;
+                           ///< empty when the maps were kept on the device only (see onDevice)
   cv::Mat normalsCamera;   ///< CV_32FC3: unit normals in the same frame, turned toward the camera (n . p < 0)
   cv::Mat colourBgr;       ///< CV_8UC3: the rectified left image
+  cv::Mat validMask;       ///< CV_8U: 255 where the pixel has both a point and a normal
   int validPixels = 0;     ///< pixels with both a point and a normal
+  /// The same point and normal maps in device memory, when measured on CUDA (else null).
+  std::shared_ptr<const SurfaceMapsOnDevice> onDevice;
 
-  bool empty() const { return pointsCameraMm.empty(); }
+  bool empty() const { return pointsCameraMm.empty() && !onDevice; }
+  bool hasHostMaps() const { return !pointsCameraMm.empty(); }
+  /// The rectified image size, from whichever maps exist.
+  cv::Size size() const;
+  /// validMask, or (for a measurement assembled by hand without one) 255 where the host normals are finite.
+  cv::Mat validPixelMask() const;
+  /// The point and normal maps on the host, downloaded from the device when only it has them.
+  void hostMaps(cv::Mat& pointsCameraMm, cv::Mat& normalsCamera) const;
+};
+
+/// Where measureSurface leaves the point and normal maps when it runs on CUDA.
+enum class SurfaceMapResidence {
+  HostAndDevice,  ///< downloaded into the cv::Mat fields as well
+  DeviceOnly,     ///< only the valid-pixel mask comes down (0.5 MB instead of 12 MB at 960x540)
 };
 
 /// Builds the measurement from a left-view disparity (CV_32F, NaN = none) and the rectified left image (8-bit grey,
 /// BGR or BGRA, same size): points as disparityToDepthMm / reconstructScene, normals from the cross product of the
 /// central differences of the neighbouring points `normalRadiusPx` away (NaN where a neighbour is missing or the
-/// depth jumps by more than `maxDepthJumpMm`). Runs on `device`. Throws Error on empty or mismatched inputs.
+/// depth jumps by more than `maxDepthJumpMm`). Runs on `device`; on CUDA the maps also stay on the device
+/// (`onDevice`), and `residence` says whether they come to the host too. Throws Error on empty or mismatched inputs.
 SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx = 2,
-                                  double maxDepthJumpMm = 2.0);
+                                  double maxDepthJumpMm = 2.0,
+                                  SurfaceMapResidence residence = SurfaceMapResidence::HostAndDevice);
 
 }  // namespace tissuemosaic

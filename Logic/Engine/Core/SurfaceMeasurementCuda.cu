@@ -4,8 +4,9 @@
 namespace tissuemosaic::surface {
 
 void measureSurfaceCuda(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
-                        const Reprojection& reprojection, int normalRadiusPx, float maxDepthJumpMm) {
-  measureSurfaceOn<CudaBackend>(disparityPx, pointsMm, normals, reprojection, normalRadiusPx, maxDepthJumpMm);
+                        ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
+                        float maxDepthJumpMm) {
+  measureSurfaceOn<CudaBackend>(disparityPx, pointsMm, normals, valid, reprojection, normalRadiusPx, maxDepthJumpMm);
 }
 
 }  // namespace tissuemosaic::surface

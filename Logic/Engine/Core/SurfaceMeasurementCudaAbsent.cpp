@@ -4,7 +4,8 @@
 
 namespace tissuemosaic::surface {
 
-void measureSurfaceCuda(ImageView<const float>, ImageView<Float3>, ImageView<Float3>, const Reprojection&, int, float) {
+void measureSurfaceCuda(ImageView<const float>, ImageView<Float3>, ImageView<Float3>, ImageView<uint8_t>,
+                        const Reprojection&, int, float) {
   throw Error("this build of TissueMosaic has no CUDA backend");
 }
 

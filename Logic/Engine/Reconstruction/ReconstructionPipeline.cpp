@@ -142,8 +142,9 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   if (result.keyFrame) {
     stageStart = Clock::now();
     const SurfaceMeasurement measurement =
-        measureSurface(withinWorkingRange(result.disparityPx, s.geometry, s.parameters.fusion), result.leftRectified, s.geometry, s.device, s.parameters.fusion.normalRadiusPx,
-                       s.parameters.fusion.maxDepthJumpMm);
+        measureSurface(withinWorkingRange(result.disparityPx, s.geometry, s.parameters.fusion), result.leftRectified,
+                       s.geometry, s.device, s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
+                       SurfaceMapResidence::DeviceOnly);  // refinement and fusion run on the same device
     result.refinementPartsMs.surface = millisecondsSince(stageStart);
     const auto sampleStart = Clock::now();
     std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;

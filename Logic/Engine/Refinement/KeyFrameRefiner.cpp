@@ -450,9 +450,12 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
   // The ICP term: model points that land on a measured pixel at the tracked pose, evenly subsampled.
   const Eigen::Matrix4d T_camera_world = inverseRigid(T_world_camera);
   if (!modelPointsWorldMm.empty() && !measurement.empty()) {
-    require(measurement.pointsCameraMm.type() == CV_32FC3 && measurement.normalsCamera.type() == CV_32FC3 &&
-                measurement.pointsCameraMm.size() == measurement.normalsCamera.size(),
+    require(measurement.onDevice ||
+                (measurement.pointsCameraMm.type() == CV_32FC3 && measurement.normalsCamera.type() == CV_32FC3 &&
+                 measurement.pointsCameraMm.size() == measurement.normalsCamera.size()),
             "refinement: the measurement needs CV_32FC3 points and normals of one size");
+    // Which pixels have q and n: the mask comes with the measurement, so the maps themselves may stay on the device.
+    const cv::Mat valid = measurement.validPixelMask();
     const Eigen::Matrix3f R = T_camera_world.block<3, 3>(0, 0).cast<float>();
     const Eigen::Vector3f t = T_camera_world.block<3, 1>(0, 3).cast<float>();
     std::vector<int> usable;
@@ -461,13 +464,8 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
       if (!(c.z() >= kMinDepthMm)) continue;
       const int x = static_cast<int>(std::floor(s.geometry.focalPx * c.x() / c.z() + s.geometry.cxLeftPx + 0.5));
       const int y = static_cast<int>(std::floor(s.geometry.focalPx * c.y() / c.z() + s.geometry.cyPx + 0.5));
-      if (x < 0 || y < 0 || x >= measurement.pointsCameraMm.cols || y >= measurement.pointsCameraMm.rows) continue;
-      const cv::Vec3f q = measurement.pointsCameraMm.at<cv::Vec3f>(y, x);
-      const cv::Vec3f nq = measurement.normalsCamera.at<cv::Vec3f>(y, x);
-      const auto finite = [](const cv::Vec3f& v) {
-        return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-      };
-      if (finite(q) && finite(nq)) usable.push_back(static_cast<int>(i));
+      if (x < 0 || y < 0 || x >= valid.cols || y >= valid.rows) continue;
+      if (valid.at<uint8_t>(y, x)) usable.push_back(static_cast<int>(i));
     }
     const std::size_t samples = std::min<std::size_t>(usable.size(), static_cast<std::size_t>(p.icpSamples));
     if (static_cast<int>(samples) >= p.minIcpPoints) {
@@ -477,6 +475,7 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
       }
       problem.measuredPointsCameraMm = measurement.pointsCameraMm;
       problem.measuredNormalsCamera = measurement.normalsCamera;
+      problem.measuredOnDevice = measurement.onDevice;
     }
   }
   result.icpPoints = static_cast<int>(problem.modelPointsWorldMm.size());

@@ -15,7 +15,7 @@ void evaluatePoseTerms(RefinementWorkspace& w) {
                                                        w.pointFixed.data(), w.frameFixedOnly.data(), w.camera, w.robust, w.terms.data(), stride}, 256);
   if (w.icpCount > 0) {
     parallelFor<Backend>(w.icpCount, IcpPoseTerms{w.modelPointsWorldMm.data(), w.keyFramePose,
-                                                  w.measuredPointsCameraMm.view(), w.measuredNormalsCamera.view(),
+                                                  w.measuredPointsCameraMm, w.measuredNormalsCamera,
                                                   w.camera, w.robust, w.terms.data(), stride, w.observationCount},
                          256);
   }

@@ -112,6 +112,12 @@ Image<Float3> uploadMap(Device device, const cv::Mat& map) {
   return image;
 }
 
+Image<Float3> copyMap(Device device, const Image<Float3>& map) {
+  Image<Float3> image(device, map.width(), map.height());
+  image.buffer().copyFrom(map.buffer());
+  return image;
+}
+
 }  // namespace
 
 RefinementSolution solveRefinement(const RefinementProblem& problem, const RefinementParameters& parameters,
@@ -128,10 +134,12 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
             "refinement: an observation refers to a frame or point that does not exist");
   }
   const bool icp = !problem.modelPointsWorldMm.empty();
+  const bool hostMaps = problem.measuredPointsCameraMm.type() == CV_32FC3 &&
+                        problem.measuredNormalsCamera.type() == CV_32FC3 &&
+                        problem.measuredPointsCameraMm.size() == problem.measuredNormalsCamera.size() &&
+                        !problem.measuredPointsCameraMm.empty();
   if (icp) {
-    require(problem.measuredPointsCameraMm.type() == CV_32FC3 && problem.measuredNormalsCamera.type() == CV_32FC3 &&
-                problem.measuredPointsCameraMm.size() == problem.measuredNormalsCamera.size() &&
-                !problem.measuredPointsCameraMm.empty(),
+    require(hostMaps || problem.measuredOnDevice,
             "refinement: the ICP term needs CV_32FC3 measured points and normals of one size");
   }
 
@@ -158,8 +166,21 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
   w.pointLambdas = upload(device, std::vector<double>(layout.freePoints.size(), parameters.initialLambda));
   w.modelPointsWorldMm = upload(device, problem.modelPointsWorldMm);
   if (icp) {
-    w.measuredPointsCameraMm = uploadMap(device, problem.measuredPointsCameraMm);
-    w.measuredNormalsCamera = uploadMap(device, problem.measuredNormalsCamera);
+    const SurfaceMapsOnDevice* onDevice = problem.measuredOnDevice.get();
+    if (onDevice && device == Device::Cuda) {
+      w.measuredPointsCameraMm = onDevice->pointsCameraMm.view();
+      w.measuredNormalsCamera = onDevice->normalsCamera.view();
+    } else {
+      if (hostMaps) {
+        w.measuredPointsCopy = uploadMap(device, problem.measuredPointsCameraMm);
+        w.measuredNormalsCopy = uploadMap(device, problem.measuredNormalsCamera);
+      } else {
+        w.measuredPointsCopy = copyMap(device, onDevice->pointsCameraMm);
+        w.measuredNormalsCopy = copyMap(device, onDevice->normalsCamera);
+      }
+      w.measuredPointsCameraMm = w.measuredPointsCopy.view();
+      w.measuredNormalsCamera = w.measuredNormalsCopy.view();
+    }
   }
   w.terms = Buffer<double>(device, static_cast<std::size_t>(kTerms) * (w.observationCount + w.icpCount));
   w.chunkBegin = upload(device, layout.chunkBegin);

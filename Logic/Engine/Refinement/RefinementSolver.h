@@ -12,6 +12,7 @@
 /// 3x3 LM; every pose: lmIterations of its 6x6 LM], ending early once the cost stops falling. A step is kept only
 /// when its own cost falls (per point, per frame: given the points, the frames are independent).
 #include "Core/Device.h"
+#include "Core/SurfaceMeasurement.h"
 #include "Refinement/RefinementKernels.h"
 #include "Refinement/RefinementParameters.h"
 
@@ -32,6 +33,9 @@ struct RefinementProblem {
   std::vector<Float3> modelPointsWorldMm; ///< p_i (empty: no ICP term)
   cv::Mat measuredPointsCameraMm;     ///< CV_32FC3 q, NaN = none (needed when there are model points)
   cv::Mat measuredNormalsCamera;      ///< CV_32FC3 n, NaN = none
+  /// The same maps on the device (measureSurface on CUDA): a CUDA solve reads them there, and they stand in for
+  /// the host maps when those are empty.
+  std::shared_ptr<const SurfaceMapsOnDevice> measuredOnDevice;
 };
 
 struct RefinementSolution {
