@@ -208,14 +208,17 @@ int runBenchReconstruct(const Words& words) {
               "\"peak_device_mib\": %.1f,\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
               "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
               "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": {\"surface\": %.4f, \"model_sample\": %.4f, "
-              "\"key_frame_matching\": %.4f, \"intermediate_matching\": %.4f, \"solve\": %.4f},\n \"timing\": %s}\n",
+              "\"key_frame_matching\": %.4f, \"intermediate_matching\": %.4f, \"solve\": %.4f},\n "
+              "\"refinement_parts_max_ms\": {\"surface\": %.4f, \"model_sample\": %.4f, \"key_frame_matching\": %.4f, "
+              "\"intermediate_matching\": %.4f, \"solve\": %.4f},\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cv::getNumThreads(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
               memoryJson.c_str(), median(surfaceMs), median(modelSampleMs), median(keyFrameMatchingMs), median(intermediateMatchingMs),
-              median(solveMs), timing.toJson().c_str());
+              median(solveMs), largest(surfaceMs), largest(modelSampleMs), largest(keyFrameMatchingMs),
+              largest(intermediateMatchingMs), largest(solveMs), timing.toJson().c_str());
   return 0;
 }
 

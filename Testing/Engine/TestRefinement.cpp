@@ -12,6 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <numeric>
+
 #include <opencv2/core/persistence.hpp>
 
 using namespace tissuemosaic;
@@ -69,6 +72,7 @@ TEST(RefinementParameters, RoundTripAndValidation) {
   p.icpTukeyMm = 3.5;
   p.maxIntermediateFrames = 7;
   p.maxCorrectionDeg = 2.5;
+  p.maxSolveHypotheses = 33;
   cv::FileStorage out("refinement.yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   p.write(out);
   const std::string text = out.releaseAndGetString();
@@ -78,12 +82,16 @@ TEST(RefinementParameters, RoundTripAndValidation) {
   EXPECT_EQ(q.icpTukeyMm, 3.5);
   EXPECT_EQ(q.maxIntermediateFrames, 7);
   EXPECT_EQ(q.maxCorrectionDeg, 2.5);
+  EXPECT_EQ(q.maxSolveHypotheses, 33);
   EXPECT_EQ(q.icpSamples, RefinementParameters{}.icpSamples);
   RefinementParameters bad;
   bad.icpTukeyMm = 0;
   EXPECT_THROW(bad.validate(), Error);
   bad = RefinementParameters{};
   bad.alternations = 0;
+  EXPECT_THROW(bad.validate(), Error);
+  bad = RefinementParameters{};
+  bad.maxSolveHypotheses = 0;
   EXPECT_THROW(bad.validate(), Error);
   cv::FileStorage wrong("%YAML:1.0\nrefinement:\n  lmIterations: 2.5\n", cv::FileStorage::READ | cv::FileStorage::MEMORY);
   EXPECT_THROW(RefinementParameters::read(wrong["refinement"]), Error);
@@ -316,6 +324,40 @@ TEST(KeyFrameRefiner, KeepsTheTrackedPoseWithoutMatches) {
   EXPECT_EQ(r2.T_world_camera, third);
   EXPECT_EQ(r2.matchedKeyFrames, 0);
   std::printf("nothing to match: '%s'; few inliers: '%s'\n", r1.message.c_str(), r2.message.c_str());
+}
+
+// A match that no early hypothesis explains does not match: the solve stops after maxSolveHypotheses instead of
+// trying every control point (500 by the tracker's default; 40 ms spikes at key frames on the GPU machine).
+TEST(KeyFrameRefiner, CapsTheHypothesesOfAMatchThatFails) {
+  const RectifiedGeometry g = testGeometry();
+  const SurfaceMeasurement none;
+  const FeatureScene scene(1500, 21);
+  const Eigen::Matrix4d first = truePose(0);
+  // Every descriptor matches the stored key frame, but the keypoints (with their stereo points) are shuffled among
+  // the descriptors: the matches are many and no pose explains them.
+  StereoFeatures shuffled = scene.observe(truePose(3), g, 0.5, 0.1, 4, 0, 5);
+  std::vector<int> order(shuffled.keypoints.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), std::mt19937(8));
+  const StereoFeatures original = shuffled;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    shuffled.keypoints[i] = original.keypoints[static_cast<std::size_t>(order[i])];
+    shuffled.pointsCameraMm[i] = original.pointsCameraMm[static_cast<std::size_t>(order[i])];
+  }
+  const auto hypothesesTried = [&](int cap) {
+    RefinementParameters parameters;
+    parameters.maxSolveHypotheses = cap;
+    KeyFrameRefiner refiner(g, parameters, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+    refiner.refineKeyFrame(0, scene.observe(first, g, 0.5, 0.1, 4, 0, 4), first, none, {}, {});
+    const RefinementResult r = refiner.refineKeyFrame(3, shuffled, truePose(3), none, {}, {});
+    EXPECT_EQ(r.matchedKeyFrames, 0);
+    return r.pnpHypotheses;
+  };
+  const int capped = hypothesesTried(7), uncapped = hypothesesTried(100000);
+  std::printf("hypotheses of the failing match: %d capped at 7, %d with the tracker's limit\n", capped, uncapped);
+  EXPECT_GE(capped, 1);
+  EXPECT_LE(capped, 7);
+  EXPECT_GT(uncapped, 7);
 }
 
 // A correction beyond the limits is refused: the tracked pose comes back and the message says why. (The ICP case:

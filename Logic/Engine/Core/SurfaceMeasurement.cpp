@@ -2,6 +2,7 @@
 #include "SurfaceMeasurement.h"
 
 #include "Error.h"
+#include "KernelProfiler.h"
 #include "SurfaceKernels.h"
 
 #include <opencv2/imgproc.hpp>
@@ -46,16 +47,22 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
     for (int c = 0; c < 4; ++c) reprojection.q[r][c] = geometry.Q.at<double>(r, c);
 
   const cv::Mat disparity = disparityPx.isContinuous() ? disparityPx : disparityPx.clone();
-  Image<float> disparityImage(device, width, height);
+  Image<float> disparityImage;
   auto maps = std::make_shared<SurfaceMapsOnDevice>();
-  maps->pointsCameraMm = Image<Float3>(device, width, height);
-  maps->normalsCamera = Image<Float3>(device, width, height);
-  Image<uint8_t> valid(device, width, height);
-  disparityImage.buffer().upload(disparity.ptr<float>());
+  Image<uint8_t> valid;
+  {
+    profiling::ScopedTimer timer("host: surface measurement, allocation and disparity upload");
+    disparityImage = Image<float>(device, width, height);
+    maps->pointsCameraMm = Image<Float3>(device, width, height);
+    maps->normalsCamera = Image<Float3>(device, width, height);
+    valid = Image<uint8_t>(device, width, height);
+    disparityImage.buffer().upload(disparity.ptr<float>());
+  }
   const auto measure = device == Device::Cuda ? surface::measureSurfaceCuda : surface::measureSurfaceCpu;
   measure(disparityImage.view(), maps->pointsCameraMm.view(), maps->normalsCamera.view(), valid.view(), reprojection,
           normalRadiusPx, static_cast<float>(maxDepthJumpMm));
 
+  profiling::ScopedTimer timer("host: surface measurement, download and colour");
   SurfaceMeasurement measurement;
   if (device != Device::Cuda || residence == SurfaceMapResidence::HostAndDevice) {
     measurement.pointsCameraMm.create(height, width, CV_32FC3);

@@ -2,6 +2,7 @@
 
 #include "Core/Device.h"
 #include "Core/Error.h"
+#include "Core/KernelProfiler.h"
 #include "Core/ParallelFor.h"
 #include "Core/RigidTransform.h"
 #include "Core/Stopwatch.h"
@@ -97,7 +98,7 @@ struct Inlier {
 struct KeyFrameRefiner::Impl {
   RectifiedGeometry geometry;
   RefinementParameters parameters;
-  TrackingParameters tracking;
+  TrackingParameters tracking;  ///< the tracker's DynamicR1PPnP settings, hypotheses capped by maxSolveHypotheses
   FeatureParameters features;
   Device device;
   HammingMatcher matcher;  ///< all frames of a step in one call
@@ -108,7 +109,9 @@ struct KeyFrameRefiner::Impl {
   Impl(const RectifiedGeometry& g, const RefinementParameters& p, const TrackingParameters& t,
        const FeatureParameters& f, Device d)
       : geometry(g), parameters(p), tracking(t), features(f), device(d), matcher(d),
-        subPixel(d, f.maxRefinementShiftPx) {}
+        subPixel(d, f.maxRefinementShiftPx) {
+    tracking.maxRansacIterations = std::min(tracking.maxRansacIterations, parameters.maxSolveHypotheses);
+  }
 
   PinholeIntrinsics intrinsics() const { return {geometry.focalPx, geometry.focalPx, geometry.cxLeftPx, geometry.cyPx}; }
 
@@ -187,14 +190,18 @@ struct KeyFrameRefiner::Impl {
   /// DynamicR1PPnP on the matches, started from T_world_expected (the frame's tracked pose). Returns the inliers as
   /// (match index, train feature, pixel) when the solve succeeds with at least minInliers and its pose lies within
   /// the correction limits of T_world_expected.
-  std::vector<Inlier> solveInliers(const MatchSet& set, int minInliers, const Eigen::Matrix4d& T_world_expected) {
+  /// hypotheses: set to the DynamicR1PPnP hypotheses tried (0 without a solve).
+  std::vector<Inlier> solveInliers(const MatchSet& set, int minInliers, const Eigen::Matrix4d& T_world_expected,
+                                   int& hypotheses) {
     std::vector<Inlier> inliers;
+    hypotheses = 0;
     if (static_cast<int>(set.query.size()) < std::max(minInliers, 4)) return inliers;
     const HistogramVote vote = histogramVote(set.fromPx, set.pixelsPx, features.voteBinPx);
     // The tracked pose starts the first hypothesis near its answer (PnpSolver.h: same iteration, fewer steps).
     const Eigen::Matrix4d T_camera_world_guess = inverseRigid(T_world_expected);
     const PnpResult pnp = solveDynamicR1Ppnp(set.pointsWorldMm, set.pixelsPx, set.candidates, intrinsics(), tracking,
                                              vote.order, &T_camera_world_guess);
+    hypotheses = pnp.hypotheses;
     if (!pnp.success || static_cast<int>(pnp.inlierIndices.size()) < minInliers) return inliers;
     double degrees = 0, mm = 0;
     correction(inverseRigid(pnp.T_camera_world), T_world_expected, degrees, mm);
@@ -353,11 +360,15 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
     Points3d world;
     MatchSet set;
     std::vector<Inlier> inliers;
+    int hypotheses = 0;
   };
   std::vector<KeyFrameMatch> keyFrameMatches(overlapping.size());
   std::vector<std::pair<cv::Mat, cv::Mat>> keyFramePairs;
   for (int c : overlapping) keyFramePairs.emplace_back(s.keyFrames[static_cast<std::size_t>(c)].descriptors, features.descriptors);
-  const auto keyFrameKnn = s.matcher.matchPairs(keyFramePairs, s.matchK());
+  const auto keyFrameKnn = [&] {
+    profiling::ScopedTimer timer("host: refinement, key-frame matching (Hamming kNN)");
+    return s.matcher.matchPairs(keyFramePairs, s.matchK());
+  }();
   parallelFor<CpuBackend>(
       static_cast<int64_t>(overlapping.size()),
       [&](int64_t c) {
@@ -365,10 +376,11 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
         KeyFrameMatch& m = keyFrameMatches[static_cast<std::size_t>(c)];
         for (const Eigen::Vector3f& point : kf.pointsWorldMm) m.world.push_back(point.cast<double>());
         m.set = s.toMatchSet(keyFrameKnn[static_cast<std::size_t>(c)], m.world, kf.pixelsPx, features);
-        m.inliers = s.solveInliers(m.set, p.minKeyFrameInliers, T_world_camera);
+        m.inliers = s.solveInliers(m.set, p.minKeyFrameInliers, T_world_camera, m.hypotheses);
       },
       1);
   for (const KeyFrameMatch& m : keyFrameMatches) {
+    result.pnpHypotheses += m.hypotheses;
     if (m.inliers.empty()) continue;
     ++result.matchedKeyFrames;
     for (const Inlier& inlier : m.inliers) {
@@ -390,9 +402,13 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
     // Matched and solved in parallel, merged in order (as for the key frames above).
     std::vector<MatchSet> sets(s.intermediates.size());
     std::vector<std::vector<Inlier>> inlierSets(s.intermediates.size());
+    std::vector<int> hypotheses(s.intermediates.size(), 0);
     std::vector<std::pair<cv::Mat, cv::Mat>> framePairs;
     for (const IntermediateFrame& frame : s.intermediates) framePairs.emplace_back(liftedDescriptors, frame.features.descriptors);
-    const auto frameKnn = s.matcher.matchPairs(framePairs, s.matchK());
+    const auto frameKnn = [&] {
+      profiling::ScopedTimer timer("host: refinement, intermediate-frame matching (Hamming kNN)");
+      return s.matcher.matchPairs(framePairs, s.matchK());
+    }();
     parallelFor<CpuBackend>(
         static_cast<int64_t>(s.intermediates.size()),
         [&](int64_t f) {
@@ -400,16 +416,20 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
           MatchSet& set = sets[static_cast<std::size_t>(f)];
           std::vector<Inlier>& inliers = inlierSets[static_cast<std::size_t>(f)];
           set = s.toMatchSet(frameKnn[static_cast<std::size_t>(f)], liftedWorld, liftedPx, frame.features);
-          inliers = s.solveInliers(set, p.minFrameInliers, frame.T_world_camera);
+          inliers = s.solveInliers(set, p.minFrameInliers, frame.T_world_camera, hypotheses[static_cast<std::size_t>(f)]);
         },
         1);
+    for (int h : hypotheses) result.pnpHypotheses += h;
     std::vector<cv::Mat> frameGreys;
     std::vector<int> frameIndices;
     for (const IntermediateFrame& frame : s.intermediates) {
       frameGreys.push_back(frame.features.grey);
       frameIndices.push_back(frame.frameIndex);
     }
-    s.refineInliers(inlierSets, sets, features.grey, frameIndex, frameGreys, frameIndices);
+    {
+      profiling::ScopedTimer timer("host: refinement, intermediate-frame sub-pixel refinement");
+      s.refineInliers(inlierSets, sets, features.grey, frameIndex, frameGreys, frameIndices);
+    }
     for (std::size_t f = 0; f < s.intermediates.size(); ++f) {
       const MatchSet& set = sets[f];
       const std::vector<Inlier>& inliers = inlierSets[f];
@@ -498,7 +518,10 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
   for (int f : frameOfSlot) problem.poses.push_back(toPose(inverseRigid(s.intermediates[f].T_world_camera)));
 
   partStart = std::chrono::steady_clock::now();
-  const refinement::RefinementSolution solution = refinement::solveRefinement(problem, p, s.device);
+  const refinement::RefinementSolution solution = [&] {
+    profiling::ScopedTimer timer("host: refinement, LM solve");
+    return refinement::solveRefinement(problem, p, s.device);
+  }();
   result.solveMs = millisecondsSince(partStart);
   result.initialCost = solution.initialCost;
   result.finalCost = solution.finalCost;

@@ -50,6 +50,7 @@ struct RefinementResult {
   int fixedPoints = 0;         ///< feature points fixed at an earlier key frame's position
   int freePoints = 0;          ///< feature points optimised
   int icpPoints = 0;           ///< model points p_i in the ICP term
+  int pnpHypotheses = 0;       ///< DynamicR1PPnP hypotheses tried over all its solves (key frames, intermediates)
   double beta = 0;             ///< weight of f_ICP
   double initialCost = 0, finalCost = 0;  ///< f_BA + beta f_ICP (robust) before and after
   int iterations = 0;          ///< pose LM iterations run

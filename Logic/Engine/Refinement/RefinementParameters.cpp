@@ -34,6 +34,7 @@ void RefinementParameters::validate() const {
   requireRange("minKeyFrameInliers", minKeyFrameInliers, 4, 100000);
   requireRange("minFrameInliers", minFrameInliers, 4, 100000);
   requireRange("maxIntermediateFrames", maxIntermediateFrames, 0, 1000);
+  requireRange("maxSolveHypotheses", maxSolveHypotheses, 1, 100000);
   requireRange("storedFeaturesPerKeyFrame", storedFeaturesPerKeyFrame, 4, 1000000);
   requireRange("maxStoredKeyFrames", maxStoredKeyFrames, 1, 10000000);
   requireRange("minIcpPoints", minIcpPoints, 1, 10000000);
@@ -48,6 +49,7 @@ void RefinementParameters::write(cv::FileStorage& storage) const {
   storage << "initialLambda" << initialLambda << "maxMatchedKeyFrames" << maxMatchedKeyFrames;
   storage << "minKeyFrameOverlap" << minKeyFrameOverlap << "minKeyFrameInliers" << minKeyFrameInliers;
   storage << "minFrameInliers" << minFrameInliers << "maxIntermediateFrames" << maxIntermediateFrames;
+  storage << "maxSolveHypotheses" << maxSolveHypotheses;
   storage << "storedFeaturesPerKeyFrame" << storedFeaturesPerKeyFrame << "maxStoredKeyFrames" << maxStoredKeyFrames;
   storage << "minIcpPoints" << minIcpPoints << "maxCorrectionMm" << maxCorrectionMm;
   storage << "maxCorrectionDeg" << maxCorrectionDeg;
@@ -70,6 +72,7 @@ RefinementParameters RefinementParameters::read(const cv::FileNode& node) {
   readKey(node, "minKeyFrameInliers", p.minKeyFrameInliers);
   readKey(node, "minFrameInliers", p.minFrameInliers);
   readKey(node, "maxIntermediateFrames", p.maxIntermediateFrames);
+  readKey(node, "maxSolveHypotheses", p.maxSolveHypotheses);
   readKey(node, "storedFeaturesPerKeyFrame", p.storedFeaturesPerKeyFrame);
   readKey(node, "maxStoredKeyFrames", p.maxStoredKeyFrames);
   readKey(node, "minIcpPoints", p.minIcpPoints);

@@ -30,6 +30,11 @@ struct RefinementParameters {
   double minKeyFrameOverlap = 0.3;
   int minKeyFrameInliers = 20;   ///< DynamicR1PPnP inliers for a match with an earlier key frame to count
   int minFrameInliers = 12;      ///< ... and for an intermediate frame to join the bundle adjustment
+  /// DynamicR1PPnP hypotheses tried at most per match with an earlier key frame or an intermediate frame (the
+  /// tracker's maxRansacIterations when that is smaller). The first starts from the tracked pose and a solve must
+  /// stay within the correction limits below, so a set that no early hypothesis explains does not match: without
+  /// this cap such a set cost all 500 hypotheses (40 ms at a key frame).
+  int maxSolveHypotheses = 50;
   /// Intermediate frames kept per key frame (thinned evenly beyond). The paper takes every frame since the last key
   /// frame (Omega); each costs one descriptor matching and one DynamicR1PPnP solve here.
   int maxIntermediateFrames = 10;
