@@ -112,3 +112,44 @@ TEST(SubPixelMatchCuda, CachedDeviceImagesGiveTheSameAnswers) {
   EXPECT_LE(compare(expectedSwapped, swapped).lockDiffers, static_cast<int>(0.002 * a.queries.size()));
   EXPECT_THROW(gpu.refine({a.grey, a.shifted}, a.queries, {1}), Error);
 }
+
+// With retained images, a call naming frames that earlier calls uploaded finds them on the device (the refiner
+// reusing the tracker's frames); without, they are uploaded again. Same answers either way.
+TEST(SubPixelMatchCuda, RetainedImagesAreNotUploadedAgain) {
+  if (!cudaAvailable()) {
+    GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  }
+  const ShiftedFrame a = shiftedScanFrame(0, 0.4f, -0.3f);
+  EXPECT_EQ(SubPixelMatcher(Device::Cpu, 2.0).uploadedImages(), 0);
+  const auto run = [&](int retained) {
+    SubPixelMatcher gpu(Device::Cuda, 2.0);
+    gpu.setRetainedImages(retained);
+    // "Tracking": the reference (id 100) with a new frame each call, as the tracker does.
+    for (int64_t frame = 1; frame <= 4; ++frame) gpu.refine({a.grey, a.shifted}, a.queries, {100, frame});
+    const long long afterTracking = gpu.uploadedImages();
+    EXPECT_EQ(afterTracking, retained >= 5 ? 5 : afterTracking);
+    // "Refinement": the reference against the frames tracked before.
+    std::vector<SubPixelMatchQuery> queries;
+    for (int image = 1; image <= 4; ++image) {
+      for (SubPixelMatchQuery q : a.queries) {
+        q.referenceImage = 0;
+        q.image = image;
+        queries.push_back(q);
+      }
+    }
+    const auto answers = gpu.refine({a.grey, a.shifted, a.shifted, a.shifted, a.shifted}, queries, {100, 1, 2, 3, 4});
+    return std::make_pair(gpu.uploadedImages() - afterTracking, answers);
+  };
+  const auto [uploadsRetained, answersRetained] = run(6);
+  const auto [uploadsDefault, answersDefault] = run(0);
+  std::printf("uploads at the refinement call: %lld with 6 images retained, %lld without\n", uploadsRetained,
+              uploadsDefault);
+  EXPECT_EQ(uploadsRetained, 0);
+  EXPECT_GE(uploadsDefault, 2);
+  ASSERT_EQ(answersRetained.size(), answersDefault.size());
+  long differ = 0;
+  for (std::size_t i = 0; i < answersRetained.size(); ++i) {
+    differ += answersRetained[i].locked != answersDefault[i].locked || answersRetained[i].toPx != answersDefault[i].toPx;
+  }
+  EXPECT_EQ(differ, 0);
+}

@@ -9,6 +9,7 @@
 #include "Refinement/KeyFrameRefiner.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
+#include "Tracking/SubPixelMatch.h"
 
 #include <opencv2/imgproc.hpp>
 
@@ -35,13 +36,23 @@ cv::Mat withinWorkingRange(const cv::Mat& disparityPx, const RectifiedGeometry& 
   return kept;
 }
 
-FrameTrackerOptions trackerOptions(const ReconstructionParameters& p, Device device) {
+FrameTrackerOptions trackerOptions(const ReconstructionParameters& p, Device device,
+                                   std::shared_ptr<SubPixelMatcher> subPixel) {
   FrameTrackerOptions options;
   options.tracking = p.tracking;
   options.features = p.features;
   options.extractor = p.extractor;
   options.featureDevice = p.extractor == FeatureExtractor::TissueMosaicOrb ? device : Device::Cpu;
+  if (subPixel && subPixel->device() == options.featureDevice) options.subPixelMatcher = std::move(subPixel);
   return options;
+}
+
+/// One sub-pixel matcher for the tracker and the refiner: the tracker uploads every tracked frame, and keeping the
+/// intermediate frames, the reference and the key frame spares the refiner uploading them again at each key frame.
+std::shared_ptr<SubPixelMatcher> sharedSubPixelMatcher(const ReconstructionParameters& p, Device device) {
+  auto matcher = std::make_shared<SubPixelMatcher>(device, p.features.maxRefinementShiftPx);
+  matcher->setRetainedImages(p.refinement.maxIntermediateFrames + 3);
+  return matcher;
 }
 
 }  // namespace
@@ -52,6 +63,7 @@ struct ReconstructionPipeline::Impl {
   ReconstructionParameters parameters;
   Device device;
   StereoMatcher matcher;
+  std::shared_ptr<SubPixelMatcher> subPixel;  ///< the tracker's and the refiner's
   FrameTracker tracker;
   KeyFrameRefiner refiner;
   PointFusion fusion;
@@ -62,7 +74,8 @@ struct ReconstructionPipeline::Impl {
   Impl(const RectifiedGeometry& g, std::optional<StereoRectifier> r, const ReconstructionParameters& p, Device d,
        const Eigen::Matrix4d& T_world_start)
       : geometry(g), rectifier(std::move(r)), parameters(p), device(d), matcher(d, p.stereo),
-        tracker(g, trackerOptions(p, d), T_world_start), refiner(g, p.refinement, p.tracking, p.features, d),
+        subPixel(sharedSubPixelMatcher(p, d)), tracker(g, trackerOptions(p, d, subPixel), T_world_start),
+        refiner(g, p.refinement, p.tracking, p.features, d, subPixel),
         fusion(g, p.fusion, d) {}
 
   void samplePeakDeviceMemory() {

@@ -102,14 +102,15 @@ struct KeyFrameRefiner::Impl {
   FeatureParameters features;
   Device device;
   HammingMatcher matcher;  ///< all frames of a step in one call
-  SubPixelMatcher subPixel;
+  std::shared_ptr<SubPixelMatcher> subPixel;
   std::deque<StoredKeyFrame, Eigen::aligned_allocator<StoredKeyFrame>> keyFrames;
   std::vector<IntermediateFrame, Eigen::aligned_allocator<IntermediateFrame>> intermediates;
 
   Impl(const RectifiedGeometry& g, const RefinementParameters& p, const TrackingParameters& t,
-       const FeatureParameters& f, Device d)
+       const FeatureParameters& f, Device d, std::shared_ptr<SubPixelMatcher> sharedSubPixel)
       : geometry(g), parameters(p), tracking(t), features(f), device(d), matcher(d),
-        subPixel(d, f.maxRefinementShiftPx) {
+        subPixel(sharedSubPixel ? std::move(sharedSubPixel)
+                                : std::make_shared<SubPixelMatcher>(d, f.maxRefinementShiftPx)) {
     tracking.maxRansacIterations = std::min(tracking.maxRansacIterations, parameters.maxSolveHypotheses);
   }
 
@@ -172,7 +173,7 @@ struct KeyFrameRefiner::Impl {
         queries.push_back(query);
       }
     }
-    const std::vector<SubPixelMatchAnswer> answers = subPixel.refine(images, queries, ids);
+    const std::vector<SubPixelMatchAnswer> answers = subPixel->refine(images, queries, ids);
     std::size_t q = 0;
     for (std::size_t f = 0; f < inlierSets.size(); ++f) {
       if (frameGreys[f].empty()) continue;
@@ -272,14 +273,17 @@ struct KeyFrameRefiner::Impl {
 };
 
 KeyFrameRefiner::KeyFrameRefiner(const RectifiedGeometry& geometry, const RefinementParameters& parameters,
-                                 const TrackingParameters& tracking, const FeatureParameters& features, Device device) {
+                                 const TrackingParameters& tracking, const FeatureParameters& features, Device device,
+                                 std::shared_ptr<SubPixelMatcher> subPixelMatcher) {
   parameters.validate();
   tracking.validate();
   features.validate();
   require(geometry.focalPx > 0 && geometry.imageSize.width > 0 && geometry.imageSize.height > 0,
           "refinement: the rectified geometry has no focal length or image size");
   requireUsableDevice(device, "CUDA key-frame refinement");
-  impl_ = std::make_unique<Impl>(geometry, parameters, tracking, features, device);
+  require(!subPixelMatcher || subPixelMatcher->device() == device,
+          "refinement: the shared sub-pixel matcher runs on another device than the refinement");
+  impl_ = std::make_unique<Impl>(geometry, parameters, tracking, features, device, std::move(subPixelMatcher));
 }
 
 KeyFrameRefiner::~KeyFrameRefiner() = default;
@@ -560,7 +564,7 @@ std::size_t KeyFrameRefiner::storedBytes() const {
 void KeyFrameRefiner::reset() {
   impl_->keyFrames.clear();
   impl_->intermediates.clear();
-  impl_->subPixel.forgetImages();
+  impl_->subPixel->forgetImages();
 }
 
 Device KeyFrameRefiner::device() const { return impl_->device; }

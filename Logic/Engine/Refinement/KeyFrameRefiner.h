@@ -33,6 +33,8 @@
 
 namespace tissuemosaic {
 
+class SubPixelMatcher;
+
 /// A frame's pose: left rectified camera to world, mm.
 struct FramePose {
   int frameIndex = 0;
@@ -70,8 +72,11 @@ public:
   /// geometry: of the rectified frames the features come from. tracking: DynamicR1PPnP parameters for the matches;
   /// features: matching (Hamming distance, candidates, voting bins, sub-pixel refinement). Throws Error for invalid
   /// parameters, or for Device::Cuda in a build or on a machine without CUDA.
+  /// subPixelMatcher: the sub-pixel matcher to use (on `device`), e.g. the tracker's, whose device copies of the
+  /// frames the refiner then reuses; null: the refiner makes its own.
   KeyFrameRefiner(const RectifiedGeometry& geometry, const RefinementParameters& parameters,
-                  const TrackingParameters& tracking, const FeatureParameters& features, Device device);
+                  const TrackingParameters& tracking, const FeatureParameters& features, Device device,
+                  std::shared_ptr<SubPixelMatcher> subPixelMatcher = nullptr);
   ~KeyFrameRefiner();
   KeyFrameRefiner(const KeyFrameRefiner&) = delete;
   KeyFrameRefiner& operator=(const KeyFrameRefiner&) = delete;

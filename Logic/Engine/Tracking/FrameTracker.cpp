@@ -46,7 +46,7 @@ struct FrameTracker::Impl {
   cv::BFMatcher matcher{cv::NORM_HAMMING, false};
   std::unique_ptr<OrbExtractor> ownExtractor;  ///< FeatureExtractor::TissueMosaicOrb
   std::unique_ptr<HammingMatcher> ownMatcher;
-  std::unique_ptr<SubPixelMatcher> subPixel;
+  std::shared_ptr<SubPixelMatcher> subPixel;
 
   StereoFeatures extract(const cv::Mat& leftRectified, const cv::Mat& disparityPx) {
     if (!ownExtractor) return extractStereoFeatures(*orb, leftRectified, disparityPx, geometry);
@@ -118,7 +118,13 @@ FrameTracker::FrameTracker(const RectifiedGeometry& geometry, const FrameTracker
   require(isRigidTransform(T_world_startCamera), "tracker: the start pose is not a rigid transform");
   impl_->geometry = geometry;
   impl_->options = options;
-  impl_->subPixel = std::make_unique<SubPixelMatcher>(options.featureDevice, options.features.maxRefinementShiftPx);
+  if (options.subPixelMatcher) {
+    require(options.subPixelMatcher->device() == options.featureDevice,
+            "tracker: the shared sub-pixel matcher runs on another device than the features");
+    impl_->subPixel = options.subPixelMatcher;
+  } else {
+    impl_->subPixel = std::make_shared<SubPixelMatcher>(options.featureDevice, options.features.maxRefinementShiftPx);
+  }
   impl_->T_world_start = T_world_startCamera;
   const FeatureParameters& f = options.features;
   if (options.extractor == FeatureExtractor::TissueMosaicOrb) {

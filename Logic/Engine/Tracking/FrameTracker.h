@@ -21,6 +21,8 @@
 
 namespace tissuemosaic {
 
+class SubPixelMatcher;
+
 /// Which ORB implementation finds and matches the features.
 enum class FeatureExtractor {
   OpenCvOrb,        ///< cv::ORB and cv::BFMatcher (CPU only)
@@ -34,6 +36,9 @@ struct FrameTrackerOptions {
   Device featureDevice = Device::Cpu;  ///< where TissueMosaicOrb runs
   double maxStepMm = 30.0;      ///< a camera moving farther than this per frame since the reference is lost, not fast
   double maxStepDeg = 20.0;     ///< ... and the same for rotation per frame
+  /// The sub-pixel matcher to use (on featureDevice), e.g. one shared with the key-frame refiner so that the frames
+  /// this tracker uploads are on the device when the refiner needs them; null: the tracker makes its own.
+  std::shared_ptr<SubPixelMatcher> subPixelMatcher;
 
   void validate() const;
 };

@@ -5,6 +5,7 @@
 #include "Core/KernelProfiler.h"
 #include "Tracking/OrbPipeline.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -27,6 +28,8 @@ struct SubPixelMatcher::Impl {
   int halfWindowPx;
   float maxShiftPx;
   std::vector<DeviceImage> deviceImages;  ///< CUDA only: a small least-recently-used cache
+  std::size_t retained = 0;               ///< slots kept before the least recently used is reused
+  long long uploads = 0;
   uint64_t calls = 0;
   Buffer<uint8_t> input;  ///< image pointer table, then the queries
   Buffer<subpixel::Answer> answers;
@@ -44,9 +47,11 @@ struct SubPixelMatcher::Impl {
       }
     }
     DeviceImage* victim = nullptr;
-    for (DeviceImage& slot : deviceImages) {
-      if (slot.lastUse == calls) continue;  // taken by this call
-      if (!victim || slot.lastUse < victim->lastUse) victim = &slot;
+    if (deviceImages.size() >= retained) {
+      for (DeviceImage& slot : deviceImages) {
+        if (slot.lastUse == calls) continue;  // taken by this call
+        if (!victim || slot.lastUse < victim->lastUse) victim = &slot;
+      }
     }
     if (!victim) {
       deviceImages.emplace_back();
@@ -54,6 +59,7 @@ struct SubPixelMatcher::Impl {
     }
     if (victim->pixels.size() != pixels) victim->pixels = Buffer<uint8_t>(device, pixels);
     victim->pixels.upload(image.ptr<uint8_t>());
+    ++uploads;
     victim->id = id;
     victim->lastUse = calls;
     return victim->pixels.data();
@@ -61,7 +67,7 @@ struct SubPixelMatcher::Impl {
 };
 
 SubPixelMatcher::SubPixelMatcher(Device device, double maxShiftPx, int halfWindowPx)
-    : impl_(new Impl{device, halfWindowPx, static_cast<float>(maxShiftPx), {}, 0, {}, {}}) {
+    : impl_(new Impl{device, halfWindowPx, static_cast<float>(maxShiftPx), {}, 0, 0, 0, {}, {}}) {
   require(halfWindowPx >= 1 && halfWindowPx <= subpixel::kMaxHalfWindowPx,
           "sub-pixel matching: the half window must be 1 to " + std::to_string(subpixel::kMaxHalfWindowPx) + " px");
   require(maxShiftPx > 0 && std::isfinite(maxShiftPx), "sub-pixel matching: the largest shift must be positive");
@@ -71,6 +77,8 @@ SubPixelMatcher::SubPixelMatcher(Device device, double maxShiftPx, int halfWindo
 SubPixelMatcher::~SubPixelMatcher() = default;
 Device SubPixelMatcher::device() const { return impl_->device; }
 void SubPixelMatcher::forgetImages() { impl_->deviceImages.clear(); }
+void SubPixelMatcher::setRetainedImages(int count) { impl_->retained = static_cast<std::size_t>(std::max(0, count)); }
+long long SubPixelMatcher::uploadedImages() const { return impl_->uploads; }
 
 std::vector<SubPixelMatchAnswer> SubPixelMatcher::refine(const std::vector<cv::Mat>& images,
                                                          const std::vector<SubPixelMatchQuery>& queries,

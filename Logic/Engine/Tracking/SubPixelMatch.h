@@ -49,6 +49,12 @@ public:
 
   /// Drops the device copies kept by id (for a new sequence whose frame indices start again).
   void forgetImages();
+  /// CUDA: keep at least this many images by id before reusing the least recently used one (default 0: reuse as
+  /// soon as a call has what it needs). The reconstruct pipeline shares one matcher between the tracker, which
+  /// uploads every frame, and the key-frame refiner, which then finds the intermediate frames already there.
+  void setRetainedImages(int count);
+  /// Images uploaded to the device so far (CUDA; 0 on the CPU, which reads them in place).
+  long long uploadedImages() const;
 
   Device device() const;
 
