@@ -1,6 +1,8 @@
 // The CPU instantiation of the section II pipeline, and the CPU launcher of the ZNCC cost volume.
 #include "StereoPipeline.inl"
 
+#include <opencv2/core/utility.hpp>
+
 #include <algorithm>
 #include <vector>
 
@@ -220,42 +222,65 @@ struct WindowStatisticsBand {
 /// Nearest estimate along ray direction k for every pixel, within radius steps and inside the image: the hit at p
 /// is p + delta itself when that carries an estimate, else the hit at p + delta one step further. One sweep in the
 /// order that visits p + delta before p gives every ray walk's answer at O(1) per pixel.
+/// A task is one direction and one band of rows, so that more than 8 threads have work. A band of a direction that
+/// steps across rows starts its sweep `radius` rows early (knowing nothing before that): a hit is never farther than
+/// radius, so the band's own rows come out exactly as from one sweep over the image. Rows outside the band are kept
+/// in two row buffers and never written.
 struct NearestAlongRay {
   ImageView<const int16_t> input;
   int radius;
+  int rowBands;
   int16_t* hitDistance;  ///< [8][pixels]; 0 = none
   int16_t* hitValue;
 
-  void operator()(int64_t direction) const {
-    const int k = static_cast<int>(direction);
+  void operator()(int64_t task) const {
+    const int k = static_cast<int>(task % 8), band = static_cast<int>(task / 8);
     int dx, dy;
     radialDirection(k, dx, dy);
     const int width = input.width, height = input.height;
     const int64_t offset = static_cast<int64_t>(k) * input.pixelCount();
     int16_t* __restrict distance = hitDistance + offset;
     int16_t* __restrict value = hitValue + offset;
-    for (int step = 0; step < height; ++step) {
+    // The band's rows as steps of the sweep (step s is row height - 1 - s when dy > 0, else row s).
+    const int bandBegin = static_cast<int>(static_cast<int64_t>(height) * band / rowBands);
+    const int bandEnd = static_cast<int>(static_cast<int64_t>(height) * (band + 1) / rowBands);
+    const int firstStep = dy == 0 ? bandBegin : std::max(0, bandBegin - radius);
+    std::vector<int16_t> rows(4 * static_cast<std::size_t>(width));
+    int16_t* previousDistance = rows.data();  // the row swept before (the neighbours' row when dy != 0)
+    int16_t* previousValue = previousDistance + width;
+    int16_t* rowDistance = previousValue + width;
+    int16_t* rowValue = rowDistance + width;
+    std::fill(previousDistance, previousDistance + width, int16_t{0});  // nothing known before the first step
+    for (int step = firstStep; step < bandEnd; ++step) {
       const int y = dy > 0 ? height - 1 - step : step;  // rows: the neighbour's row first
       for (int i = 0; i < width; ++i) {
         const int x = dx > 0 ? width - 1 - i : i;  // within a row, for dy == 0: the neighbour first
         const int nx = x + dx, ny = y + dy;
-        const int64_t here = static_cast<int64_t>(y) * width + x;
         if (nx < 0 || ny < 0 || nx >= width || ny >= height) {
-          distance[here] = 0;
+          rowDistance[x] = 0;
           continue;
         }
-        const int64_t next = static_cast<int64_t>(ny) * width + nx;
-        const int16_t neighbour = input[next];
+        const int16_t neighbour = input[static_cast<int64_t>(ny) * width + nx];
+        // The neighbour's own hit: in this row (dy == 0, swept already) or in the row swept before.
+        const int16_t* neighbourDistance = dy == 0 ? rowDistance : previousDistance;
+        const int16_t* neighbourValue = dy == 0 ? rowValue : previousValue;
         if (neighbour != kNoDisparity) {
-          distance[here] = 1;
-          value[here] = neighbour;
-        } else if (distance[next] > 0 && distance[next] < radius) {
-          distance[here] = static_cast<int16_t>(distance[next] + 1);
-          value[here] = value[next];
+          rowDistance[x] = 1;
+          rowValue[x] = neighbour;
+        } else if (neighbourDistance[nx] > 0 && neighbourDistance[nx] < radius) {
+          rowDistance[x] = static_cast<int16_t>(neighbourDistance[nx] + 1);
+          rowValue[x] = neighbourValue[nx];
         } else {
-          distance[here] = 0;
+          rowDistance[x] = 0;
         }
       }
+      if (step >= bandBegin) {
+        const int64_t rowStart = static_cast<int64_t>(y) * width;
+        std::copy(rowDistance, rowDistance + width, distance + rowStart);
+        std::copy(rowValue, rowValue + width, value + rowStart);
+      }
+      std::swap(previousDistance, rowDistance);
+      std::swap(previousValue, rowValue);
     }
   }
 };
@@ -263,8 +288,13 @@ struct NearestAlongRay {
 }  // namespace
 
 void fillHolesRadialCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, int minLines,
-                        float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue) {
-  parallelFor<CpuBackend>(8, NearestAlongRay{input, radius, hitDistance, hitValue}, 1);
+                        float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue, int rowBands) {
+  // 8 directions give 8 tasks: with more threads than that, cut each direction into bands of rows (each band
+  // sweeps radius rows more, so only where threads would otherwise idle).
+  if (rowBands <= 0) rowBands = std::max(1, (cv::getNumThreads() + 7) / 8);
+  rowBands = std::min(rowBands, std::max(1, input.height));
+  parallelFor<CpuBackend>(8 * static_cast<int64_t>(rowBands),
+                          NearestAlongRay{input, radius, rowBands, hitDistance, hitValue}, 1);
   parallelFor<CpuBackend>(input.pixelCount(),
                           FillHolesRadialFromHits{input, output, hitDistance, hitValue, minLines, maxEndDifferencePx});
 }

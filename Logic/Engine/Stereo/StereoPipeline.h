@@ -52,8 +52,9 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);
 void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,
                                 int radius, float minStdDev);
 /// The CPU launcher of radial hole filling: per-direction sweeps for the nearest estimates (same answers as the
-/// ray walks of FillHolesRadial, which the GPU runs), then radialFillValue per hole.
+/// ray walks of FillHolesRadial, which the GPU runs), then radialFillValue per hole. rowBands: bands of rows per
+/// direction (tasks = 8 x bands; 0: from the thread count; any count gives the same answers).
 void fillHolesRadialCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, int minLines,
-                        float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue);
+                        float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue, int rowBands = 0);
 
 }  // namespace tissuemosaic::stereo
