@@ -87,8 +87,7 @@ cv::Size SurfaceMeasurement::size() const {
 
 cv::Mat SurfaceMeasurement::validPixelMask() const {
   if (!validMask.empty()) return validMask;
-  require(pointsCameraMm.type() == CV_32FC3 && normalsCamera.type() == CV_32FC3 &&
-              pointsCameraMm.size() == normalsCamera.size(),
+  require(usableHostMaps(pointsCameraMm, normalsCamera),
           "SurfaceMeasurement: no valid-pixel mask and no CV_32FC3 points and normals of one size");
   cv::Mat mask(pointsCameraMm.size(), CV_8U);
   const auto finite = [](const cv::Vec3f& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); };
@@ -99,6 +98,33 @@ cv::Mat SurfaceMeasurement::validPixelMask() const {
     }
   }
   return mask;
+}
+
+bool usableHostMaps(const cv::Mat& pointsCameraMm, const cv::Mat& normalsCamera) {
+  return !pointsCameraMm.empty() && pointsCameraMm.type() == CV_32FC3 && normalsCamera.type() == CV_32FC3 &&
+         pointsCameraMm.size() == normalsCamera.size();
+}
+
+void copySurfaceMaps(const cv::Mat& hostPointsCameraMm, const cv::Mat& hostNormalsCamera,
+                     const SurfaceMapsOnDevice* onDevice, Image<Float3>& points, Image<Float3>& normals) {
+  const bool host = usableHostMaps(hostPointsCameraMm, hostNormalsCamera);
+  require(host || onDevice, "surface maps: neither CV_32FC3 host maps of one size nor device maps");
+  const cv::Size target(points.width(), points.height());
+  require(normals.width() == target.width && normals.height() == target.height,
+          "surface maps: the target images differ in size");
+  if (onDevice && (points.device() == Device::Cuda || !host)) {
+    // On the device already: a device-to-device copy (or one download for the CPU), no upload.
+    require(onDevice->pointsCameraMm.width() == target.width && onDevice->pointsCameraMm.height() == target.height,
+            "surface maps: the device maps differ in size from the target");
+    points.buffer().copyFrom(onDevice->pointsCameraMm.buffer());
+    normals.buffer().copyFrom(onDevice->normalsCamera.buffer());
+    return;
+  }
+  require(hostPointsCameraMm.size() == target, "surface maps: the host maps differ in size from the target");
+  const cv::Mat continuousPoints = hostPointsCameraMm.isContinuous() ? hostPointsCameraMm : hostPointsCameraMm.clone();
+  const cv::Mat continuousNormals = hostNormalsCamera.isContinuous() ? hostNormalsCamera : hostNormalsCamera.clone();
+  points.buffer().upload(continuousPoints.ptr<Float3>());
+  normals.buffer().upload(continuousNormals.ptr<Float3>());
 }
 
 void SurfaceMeasurement::hostMaps(cv::Mat& points, cv::Mat& normals) const {

@@ -41,6 +41,16 @@ struct SurfaceMeasurement {
   void hostMaps(cv::Mat& pointsCameraMm, cv::Mat& normalsCamera) const;
 };
 
+/// Whether host point and normal maps can be read: CV_32FC3, non-empty, of one size.
+bool usableHostMaps(const cv::Mat& pointsCameraMm, const cv::Mat& normalsCamera);
+
+/// Copies point and normal maps into `points` and `normals` (allocated by the caller at the maps' size, on either
+/// device): from `onDevice` when it is given and the target is on CUDA or the host maps are not usable, else from the
+/// host maps. The one rule by which fusion and the refinement's solver take a measurement's maps. Throws Error when
+/// neither source can be used or the sizes differ.
+void copySurfaceMaps(const cv::Mat& hostPointsCameraMm, const cv::Mat& hostNormalsCamera,
+                     const SurfaceMapsOnDevice* onDevice, Image<Float3>& points, Image<Float3>& normals);
+
 /// Where measureSurface leaves the point and normal maps when it runs on CUDA.
 enum class SurfaceMapResidence {
   HostAndDevice,  ///< downloaded into the cv::Mat fields as well

@@ -98,22 +98,15 @@ PointFusion& PointFusion::operator=(PointFusion&&) noexcept = default;
 FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const Eigen::Matrix4d& T_world_camera) {
   const auto start = std::chrono::steady_clock::now();
   const cv::Size size = geometry_.imageSize;
-  const bool hostMaps = measurement.hasHostMaps() && measurement.pointsCameraMm.type() == CV_32FC3 &&
-                        measurement.normalsCamera.type() == CV_32FC3 && measurement.normalsCamera.size() == size;
-  require((hostMaps || measurement.onDevice) && measurement.size() == size &&
+  require((usableHostMaps(measurement.pointsCameraMm, measurement.normalsCamera) || measurement.onDevice) &&
+              measurement.size() == size &&
               measurement.colourBgr.type() == CV_8UC3 && measurement.colourBgr.size() == size,
           "PointFusion::integrate: the measurement must hold CV_32FC3 points and normals and a CV_8UC3 colour image "
           "of the rectified size " + std::to_string(size.width) + "x" + std::to_string(size.height));
   const fusion::FramePose pose = framePose(T_world_camera);
   fusion::FusionModel& model = *model_;
-  if (measurement.onDevice && (device_ == Device::Cuda || !hostMaps)) {
-    // On the device already: a device-to-device copy, no round trip through the host.
-    model.pointsMm.buffer().copyFrom(measurement.onDevice->pointsCameraMm.buffer());
-    model.normals.buffer().copyFrom(measurement.onDevice->normalsCamera.buffer());
-  } else {
-    model.pointsMm.buffer().upload(continuous(measurement.pointsCameraMm).ptr<Float3>());
-    model.normals.buffer().upload(continuous(measurement.normalsCamera).ptr<Float3>());
-  }
+  copySurfaceMaps(measurement.pointsCameraMm, measurement.normalsCamera, measurement.onDevice.get(), model.pointsMm,
+                  model.normals);
   model.colourBgr.upload(continuous(measurement.colourBgr).ptr<uint8_t>());
 
   const fusion::FusionSettings settings = fusionSettings(geometry_, parameters_);

@@ -474,9 +474,7 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
   // The ICP term: model points that land on a measured pixel at the tracked pose, evenly subsampled.
   const Eigen::Matrix4d T_camera_world = inverseRigid(T_world_camera);
   if (!modelPointsWorldMm.empty() && !measurement.empty()) {
-    require(measurement.onDevice ||
-                (measurement.pointsCameraMm.type() == CV_32FC3 && measurement.normalsCamera.type() == CV_32FC3 &&
-                 measurement.pointsCameraMm.size() == measurement.normalsCamera.size()),
+    require(measurement.onDevice || usableHostMaps(measurement.pointsCameraMm, measurement.normalsCamera),
             "refinement: the measurement needs CV_32FC3 points and normals of one size");
     // Which pixels have q and n: the mask comes with the measurement, so the maps themselves may stay on the device.
     const cv::Mat valid = measurement.validPixelMask();

@@ -105,19 +105,6 @@ Buffer<T> upload(Device device, const std::vector<T>& host) {
   return buffer;
 }
 
-Image<Float3> uploadMap(Device device, const cv::Mat& map) {
-  const cv::Mat continuous = map.isContinuous() ? map : map.clone();
-  Image<Float3> image(device, map.cols, map.rows);
-  image.buffer().upload(reinterpret_cast<const Float3*>(continuous.ptr<cv::Vec3f>()));
-  return image;
-}
-
-Image<Float3> copyMap(Device device, const Image<Float3>& map) {
-  Image<Float3> image(device, map.width(), map.height());
-  image.buffer().copyFrom(map.buffer());
-  return image;
-}
-
 }  // namespace
 
 RefinementSolution solveRefinement(const RefinementProblem& problem, const RefinementParameters& parameters,
@@ -134,10 +121,7 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
             "refinement: an observation refers to a frame or point that does not exist");
   }
   const bool icp = !problem.modelPointsWorldMm.empty();
-  const bool hostMaps = problem.measuredPointsCameraMm.type() == CV_32FC3 &&
-                        problem.measuredNormalsCamera.type() == CV_32FC3 &&
-                        problem.measuredPointsCameraMm.size() == problem.measuredNormalsCamera.size() &&
-                        !problem.measuredPointsCameraMm.empty();
+  const bool hostMaps = usableHostMaps(problem.measuredPointsCameraMm, problem.measuredNormalsCamera);
   if (icp) {
     require(hostMaps || problem.measuredOnDevice,
             "refinement: the ICP term needs CV_32FC3 measured points and normals of one size");
@@ -171,13 +155,12 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
       w.measuredPointsCameraMm = onDevice->pointsCameraMm.view();
       w.measuredNormalsCamera = onDevice->normalsCamera.view();
     } else {
-      if (hostMaps) {
-        w.measuredPointsCopy = uploadMap(device, problem.measuredPointsCameraMm);
-        w.measuredNormalsCopy = uploadMap(device, problem.measuredNormalsCamera);
-      } else {
-        w.measuredPointsCopy = copyMap(device, onDevice->pointsCameraMm);
-        w.measuredNormalsCopy = copyMap(device, onDevice->normalsCamera);
-      }
+      const int width = hostMaps ? problem.measuredPointsCameraMm.cols : onDevice->pointsCameraMm.width();
+      const int height = hostMaps ? problem.measuredPointsCameraMm.rows : onDevice->pointsCameraMm.height();
+      w.measuredPointsCopy = Image<Float3>(device, width, height);
+      w.measuredNormalsCopy = Image<Float3>(device, width, height);
+      copySurfaceMaps(problem.measuredPointsCameraMm, problem.measuredNormalsCamera, onDevice, w.measuredPointsCopy,
+                      w.measuredNormalsCopy);
       w.measuredPointsCameraMm = w.measuredPointsCopy.view();
       w.measuredNormalsCamera = w.measuredNormalsCopy.view();
     }
