@@ -105,6 +105,8 @@ int runBenchReconstruct(const Words& words) {
   TimingTable timing;
   int lost = 0;
   std::vector<double> surfaceMs, modelSampleMs, keyFrameMatchingMs, intermediateMatchingMs, solveMs;
+  // How the refinement matched (RefinementParameters::guidedSearchRadiusPx), summed over the key frames.
+  int keyFramesMatched = 0, keyFramesGuided = 0, intermediateFrames = 0, intermediateFramesGuided = 0;
   // Stereo against the truth on the key frames (what fusion receives): the worst share of gross errors (> 3 px).
   double worstKeyFrameGross = 0, keyFrameGrossSum = 0;
   int worstKeyFrame = -1, keyFramesScored = 0;
@@ -123,6 +125,10 @@ int runBenchReconstruct(const Words& words) {
       keyFrameMatchingMs.push_back(result.refinementPartsMs.keyFrameMatching);
       intermediateMatchingMs.push_back(result.refinementPartsMs.intermediateMatching);
       solveMs.push_back(result.refinementPartsMs.solve);
+      keyFramesMatched += result.matchedKeyFrames;
+      keyFramesGuided += result.guidedKeyFrames;
+      intermediateFrames += result.intermediateFrames;
+      intermediateFramesGuided += result.guidedIntermediateFrames;
     }
     if (result.keyFrame) {
       int gross = 0, estimates = 0;
@@ -210,7 +216,8 @@ int runBenchReconstruct(const Words& words) {
               "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": {\"surface\": %.4f, \"model_sample\": %.4f, "
               "\"key_frame_matching\": %.4f, \"intermediate_matching\": %.4f, \"solve\": %.4f},\n "
               "\"refinement_parts_max_ms\": {\"surface\": %.4f, \"model_sample\": %.4f, \"key_frame_matching\": %.4f, "
-              "\"intermediate_matching\": %.4f, \"solve\": %.4f},\n \"timing\": %s}\n",
+              "\"intermediate_matching\": %.4f, \"solve\": %.4f},\n \"refinement_matching\": {\"key_frames_matched\": %d, "
+              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cv::getNumThreads(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
@@ -218,7 +225,8 @@ int runBenchReconstruct(const Words& words) {
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
               memoryJson.c_str(), median(surfaceMs), median(modelSampleMs), median(keyFrameMatchingMs), median(intermediateMatchingMs),
               median(solveMs), largest(surfaceMs), largest(modelSampleMs), largest(keyFrameMatchingMs),
-              largest(intermediateMatchingMs), largest(solveMs), timing.toJson().c_str());
+              largest(intermediateMatchingMs), largest(solveMs), keyFramesMatched, keyFramesGuided, intermediateFrames,
+              intermediateFramesGuided, timing.toJson().c_str());
   return 0;
 }
 

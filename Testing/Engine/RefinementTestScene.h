@@ -221,7 +221,8 @@ struct BundleRun {
 
 inline BundleRun runBundleScenario(Device device, const RefinementParameters& parameters = {}, double errorDeg = 1.5,
                                    double errorMm = 2.0, double pixelNoisePx = 0.5, double depthNoiseMm = 0.1,
-                                   int outliers = 100, bool withIcp = false, unsigned seed = 7) {
+                                   int outliers = 100, bool withIcp = false, unsigned seed = 7,
+                                   bool inTwoHalves = false) {
   const RectifiedGeometry g = testGeometry();
   const FeatureScene scene(1500, seed);
   KeyFrameRefiner refiner(g, parameters, TrackingParameters{}, FeatureParameters{}, device);
@@ -243,6 +244,10 @@ inline BundleRun runBundleScenario(Device device, const RefinementParameters& pa
   if (withIcp) {
     run.result = refiner.refineKeyFrame(20, observe(20), run.trackedKey, scene.measure(run.trueKey, g),
                                         FeatureScene::model(0.5), {});
+  } else if (inTwoHalves) {  // KeyFrameRefiner::matchKeyFrame, then refineMatchedKeyFrame
+    const StereoFeatures features = observe(20);
+    KeyFrameMatches matches = refiner.matchKeyFrame(20, features, run.trackedKey);
+    run.result = refiner.refineMatchedKeyFrame(std::move(matches), none, {}, {});
   } else {
     run.result = refiner.refineKeyFrame(20, observe(20), run.trackedKey, none, {}, {});
   }

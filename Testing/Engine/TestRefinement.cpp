@@ -73,6 +73,7 @@ TEST(RefinementParameters, RoundTripAndValidation) {
   p.maxIntermediateFrames = 7;
   p.maxCorrectionDeg = 2.5;
   p.maxSolveHypotheses = 33;
+  p.guidedSearchRadiusPx = 9.5;
   cv::FileStorage out("refinement.yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   p.write(out);
   const std::string text = out.releaseAndGetString();
@@ -83,6 +84,7 @@ TEST(RefinementParameters, RoundTripAndValidation) {
   EXPECT_EQ(q.maxIntermediateFrames, 7);
   EXPECT_EQ(q.maxCorrectionDeg, 2.5);
   EXPECT_EQ(q.maxSolveHypotheses, 33);
+  EXPECT_EQ(q.guidedSearchRadiusPx, 9.5);
   EXPECT_EQ(q.icpSamples, RefinementParameters{}.icpSamples);
   RefinementParameters bad;
   bad.icpTukeyMm = 0;
@@ -92,6 +94,9 @@ TEST(RefinementParameters, RoundTripAndValidation) {
   EXPECT_THROW(bad.validate(), Error);
   bad = RefinementParameters{};
   bad.maxSolveHypotheses = 0;
+  EXPECT_THROW(bad.validate(), Error);
+  bad = RefinementParameters{};
+  bad.guidedSearchRadiusPx = -1;
   EXPECT_THROW(bad.validate(), Error);
   cv::FileStorage wrong("%YAML:1.0\nrefinement:\n  lmIterations: 2.5\n", cv::FileStorage::READ | cv::FileStorage::MEMORY);
   EXPECT_THROW(RefinementParameters::read(wrong["refinement"]), Error);
@@ -158,9 +163,10 @@ TEST(RefinementSolver, PointStepsConvergeToExactPoints) {
 TEST(KeyFrameRefiner, LowersTheErrorOfPerturbedPoses) {
   const BundleRun run = runBundleScenario(Device::Cpu);
   const RefinementResult& r = run.result;
-  std::printf("%s\n  matched key frames %d, intermediate frames %d, observations %d (fixed points %d, free %d), "
-              "cost %.4g -> %.4g, %d iterations, %.1f ms\n",
-              r.message.c_str(), r.matchedKeyFrames, r.intermediateFrames, r.baObservations, r.fixedPoints, r.freePoints,
+  std::printf("%s\n  matched key frames %d, intermediate frames %d (%d guided), observations %d (fixed points %d, "
+              "free %d), cost %.4g -> %.4g, %d iterations, %.1f ms\n",
+              r.message.c_str(), r.matchedKeyFrames, r.intermediateFrames, r.guidedFrames, r.baObservations,
+              r.fixedPoints, r.freePoints,
               r.initialCost, r.finalCost, r.iterations, r.milliseconds);
   ASSERT_TRUE(r.refined) << r.message;
   EXPECT_EQ(r.matchedKeyFrames, 2);
@@ -193,6 +199,27 @@ TEST(KeyFrameRefiner, LowersTheErrorOfPerturbedPoses) {
   EXPECT_LT(sumAfter, 0.1 * sumBefore);
   EXPECT_LT(worstDeg, 0.1);
   EXPECT_LT(worstMm, 0.2);
+}
+
+// The refinement in two halves (matching, then the solve: the pipeline measures the surface in between) gives the
+// same pose as in one call; a frame added between the halves is refused.
+TEST(KeyFrameRefiner, RefinesTheSameInTwoHalves) {
+  const BundleRun once = runBundleScenario(Device::Cpu);
+  const BundleRun halves = runBundleScenario(Device::Cpu, {}, 1.5, 2.0, 0.5, 0.1, 100, false, 7, true);
+  ASSERT_TRUE(halves.result.refined) << halves.result.message;
+  EXPECT_EQ(halves.result.T_world_camera, once.result.T_world_camera);
+  EXPECT_EQ(halves.result.baObservations, once.result.baObservations);
+  EXPECT_EQ(halves.storedKeyFrames, once.storedKeyFrames);
+
+  const RectifiedGeometry g = testGeometry();
+  const FeatureScene scene(1500, 7);
+  KeyFrameRefiner refiner(g, RefinementParameters{}, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+  refiner.refineKeyFrame(0, scene.observe(truePose(0), g, 0.5, 0.1, 4, 0, 1), truePose(0), SurfaceMeasurement{}, {}, {});
+  const StereoFeatures key = scene.observe(truePose(10), g, 0.5, 0.1, 4, 0, 2);
+  KeyFrameMatches matches = refiner.matchKeyFrame(10, key, truePose(10));
+  refiner.addIntermediateFrame(9, scene.observe(truePose(9), g, 0.5, 0.1, 4, 0, 3), truePose(9));
+  EXPECT_THROW(refiner.refineMatchedKeyFrame(std::move(matches), SurfaceMeasurement{}, {}, {}), Error);
+  EXPECT_THROW(refiner.refineMatchedKeyFrame(KeyFrameMatches{}, SurfaceMeasurement{}, {}, {}), Error);
 }
 
 // The same with the ICP term: the fused model (the scene's surface) and the key frame's measurement from its true
@@ -397,10 +424,17 @@ TEST(KeyFrameRefiner, ThinsIntermediateFramesAndStoresKeyFramesCompactly) {
   EXPECT_EQ(refiner.storedBytes(), 300u * (8 + 32 + 12));
 }
 
-// End to end on a rendered scan: FrameTracker on ground-truth disparity, the refiner at its key frames (BA against
-// the earlier key frames, no model), corrected poses fed back to the tracker as the pipeline does. Each key frame's
-// refined pose is compared with the pose tracking gave it.
-TEST(KeyFrameRefiner, RefinesTrackedKeyFramesOfASyntheticScan) {
+namespace {
+
+struct ScanRefinement {
+  double trackedRmsMm = 0, refinedRmsMm = 0, worstGainMm = 0;
+  int keyFrames = 0, refined = 0, matched = 0, guidedKeyFrames = 0, intermediateFrames = 0, guidedFrames = 0;
+};
+
+// FrameTracker on ground-truth disparity of a rendered scan, the refiner at its key frames (BA against the earlier
+// key frames, no model), corrected poses fed back to the tracker as the pipeline does. Each key frame's refined
+// pose is compared with the pose tracking gave it.
+ScanRefinement refineSyntheticScan(const RefinementParameters& parameters) {
   synthetic::SyntheticScanOptions options;
   options.width = 480;
   options.height = 270;
@@ -409,14 +443,14 @@ TEST(KeyFrameRefiner, RefinesTrackedKeyFramesOfASyntheticScan) {
   const synthetic::SyntheticScan scan(options);
   FrameTrackerOptions trackerOptions;
   FrameTracker tracker(scan.geometry(), trackerOptions, scan.T_world_camera(0));
-  KeyFrameRefiner refiner(scan.geometry(), RefinementParameters{}, trackerOptions.tracking, trackerOptions.features,
-                          Device::Cpu);
-  double trackedSum2 = 0, refinedSum2 = 0, worstGainMm = 0;
-  int refined = 0, matched = 0, keyFrames = 0;
+  KeyFrameRefiner refiner(scan.geometry(), parameters, trackerOptions.tracking, trackerOptions.features, Device::Cpu);
+  ScanRefinement run;
+  double trackedSum2 = 0, refinedSum2 = 0;
   for (int k = 0; k < scan.frameCount(); ++k) {
     const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
     const TrackResult track = tracker.track(frame.leftRectified, frame.disparityPx);
-    ASSERT_TRUE(track.tracked) << "frame " << k << ": " << track.failureReason;
+    if (!track.tracked) ADD_FAILURE() << "frame " << k << ": " << track.failureReason;
+    if (!track.tracked) return run;
     if (!track.keyFrame) {
       refiner.addIntermediateFrame(k, tracker.lastFeatures(), track.T_world_camera);
       continue;
@@ -427,21 +461,52 @@ TEST(KeyFrameRefiner, RefinesTrackedKeyFramesOfASyntheticScan) {
     const Eigen::Vector3d truth = frame.T_world_camera.block<3, 1>(0, 3);
     const double trackedMm = (track.T_world_camera.block<3, 1>(0, 3) - truth).norm();
     const double refinedMm = (r.T_world_camera.block<3, 1>(0, 3) - truth).norm();
-    std::printf("  key frame %d: %s (%d key frames matched, %d intermediate, %.1f ms): error %.3f -> %.3f mm\n", k,
-                r.message.c_str(), r.matchedKeyFrames, r.intermediateFrames, r.milliseconds, trackedMm, refinedMm);
+    std::printf("  key frame %d: %s (%d key frames matched, %d intermediate of which %d guided, %.1f ms): error %.3f "
+                "-> %.3f mm\n", k, r.message.c_str(), r.matchedKeyFrames, r.intermediateFrames, r.guidedFrames,
+                r.milliseconds, trackedMm, refinedMm);
     trackedSum2 += trackedMm * trackedMm;
     refinedSum2 += refinedMm * refinedMm;
-    worstGainMm = std::max(worstGainMm, refinedMm - trackedMm);
-    refined += r.refined;
-    matched += r.matchedKeyFrames;
-    ++keyFrames;
+    run.worstGainMm = std::max(run.worstGainMm, refinedMm - trackedMm);
+    run.refined += r.refined;
+    run.matched += r.matchedKeyFrames;
+    run.guidedKeyFrames += r.guidedKeyFrames;
+    run.intermediateFrames += r.intermediateFrames;
+    run.guidedFrames += r.guidedFrames;
+    ++run.keyFrames;
   }
-  const double trackedRms = std::sqrt(trackedSum2 / keyFrames), refinedRms = std::sqrt(refinedSum2 / keyFrames);
+  run.trackedRmsMm = std::sqrt(trackedSum2 / run.keyFrames);
+  run.refinedRmsMm = std::sqrt(refinedSum2 / run.keyFrames);
   std::printf("key-frame position error RMS: tracked %.4f mm, refined %.4f mm (%d of %d key frames refined, %d matches "
-              "with earlier key frames)\n", trackedRms, refinedRms, refined, keyFrames, matched);
-  EXPECT_EQ(keyFrames, 3);
-  EXPECT_EQ(refined, 2);  // all but the first
-  EXPECT_EQ(matched, 1 + 2);
-  EXPECT_LT(refinedRms, 0.8 * trackedRms);
-  EXPECT_LT(worstGainMm, 0.1);  // no key frame worse by more than the key points' localisation noise
+              "with earlier key frames, %d guided; %d of %d intermediate frames guided)\n", run.trackedRmsMm,
+              run.refinedRmsMm, run.refined, run.keyFrames, run.matched, run.guidedKeyFrames, run.guidedFrames,
+              run.intermediateFrames);
+  return run;
+}
+
+}  // namespace
+
+TEST(KeyFrameRefiner, RefinesTrackedKeyFramesOfASyntheticScan) {
+  const ScanRefinement run = refineSyntheticScan(RefinementParameters{});
+  EXPECT_EQ(run.keyFrames, 3);
+  EXPECT_EQ(run.refined, 2);  // all but the first
+  EXPECT_EQ(run.matched, 1 + 2);
+  EXPECT_EQ(run.intermediateFrames, 2 * 9);
+  EXPECT_EQ(run.guidedFrames, run.intermediateFrames);  // tracking is good to a pixel here
+  EXPECT_EQ(run.guidedKeyFrames, run.matched);
+  EXPECT_LT(run.refinedRmsMm, 0.8 * run.trackedRmsMm);
+  EXPECT_LT(run.worstGainMm, 0.1);  // no key frame worse by more than the key points' localisation noise
+}
+
+// Matching near the projections at the tracked poses (the default) refines the key frames as well as matching all
+// descriptors (and DynamicR1PPnP in every frame) does.
+TEST(KeyFrameRefiner, GuidedMatchingRefinesAsWellAsMatchingAllDescriptors) {
+  RefinementParameters solving;
+  solving.guidedSearchRadiusPx = 0;
+  const ScanRefinement guided = refineSyntheticScan(RefinementParameters{});
+  const ScanRefinement solved = refineSyntheticScan(solving);
+  EXPECT_EQ(solved.guidedFrames, 0);
+  EXPECT_EQ(solved.guidedKeyFrames, 0);
+  EXPECT_EQ(solved.matched, guided.matched);
+  EXPECT_EQ(solved.intermediateFrames, guided.intermediateFrames);
+  EXPECT_LT(guided.refinedRmsMm, 1.1 * solved.refinedRmsMm);
 }

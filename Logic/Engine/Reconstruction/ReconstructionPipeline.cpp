@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <future>
 #include <limits>
 #include <optional>
 
@@ -154,27 +155,42 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   }
   if (result.keyFrame) {
     stageStart = Clock::now();
-    const SurfaceMeasurement measurement =
-        measureSurface(withinWorkingRange(result.disparityPx, s.geometry, s.parameters.fusion), result.leftRectified,
-                       s.geometry, s.device, s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
-                       SurfaceMapResidence::DeviceOnly);  // refinement and fusion run on the same device
-    result.refinementPartsMs.surface = millisecondsSince(stageStart);
-    const auto sampleStart = Clock::now();
-    std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;
-    if (s.fusion.pointCount() > 0) {
-      s.fusion.sampleVisible(result.T_world_camera, s.parameters.refinement.icpSamples, modelPointsWorldMm,
-                             modelNormalsWorld);
-    }
-    result.refinementPartsMs.modelSample = millisecondsSince(sampleStart);
-    const RefinementResult refinement = s.refiner.refineKeyFrame(
-        result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera, measurement, modelPointsWorldMm,
-        modelNormalsWorld);
+    // The surface (refinement's ICP term and fusion) and the model points seen from the tracked pose need no
+    // matches: they are prepared on another thread while the refiner matches the key frame's features.
+    struct SurfaceAndModel {
+      SurfaceMeasurement measurement;
+      std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;
+    };
+    std::future<SurfaceAndModel> surfaceAndModel = std::async(std::launch::async, [&] {
+      SurfaceAndModel prepared;
+      const auto surfaceStart = Clock::now();
+      prepared.measurement =
+          measureSurface(withinWorkingRange(result.disparityPx, s.geometry, s.parameters.fusion), result.leftRectified,
+                         s.geometry, s.device, s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
+                         SurfaceMapResidence::DeviceOnly);  // refinement and fusion run on the same device
+      result.refinementPartsMs.surface = millisecondsSince(surfaceStart);
+      const auto sampleStart = Clock::now();
+      if (s.fusion.pointCount() > 0) {
+        s.fusion.sampleVisible(result.T_world_camera, s.parameters.refinement.icpSamples, prepared.modelPointsWorldMm,
+                               prepared.modelNormalsWorld);
+      }
+      result.refinementPartsMs.modelSample = millisecondsSince(sampleStart);
+      return prepared;
+    });
+    KeyFrameMatches matches = s.refiner.matchKeyFrame(result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera);
+    const SurfaceAndModel prepared = surfaceAndModel.get();
+    const SurfaceMeasurement& measurement = prepared.measurement;
+    const RefinementResult refinement = s.refiner.refineMatchedKeyFrame(
+        std::move(matches), measurement, prepared.modelPointsWorldMm, prepared.modelNormalsWorld);
     s.lastRefinementMessage = refinement.message;
     result.refinementPartsMs.keyFrameMatching = refinement.keyFrameMatchingMs;
     result.refinementPartsMs.intermediateMatching = refinement.intermediateMatchingMs;
     result.refinementPartsMs.solve = refinement.solveMs;
     result.refined = refinement.refined;
     result.matchedKeyFrames = refinement.matchedKeyFrames;
+    result.guidedKeyFrames = refinement.guidedKeyFrames;
+    result.intermediateFrames = refinement.intermediateFrames;
+    result.guidedIntermediateFrames = refinement.guidedFrames;
     if (refinement.refined) {
       result.T_world_camera = refinement.T_world_camera;
       s.tracker.correctLastPose(result.T_world_camera);

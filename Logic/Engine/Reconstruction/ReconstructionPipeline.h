@@ -46,6 +46,9 @@ struct FrameResult {
   int inliers = 0;
   bool refined = false;         ///< key frame: the refinement improved the tracked pose
   int matchedKeyFrames = 0;     ///< key frame: earlier key frames matched for the refinement
+  int guidedKeyFrames = 0;      ///< ... of them matched near their projections (RefinementResult::guidedKeyFrames)
+  int intermediateFrames = 0;   ///< key frame: intermediate frames in the refinement's bundle adjustment
+  int guidedIntermediateFrames = 0;  ///< ... of them matched near the projections (RefinementResult::guidedFrames)
   int fusedMerged = 0, fusedAdded = 0;  ///< key frame: model points merged with / added from this frame
   std::size_t modelPoints = 0;
   bool pointBudgetReached = false;

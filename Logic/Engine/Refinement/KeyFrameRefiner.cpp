@@ -6,6 +6,7 @@
 #include "Core/ParallelFor.h"
 #include "Core/RigidTransform.h"
 #include "Core/Stopwatch.h"
+#include "Refinement/ProjectionGuidedMatching.h"
 #include "Refinement/RefinementSolver.h"
 #include "Tracking/HistogramVoting.h"
 #include "Tracking/OrbFeatures.h"
@@ -95,6 +96,27 @@ struct Inlier {
 
 }  // namespace
 
+struct KeyFrameMatches::Data {
+  int frameIndex = 0;
+  const StereoFeatures* features = nullptr;  ///< the caller's, alive until refineMatchedKeyFrame
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
+  std::chrono::steady_clock::time_point start;
+  uint64_t refinerState = 0;  ///< KeyFrameRefiner::Impl::state when matched
+  RefinementResult result;    ///< the matching's counts and times so far
+  /// Per key-frame feature: its world point (fixed where an earlier key frame saw it, else lifted with the tracked
+  /// pose) and whether it is fixed.
+  std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> trackWorld;
+  std::vector<uint8_t> fixed;
+  std::vector<Observation> observations;  ///< of the key frame's features in the intermediate frames (pose slot 1..)
+  std::vector<int> frameOfSlot;           ///< intermediate frame per pose slot 1..
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+KeyFrameMatches::KeyFrameMatches() = default;
+KeyFrameMatches::~KeyFrameMatches() = default;
+KeyFrameMatches::KeyFrameMatches(KeyFrameMatches&&) noexcept = default;
+KeyFrameMatches& KeyFrameMatches::operator=(KeyFrameMatches&&) noexcept = default;
+
 struct KeyFrameRefiner::Impl {
   RectifiedGeometry geometry;
   RefinementParameters parameters;
@@ -105,6 +127,7 @@ struct KeyFrameRefiner::Impl {
   std::shared_ptr<SubPixelMatcher> subPixel;
   std::deque<StoredKeyFrame, Eigen::aligned_allocator<StoredKeyFrame>> keyFrames;
   std::vector<IntermediateFrame, Eigen::aligned_allocator<IntermediateFrame>> intermediates;
+  uint64_t state = 0;  ///< counts the changes of keyFrames and intermediates (matches must see the same frames)
 
   Impl(const RectifiedGeometry& g, const RefinementParameters& p, const TrackingParameters& t,
        const FeatureParameters& f, Device d, std::shared_ptr<SubPixelMatcher> sharedSubPixel)
@@ -146,6 +169,32 @@ struct KeyFrameRefiner::Impl {
       set.candidateTrain.push_back(std::move(furtherTrain));
     }
     return set;
+  }
+
+  /// Matches found near the projections (no further candidates), as a MatchSet like the one above.
+  MatchSet toMatchSet(const ProjectionGuidedMatches& found, const Points3d& queryWorld,
+                      const std::vector<cv::Point2f>& queryPx, const StereoFeatures& frame) const {
+    MatchSet set;
+    for (const ProjectionGuidedMatch& match : found.matches) {
+      set.query.push_back(match.query);
+      set.train.push_back(match.train);
+      set.pointsWorldMm.push_back(queryWorld[static_cast<std::size_t>(match.query)]);
+      const cv::Point2f& from = queryPx[static_cast<std::size_t>(match.query)];
+      set.fromPx.emplace_back(from.x, from.y);
+      const cv::Point2f& to = frame.keypoints[static_cast<std::size_t>(match.train)].pt;
+      set.pixelsPx.emplace_back(to.x, to.y);
+      set.candidates.emplace_back();
+      set.candidateTrain.emplace_back();
+    }
+    return set;
+  }
+
+  ProjectionGuidedMatchParameters guidedMatchParameters() const {
+    ProjectionGuidedMatchParameters guide;
+    guide.searchRadiusPx = parameters.guidedSearchRadiusPx;
+    guide.maxHammingDistance = features.maxHammingDistance;
+    guide.consistencyPx = tracking.inlierThresholdPx;
+    return guide;
   }
 
   /// Sub-pixel positions of the inliers of every frame (as the tracker refines its matches), in one call: each
@@ -302,6 +351,7 @@ void KeyFrameRefiner::addIntermediateFrame(int frameIndex, const StereoFeatures&
   frame.features = features;
   frame.T_world_camera = T_world_camera;
   s.intermediates.push_back(std::move(frame));
+  ++s.state;
   // Thin evenly: drop the frame whose neighbours are closest (never the newest, which is nearest the key frame).
   while (static_cast<int>(s.intermediates.size()) > limit) {
     std::size_t drop = 0;
@@ -317,11 +367,8 @@ void KeyFrameRefiner::addIntermediateFrame(int frameIndex, const StereoFeatures&
   }
 }
 
-RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFeatures& features,
-                                                 const Eigen::Matrix4d& T_world_camera,
-                                                 const SurfaceMeasurement& measurement,
-                                                 const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
-                                                 const std::vector<Eigen::Vector3f>& /*modelNormalsWorld*/) {
+KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatures& features,
+                                               const Eigen::Matrix4d& T_world_camera) {
   const auto start = std::chrono::steady_clock::now();
   require(isRigidTransform(T_world_camera), "refinement: the key frame's pose is not a rigid transform");
   require(features.pointsCameraMm.size() == features.keypoints.size() &&
@@ -329,15 +376,16 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
           "refinement: the key frame's features are inconsistent");
   Impl& s = *impl_;
   const RefinementParameters& p = s.parameters;
-  RefinementResult result;
+  KeyFrameMatches matches;
+  matches.data_ = std::make_unique<KeyFrameMatches::Data>();
+  KeyFrameMatches::Data& m = *matches.data_;
+  m.frameIndex = frameIndex;
+  m.features = &features;
+  m.T_world_camera = T_world_camera;
+  m.start = start;
+  m.refinerState = s.state;
+  RefinementResult& result = m.result;
   result.T_world_camera = T_world_camera;
-  const auto finish = [&](const std::string& message) {
-    result.message = message;
-    s.store(frameIndex, features, result.T_world_camera);
-    s.intermediates.clear();
-    result.milliseconds = millisecondsSince(start);
-    return result;
-  };
 
   // Tracks: one per key-frame feature. Free ones start at the stereo point lifted with the tracked pose.
   const int n = static_cast<int>(features.keypoints.size());
@@ -352,8 +400,10 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
     liftedWorld.push_back(R_wc * features.pointsCameraMm[i] + t_wc);
     liftedPx.push_back(features.keypoints[i].pt);
   }
-  std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> trackWorld(n, Eigen::Vector3d::Constant(NAN));
-  std::vector<uint8_t> fixed(n, 0);
+  auto& trackWorld = m.trackWorld;
+  trackWorld.assign(n, Eigen::Vector3d::Constant(NAN));
+  std::vector<uint8_t>& fixed = m.fixed;
+  fixed.assign(n, 0);
   for (std::size_t k = 0; k < lifted.size(); ++k) trackWorld[lifted[k]] = liftedWorld[k];
 
   // 1. Earlier key frames that overlap: their matched points are fixed. The frames are matched and solved in
@@ -367,20 +417,50 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
     int hypotheses = 0;
   };
   std::vector<KeyFrameMatch> keyFrameMatches(overlapping.size());
-  std::vector<std::pair<cv::Mat, cv::Mat>> keyFramePairs;
-  for (int c : overlapping) keyFramePairs.emplace_back(s.keyFrames[static_cast<std::size_t>(c)].descriptors, features.descriptors);
-  const auto keyFrameKnn = [&] {
-    profiling::ScopedTimer timer("host: refinement, key-frame matching (Hamming kNN)");
-    return s.matcher.matchPairs(keyFramePairs, s.matchK());
-  }();
+  const Eigen::Matrix4d T_camera_world = inverseRigid(T_world_camera);
+  // Near the projections of the stored points at the tracked pose first: when tracking has not drifted from that
+  // key frame, DynamicR1PPnP then checks a set that is nearly all inliers and stops at its first hypotheses.
+  std::vector<uint8_t> keyFrameGuided(overlapping.size(), 0);
   parallelFor<CpuBackend>(
       static_cast<int64_t>(overlapping.size()),
       [&](int64_t c) {
         const StoredKeyFrame& kf = s.keyFrames[static_cast<std::size_t>(overlapping[static_cast<std::size_t>(c)])];
-        KeyFrameMatch& m = keyFrameMatches[static_cast<std::size_t>(c)];
-        for (const Eigen::Vector3f& point : kf.pointsWorldMm) m.world.push_back(point.cast<double>());
-        m.set = s.toMatchSet(keyFrameKnn[static_cast<std::size_t>(c)], m.world, kf.pixelsPx, features);
-        m.inliers = s.solveInliers(m.set, p.minKeyFrameInliers, T_world_camera, m.hypotheses);
+        KeyFrameMatch& match = keyFrameMatches[static_cast<std::size_t>(c)];
+        for (const Eigen::Vector3f& point : kf.pointsWorldMm) match.world.push_back(point.cast<double>());
+        if (p.guidedSearchRadiusPx <= 0) return;
+        const ProjectionGuidedMatches found = matchProjectedPoints(
+            match.world, kf.descriptors, features.keypoints, features.descriptors, T_camera_world, s.intrinsics(),
+            s.guidedMatchParameters());
+        if (!found.trusted || static_cast<int>(found.matches.size()) < p.minKeyFrameInliers) return;
+        match.set = s.toMatchSet(found, match.world, kf.pixelsPx, features);
+        keyFrameGuided[static_cast<std::size_t>(c)] = 1;
+      },
+      1);
+  // The others (tracking drifted, e.g. at a return after a long way): all descriptors.
+  std::vector<int> keyFramesUnguided;
+  std::vector<std::pair<cv::Mat, cv::Mat>> keyFramePairs;
+  for (std::size_t c = 0; c < overlapping.size(); ++c) {
+    if (keyFrameGuided[c]) {
+      ++result.guidedKeyFrames;
+      continue;
+    }
+    keyFramesUnguided.push_back(static_cast<int>(c));
+    keyFramePairs.emplace_back(s.keyFrames[static_cast<std::size_t>(overlapping[c])].descriptors, features.descriptors);
+  }
+  const auto keyFrameKnn = [&] {
+    profiling::ScopedTimer timer("host: refinement, key-frame matching (Hamming kNN)");
+    return s.matcher.matchPairs(keyFramePairs, s.matchK());
+  }();
+  for (std::size_t u = 0; u < keyFramesUnguided.size(); ++u) {
+    const std::size_t c = static_cast<std::size_t>(keyFramesUnguided[u]);
+    const StoredKeyFrame& kf = s.keyFrames[static_cast<std::size_t>(overlapping[c])];
+    keyFrameMatches[c].set = s.toMatchSet(keyFrameKnn[u], keyFrameMatches[c].world, kf.pixelsPx, features);
+  }
+  parallelFor<CpuBackend>(
+      static_cast<int64_t>(overlapping.size()),
+      [&](int64_t c) {
+        KeyFrameMatch& match = keyFrameMatches[static_cast<std::size_t>(c)];
+        match.inliers = s.solveInliers(match.set, p.minKeyFrameInliers, T_world_camera, match.hypotheses);
       },
       1);
   for (const KeyFrameMatch& m : keyFrameMatches) {
@@ -398,29 +478,58 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
   partStart = std::chrono::steady_clock::now();
 
   // 2. Intermediate frames: observations of the key frame's features (with depth).
-  std::vector<Observation> observations;
-  std::vector<int> frameOfSlot;  // intermediate index per pose slot 1..
+  std::vector<Observation>& observations = m.observations;
+  std::vector<int>& frameOfSlot = m.frameOfSlot;  // intermediate index per pose slot 1..
   if (result.matchedKeyFrames > 0 && !lifted.empty()) {
     cv::Mat liftedDescriptors(static_cast<int>(lifted.size()), features.descriptors.cols, features.descriptors.type());
     for (std::size_t k = 0; k < lifted.size(); ++k) features.descriptors.row(lifted[k]).copyTo(liftedDescriptors.row(static_cast<int>(k)));
-    // Matched and solved in parallel, merged in order (as for the key frames above).
     std::vector<MatchSet> sets(s.intermediates.size());
     std::vector<std::vector<Inlier>> inlierSets(s.intermediates.size());
     std::vector<int> hypotheses(s.intermediates.size(), 0);
+    // First near the projections at the tracked poses; each frame on its own thread.
+    std::vector<uint8_t> guided(s.intermediates.size(), 0);
+    if (p.guidedSearchRadiusPx > 0) {
+      profiling::ScopedTimer timer("host: refinement, intermediate-frame matching (guided by the tracked poses)");
+      parallelFor<CpuBackend>(
+          static_cast<int64_t>(s.intermediates.size()),
+          [&](int64_t f) {
+            const IntermediateFrame& frame = s.intermediates[static_cast<std::size_t>(f)];
+            const ProjectionGuidedMatches found =
+                matchProjectedPoints(liftedWorld, liftedDescriptors, frame.features.keypoints, frame.features.descriptors,
+                                     inverseRigid(frame.T_world_camera), s.intrinsics(), s.guidedMatchParameters());
+            if (!found.trusted || static_cast<int>(found.matches.size()) < p.minFrameInliers) return;
+            // The tracked poses already agree with these matches: they are the observations (the paper takes them
+            // from tracking), without a pose solve.
+            MatchSet& set = sets[static_cast<std::size_t>(f)];
+            set = s.toMatchSet(found, liftedWorld, liftedPx, frame.features);
+            std::vector<Inlier>& inliers = inlierSets[static_cast<std::size_t>(f)];
+            for (std::size_t i = 0; i < set.query.size(); ++i) inliers.push_back({static_cast<int>(i), set.train[i], set.pixelsPx[i]});
+            guided[static_cast<std::size_t>(f)] = 1;
+          },
+          1);
+    }
+    // The other frames: all descriptors, then DynamicR1PPnP; matched and solved in parallel, merged in order (as
+    // for the key frames above).
+    std::vector<int> unguided;
+    for (std::size_t f = 0; f < s.intermediates.size(); ++f) {
+      if (guided[f]) ++result.guidedFrames;
+      else unguided.push_back(static_cast<int>(f));
+    }
     std::vector<std::pair<cv::Mat, cv::Mat>> framePairs;
-    for (const IntermediateFrame& frame : s.intermediates) framePairs.emplace_back(liftedDescriptors, frame.features.descriptors);
+    for (int f : unguided) framePairs.emplace_back(liftedDescriptors, s.intermediates[static_cast<std::size_t>(f)].features.descriptors);
     const auto frameKnn = [&] {
       profiling::ScopedTimer timer("host: refinement, intermediate-frame matching (Hamming kNN)");
       return s.matcher.matchPairs(framePairs, s.matchK());
     }();
     parallelFor<CpuBackend>(
-        static_cast<int64_t>(s.intermediates.size()),
-        [&](int64_t f) {
-          const IntermediateFrame& frame = s.intermediates[static_cast<std::size_t>(f)];
-          MatchSet& set = sets[static_cast<std::size_t>(f)];
-          std::vector<Inlier>& inliers = inlierSets[static_cast<std::size_t>(f)];
-          set = s.toMatchSet(frameKnn[static_cast<std::size_t>(f)], liftedWorld, liftedPx, frame.features);
-          inliers = s.solveInliers(set, p.minFrameInliers, frame.T_world_camera, hypotheses[static_cast<std::size_t>(f)]);
+        static_cast<int64_t>(unguided.size()),
+        [&](int64_t u) {
+          const std::size_t f = static_cast<std::size_t>(unguided[static_cast<std::size_t>(u)]);
+          const IntermediateFrame& frame = s.intermediates[f];
+          MatchSet& set = sets[f];
+          std::vector<Inlier>& inliers = inlierSets[f];
+          set = s.toMatchSet(frameKnn[static_cast<std::size_t>(u)], liftedWorld, liftedPx, frame.features);
+          inliers = s.solveInliers(set, p.minFrameInliers, frame.T_world_camera, hypotheses[f]);
         },
         1);
     for (int h : hypotheses) result.pnpHypotheses += h;
@@ -447,6 +556,44 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
   }
 
   result.intermediateMatchingMs = millisecondsSince(partStart);
+  return matches;
+}
+
+RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFeatures& features,
+                                                 const Eigen::Matrix4d& T_world_camera,
+                                                 const SurfaceMeasurement& measurement,
+                                                 const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
+                                                 const std::vector<Eigen::Vector3f>& modelNormalsWorld) {
+  return refineMatchedKeyFrame(matchKeyFrame(frameIndex, features, T_world_camera), measurement, modelPointsWorldMm,
+                               modelNormalsWorld);
+}
+
+RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches, const SurfaceMeasurement& measurement,
+                                                        const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
+                                                        const std::vector<Eigen::Vector3f>& /*modelNormalsWorld*/) {
+  require(matches.data_ != nullptr, "refinement: no key-frame matches to refine (call matchKeyFrame first)");
+  Impl& s = *impl_;
+  KeyFrameMatches::Data& m = *matches.data_;
+  require(m.refinerState == s.state,
+          "refinement: the key frames or intermediate frames changed between matchKeyFrame and refineMatchedKeyFrame");
+  const RefinementParameters& p = s.parameters;
+  const StereoFeatures& features = *m.features;
+  const int frameIndex = m.frameIndex;
+  const Eigen::Matrix4d T_world_camera = m.T_world_camera;
+  const int n = static_cast<int>(features.keypoints.size());
+  const auto& trackWorld = m.trackWorld;
+  const std::vector<uint8_t>& fixed = m.fixed;
+  const std::vector<Observation>& observations = m.observations;
+  const std::vector<int>& frameOfSlot = m.frameOfSlot;
+  RefinementResult& result = m.result;
+  const auto finish = [&](const std::string& message) {
+    result.message = message;
+    s.store(frameIndex, features, result.T_world_camera);
+    s.intermediates.clear();
+    ++s.state;
+    result.milliseconds = millisecondsSince(m.start);
+    return result;
+  };
 
   // The bundle adjustment's points: fixed tracks (seen by an earlier key frame) and free tracks seen again.
   std::vector<int> seenElsewhere(n, 0);
@@ -519,7 +666,7 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
   problem.poses.push_back(toPose(T_camera_world));
   for (int f : frameOfSlot) problem.poses.push_back(toPose(inverseRigid(s.intermediates[f].T_world_camera)));
 
-  partStart = std::chrono::steady_clock::now();
+  const auto partStart = std::chrono::steady_clock::now();
   const refinement::RefinementSolution solution = [&] {
     profiling::ScopedTimer timer("host: refinement, LM solve");
     return refinement::solveRefinement(problem, p, s.device);
@@ -560,6 +707,7 @@ std::size_t KeyFrameRefiner::storedBytes() const {
 }
 
 void KeyFrameRefiner::reset() {
+  ++impl_->state;
   impl_->keyFrames.clear();
   impl_->intermediates.clear();
   impl_->subPixel->forgetImages();

@@ -47,7 +47,13 @@ struct RefinementResult {
   Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
   bool refined = false;
   int matchedKeyFrames = 0;    ///< earlier key frames with enough DynamicR1PPnP inliers
+  /// Earlier key frames whose DynamicR1PPnP ran on the matches found near the projections of their points (the rest:
+  /// on all descriptor matches; RefinementParameters::guidedSearchRadiusPx).
+  int guidedKeyFrames = 0;
   int intermediateFrames = 0;  ///< intermediate frames in the bundle adjustment
+  /// Intermediate frames matched near the projections of the key frame's features (the rest: all descriptors and
+  /// DynamicR1PPnP; RefinementParameters::guidedSearchRadiusPx).
+  int guidedFrames = 0;
   int baObservations = 0;      ///< reprojection residuals (2D observations of feature points)
   int fixedPoints = 0;         ///< feature points fixed at an earlier key frame's position
   int freePoints = 0;          ///< feature points optimised
@@ -63,6 +69,21 @@ struct RefinementResult {
   /// Refined poses of the intermediate frames in the bundle adjustment (empty when not refined).
   std::vector<FramePose, Eigen::aligned_allocator<FramePose>> intermediatePoses;
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// The first half of a key frame's refinement (KeyFrameRefiner::matchKeyFrame): its matches with the earlier key
+/// frames and the intermediate frames. It needs no surface, so the surface can be measured meanwhile.
+class KeyFrameMatches {
+public:
+  KeyFrameMatches();
+  ~KeyFrameMatches();
+  KeyFrameMatches(KeyFrameMatches&&) noexcept;
+  KeyFrameMatches& operator=(KeyFrameMatches&&) noexcept;
+
+private:
+  friend class KeyFrameRefiner;
+  struct Data;
+  std::unique_ptr<Data> data_;
 };
 
 /// Omega's frames: the intermediate frames since the last key frame, the current key frame, and the earlier key
@@ -98,6 +119,14 @@ public:
                                   const SurfaceMeasurement& measurement,
                                   const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
                                   const std::vector<Eigen::Vector3f>& modelNormalsWorld);
+
+  /// refineKeyFrame in two halves, so that other work (measuring the surface, sampling the model) can run between
+  /// or beside them. matchKeyFrame only reads the refiner; features must stay alive and unchanged until
+  /// refineMatchedKeyFrame, and no frame may be added in between (Error).
+  KeyFrameMatches matchKeyFrame(int frameIndex, const StereoFeatures& features, const Eigen::Matrix4d& T_world_camera);
+  RefinementResult refineMatchedKeyFrame(KeyFrameMatches matches, const SurfaceMeasurement& measurement,
+                                         const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
+                                         const std::vector<Eigen::Vector3f>& modelNormalsWorld);
 
   /// Key frames stored for matching.
   int keyFrameCount() const;

@@ -35,6 +35,7 @@ void RefinementParameters::validate() const {
   requireRange("minFrameInliers", minFrameInliers, 4, 100000);
   requireRange("maxIntermediateFrames", maxIntermediateFrames, 0, 1000);
   requireRange("maxSolveHypotheses", maxSolveHypotheses, 1, 100000);
+  requireRange("guidedSearchRadiusPx", guidedSearchRadiusPx, 0.0, 10000.0);
   requireRange("storedFeaturesPerKeyFrame", storedFeaturesPerKeyFrame, 4, 1000000);
   requireRange("maxStoredKeyFrames", maxStoredKeyFrames, 1, 10000000);
   requireRange("minIcpPoints", minIcpPoints, 1, 10000000);
@@ -49,7 +50,7 @@ void RefinementParameters::write(cv::FileStorage& storage) const {
   storage << "initialLambda" << initialLambda << "maxMatchedKeyFrames" << maxMatchedKeyFrames;
   storage << "minKeyFrameOverlap" << minKeyFrameOverlap << "minKeyFrameInliers" << minKeyFrameInliers;
   storage << "minFrameInliers" << minFrameInliers << "maxIntermediateFrames" << maxIntermediateFrames;
-  storage << "maxSolveHypotheses" << maxSolveHypotheses;
+  storage << "maxSolveHypotheses" << maxSolveHypotheses << "guidedSearchRadiusPx" << guidedSearchRadiusPx;
   storage << "storedFeaturesPerKeyFrame" << storedFeaturesPerKeyFrame << "maxStoredKeyFrames" << maxStoredKeyFrames;
   storage << "minIcpPoints" << minIcpPoints << "maxCorrectionMm" << maxCorrectionMm;
   storage << "maxCorrectionDeg" << maxCorrectionDeg;
@@ -73,6 +74,7 @@ RefinementParameters RefinementParameters::read(const cv::FileNode& node) {
   readKey(node, "minFrameInliers", p.minFrameInliers);
   readKey(node, "maxIntermediateFrames", p.maxIntermediateFrames);
   readKey(node, "maxSolveHypotheses", p.maxSolveHypotheses);
+  readKey(node, "guidedSearchRadiusPx", p.guidedSearchRadiusPx);
   readKey(node, "storedFeaturesPerKeyFrame", p.storedFeaturesPerKeyFrame);
   readKey(node, "maxStoredKeyFrames", p.maxStoredKeyFrames);
   readKey(node, "minIcpPoints", p.minIcpPoints);

@@ -38,6 +38,15 @@ struct RefinementParameters {
   /// Intermediate frames kept per key frame (thinned evenly beyond). The paper takes every frame since the last key
   /// frame (Omega); each costs one descriptor matching and one DynamicR1PPnP solve here.
   int maxIntermediateFrames = 10;
+  /// Matching guided by the tracked poses (ProjectionGuidedMatching.h): a point is looked for near where the tracked
+  /// pose projects it, the nearest descriptor within this radius (px), kept when its offset agrees with the median
+  /// offset within the tracker's inlier threshold H.
+  /// - Intermediate frames: the key frame's features; the agreeing matches are the frame's observations.
+  /// - Earlier key frames: their stored points in the key frame; DynamicR1PPnP then checks the agreeing matches.
+  /// Where the matches are not trusted (few agree, or the median offset is large: tracking drifted), or are fewer
+  /// than minFrameInliers / minKeyFrameInliers, all descriptors are matched and DynamicR1PPnP picks the inliers.
+  /// 0: always the latter.
+  double guidedSearchRadiusPx = 16.0;
   int storedFeaturesPerKeyFrame = 1000;  ///< strongest features with depth kept per key frame for later matching
   int maxStoredKeyFrames = 3000;  ///< beyond this the oldest key frame is forgotten (memory bound of a long scan)
   int minIcpPoints = 100;        ///< fewer valid model points than this: no ICP term

@@ -1,0 +1,156 @@
+#include "ProjectionGuidedMatching.h"
+
+#include "Core/Error.h"
+
+#include <opencv2/core/hal/hal.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tissuemosaic {
+
+namespace {
+
+constexpr double kMinDepthMm = 0.1;  ///< nearer than this a point counts as behind the camera
+
+/// The frame's keypoints bucketed by pixel in square cells of the search radius: the candidates of a projection
+/// lie in its cell and the 8 around it.
+class KeypointGrid {
+public:
+  KeypointGrid(const std::vector<cv::KeyPoint>& keypoints, double cellPx) : cellPx_(cellPx) {
+    float maxX = 0, maxY = 0;
+    for (const cv::KeyPoint& k : keypoints) {
+      maxX = std::max(maxX, k.pt.x);
+      maxY = std::max(maxY, k.pt.y);
+    }
+    columns_ = static_cast<int>(maxX / cellPx_) + 1;
+    rows_ = static_cast<int>(maxY / cellPx_) + 1;
+    // Counting sort of the keypoints by cell: start_[c] .. start_[c + 1] index order_.
+    std::vector<int> cellOf(keypoints.size());
+    start_.assign(static_cast<std::size_t>(columns_) * rows_ + 1, 0);
+    for (std::size_t i = 0; i < keypoints.size(); ++i) {
+      cellOf[i] = cell(keypoints[i].pt.x, keypoints[i].pt.y);
+      ++start_[static_cast<std::size_t>(cellOf[i]) + 1];
+    }
+    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    order_.resize(keypoints.size());
+    std::vector<int> next(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < keypoints.size(); ++i) order_[static_cast<std::size_t>(next[cellOf[i]]++)] = static_cast<int>(i);
+  }
+
+  /// Calls visit(keypoint index) for every keypoint in the cells around (x, y).
+  template <class Visit>
+  void forNeighbours(double x, double y, const Visit& visit) const {
+    const int cx = static_cast<int>(std::floor(x / cellPx_)), cy = static_cast<int>(std::floor(y / cellPx_));
+    for (int gy = std::max(0, cy - 1); gy <= std::min(rows_ - 1, cy + 1); ++gy) {
+      for (int gx = std::max(0, cx - 1); gx <= std::min(columns_ - 1, cx + 1); ++gx) {
+        const int c = gy * columns_ + gx;
+        for (int k = start_[static_cast<std::size_t>(c)]; k < start_[static_cast<std::size_t>(c) + 1]; ++k) {
+          visit(order_[static_cast<std::size_t>(k)]);
+        }
+      }
+    }
+  }
+
+private:
+  int cell(float x, float y) const {
+    const int gx = std::clamp(static_cast<int>(x / cellPx_), 0, columns_ - 1);
+    const int gy = std::clamp(static_cast<int>(y / cellPx_), 0, rows_ - 1);
+    return gy * columns_ + gx;
+  }
+
+  double cellPx_;
+  int columns_ = 1, rows_ = 1;
+  std::vector<int> start_, order_;
+};
+
+double median(std::vector<double> values) {
+  const std::size_t middle = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(middle), values.end());
+  return values[middle];
+}
+
+}  // namespace
+
+ProjectionGuidedMatches matchProjectedPoints(const Points3d& queryPointsWorldMm,
+                                             const cv::Mat& queryDescriptors,
+                                             const std::vector<cv::KeyPoint>& keypoints,
+                                             const cv::Mat& trainDescriptors,
+                                             const Eigen::Matrix4d& T_camera_world,
+                                             const PinholeIntrinsics& intrinsics,
+                                             const ProjectionGuidedMatchParameters& parameters) {
+  require(parameters.searchRadiusPx > 0 && parameters.consistencyPx > 0,
+          "guided matching: the search radius and the consistency distance must be positive");
+  const auto rowsOf32Bytes = [](const cv::Mat& descriptors, std::size_t rows) {
+    return descriptors.type() == CV_8U && descriptors.cols == 32 && descriptors.rows == static_cast<int>(rows);
+  };
+  require(rowsOf32Bytes(queryDescriptors, queryPointsWorldMm.size()),
+          "guided matching: the query descriptors must be one 32-byte row per query point");
+  require(rowsOf32Bytes(trainDescriptors, keypoints.size()),
+          "guided matching: the frame's descriptors must be one 32-byte row per keypoint");
+  ProjectionGuidedMatches result;
+  if (queryPointsWorldMm.empty() || keypoints.empty()) return result;
+
+  const KeypointGrid grid(keypoints, parameters.searchRadiusPx);
+  const double radius2 = parameters.searchRadiusPx * parameters.searchRadiusPx;
+  const Eigen::Matrix3d R = T_camera_world.block<3, 3>(0, 0);
+  const Eigen::Vector3d t = T_camera_world.block<3, 1>(0, 3);
+
+  // The nearest descriptor near each projection; a keypoint claimed twice goes to the nearer descriptor.
+  constexpr int kNone = -1;
+  std::vector<int> bestQueryOfTrain(keypoints.size(), kNone), bestDistanceOfTrain(keypoints.size(), 0);
+  std::vector<Eigen::Vector2d> projectedPx(queryPointsWorldMm.size());
+  for (std::size_t q = 0; q < queryPointsWorldMm.size(); ++q) {
+    const Eigen::Vector3d c = R * queryPointsWorldMm[q] + t;
+    if (!(c.z() >= kMinDepthMm)) continue;
+    const double u = intrinsics.fxPx * c.x() / c.z() + intrinsics.cxPx;
+    const double v = intrinsics.fyPx * c.y() / c.z() + intrinsics.cyPx;
+    projectedPx[q] = Eigen::Vector2d(u, v);
+    const uchar* query = queryDescriptors.ptr<uchar>(static_cast<int>(q));
+    int best = kNone, bestDistance = parameters.maxHammingDistance + 1;
+    grid.forNeighbours(u, v, [&](int k) {
+      const double du = keypoints[static_cast<std::size_t>(k)].pt.x - u, dv = keypoints[static_cast<std::size_t>(k)].pt.y - v;
+      if (du * du + dv * dv > radius2) return;
+      const int distance = cv::hal::normHamming(query, trainDescriptors.ptr<uchar>(k), 32);
+      if (distance < bestDistance) {
+        bestDistance = distance;
+        best = k;
+      }
+    });
+    if (best == kNone) continue;
+    int& holder = bestQueryOfTrain[static_cast<std::size_t>(best)];
+    if (holder == kNone || bestDistance < bestDistanceOfTrain[static_cast<std::size_t>(best)]) {
+      holder = static_cast<int>(q);
+      bestDistanceOfTrain[static_cast<std::size_t>(best)] = bestDistance;
+    }
+  }
+
+  std::vector<ProjectionGuidedMatch> matches;
+  std::vector<double> offsetX, offsetY;
+  for (std::size_t k = 0; k < keypoints.size(); ++k) {
+    const int q = bestQueryOfTrain[k];
+    if (q == kNone) continue;
+    matches.push_back({q, static_cast<int>(k)});
+    offsetX.push_back(keypoints[k].pt.x - projectedPx[static_cast<std::size_t>(q)].x());
+    offsetY.push_back(keypoints[k].pt.y - projectedPx[static_cast<std::size_t>(q)].y());
+  }
+  result.candidates = static_cast<int>(matches.size());
+  if (matches.empty()) return result;
+  result.medianOffsetPx = Eigen::Vector2d(median(offsetX), median(offsetY));
+  const double consistency2 = parameters.consistencyPx * parameters.consistencyPx;
+  for (std::size_t m = 0; m < matches.size(); ++m) {
+    const double dx = offsetX[m] - result.medianOffsetPx.x(), dy = offsetY[m] - result.medianOffsetPx.y();
+    if (dx * dx + dy * dy <= consistency2) result.matches.push_back(matches[m]);
+  }
+  // In query order, as the descriptor matcher's lists come.
+  std::sort(result.matches.begin(), result.matches.end(),
+            [](const ProjectionGuidedMatch& a, const ProjectionGuidedMatch& b) { return a.query < b.query; });
+  // A pose off by more than a few pixels moves true matches out of the search radius (the median offset grows) or
+  // shifts the projections unevenly (fewer agree): the agreeing matches would cover only part of the view.
+  result.trusted = result.medianOffsetPx.norm() <= parameters.maxMedianOffsetShare * parameters.searchRadiusPx &&
+                   result.matches.size() >= parameters.minConsistentShare * matches.size();
+  return result;
+}
+
+}  // namespace tissuemosaic
