@@ -449,8 +449,10 @@ ScanRefinement refineSyntheticScan(const RefinementParameters& parameters) {
   for (int k = 0; k < scan.frameCount(); ++k) {
     const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
     const TrackResult track = tracker.track(frame.leftRectified, frame.disparityPx);
-    if (!track.tracked) ADD_FAILURE() << "frame " << k << ": " << track.failureReason;
-    if (!track.tracked) return run;
+    if (!track.tracked) {
+      ADD_FAILURE() << "frame " << k << ": " << track.failureReason;
+      return run;
+    }
     if (!track.keyFrame) {
       refiner.addIntermediateFrame(k, tracker.lastFeatures(), track.T_world_camera);
       continue;

@@ -30,7 +30,6 @@ using refinement::Observation;
 using refinement::Pose;
 
 constexpr int kOverlapSamples = 200;  ///< stored points projected per earlier key frame to measure its overlap
-constexpr double kMinDepthMm = 0.1;   ///< nearer than this a point counts as behind the camera
 
 Pose toPose(const Eigen::Matrix4d& T_camera_world) {
   Pose pose;
@@ -85,6 +84,21 @@ struct MatchSet {
   std::vector<std::vector<CandidateMatch>> candidates;
   std::vector<int> query, train;
   std::vector<std::vector<int>> candidateTrain;
+
+  /// Query q (its world point and pixel) matched to the frame's keypoint `trainIndex`, with DynamicR1PPnP's further
+  /// candidates (keypoint indices in furtherTrain).
+  void add(int q, int trainIndex, const Points3d& queryWorld, const std::vector<cv::Point2f>& queryPx,
+           const StereoFeatures& frame, std::vector<CandidateMatch> further = {}, std::vector<int> furtherTrain = {}) {
+    query.push_back(q);
+    train.push_back(trainIndex);
+    pointsWorldMm.push_back(queryWorld[static_cast<std::size_t>(q)]);
+    const cv::Point2f& from = queryPx[static_cast<std::size_t>(q)];
+    fromPx.emplace_back(from.x, from.y);
+    const cv::Point2f& to = frame.keypoints[static_cast<std::size_t>(trainIndex)].pt;
+    pixelsPx.emplace_back(to.x, to.y);
+    candidates.push_back(std::move(further));
+    candidateTrain.push_back(std::move(furtherTrain));
+  }
 };
 
 /// A DynamicR1PPnP inlier: match index in its MatchSet, the frame's feature, and its pixel.
@@ -149,13 +163,6 @@ struct KeyFrameRefiner::Impl {
     MatchSet set;
     for (const std::vector<cv::DMatch>& list : knn) {
       if (list.empty() || list[0].distance > features.maxHammingDistance) continue;
-      const int q = list[0].queryIdx;
-      set.query.push_back(q);
-      set.train.push_back(list[0].trainIdx);
-      set.pointsWorldMm.push_back(queryWorld[q]);
-      set.fromPx.emplace_back(queryPx[q].x, queryPx[q].y);
-      const cv::Point2f& to = frame.keypoints[list[0].trainIdx].pt;
-      set.pixelsPx.emplace_back(to.x, to.y);
       std::vector<CandidateMatch> further;
       std::vector<int> furtherTrain;
       for (std::size_t j = 1; j < list.size() && list[j].distance <= features.maxHammingDistance; ++j) {
@@ -165,8 +172,7 @@ struct KeyFrameRefiner::Impl {
         further.push_back(candidate);
         furtherTrain.push_back(list[j].trainIdx);
       }
-      set.candidates.push_back(std::move(further));
-      set.candidateTrain.push_back(std::move(furtherTrain));
+      set.add(list[0].queryIdx, list[0].trainIdx, queryWorld, queryPx, frame, std::move(further), std::move(furtherTrain));
     }
     return set;
   }
@@ -175,17 +181,7 @@ struct KeyFrameRefiner::Impl {
   MatchSet toMatchSet(const ProjectionGuidedMatches& found, const Points3d& queryWorld,
                       const std::vector<cv::Point2f>& queryPx, const StereoFeatures& frame) const {
     MatchSet set;
-    for (const ProjectionGuidedMatch& match : found.matches) {
-      set.query.push_back(match.query);
-      set.train.push_back(match.train);
-      set.pointsWorldMm.push_back(queryWorld[static_cast<std::size_t>(match.query)]);
-      const cv::Point2f& from = queryPx[static_cast<std::size_t>(match.query)];
-      set.fromPx.emplace_back(from.x, from.y);
-      const cv::Point2f& to = frame.keypoints[static_cast<std::size_t>(match.train)].pt;
-      set.pixelsPx.emplace_back(to.x, to.y);
-      set.candidates.emplace_back();
-      set.candidateTrain.emplace_back();
-    }
+    for (const ProjectionGuidedMatch& match : found.matches) set.add(match.query, match.train, queryWorld, queryPx, frame);
     return set;
   }
 
@@ -277,7 +273,7 @@ struct KeyFrameRefiner::Impl {
       int seen = 0, tried = 0;
       for (std::size_t i = 0; i < points.size(); i += step, ++tried) {
         const Eigen::Vector3d c = R * points[i].cast<double>() + t;
-        if (c.z() < kMinDepthMm) continue;
+        if (c.z() < kMinVisibleDepthMm) continue;
         const double u = geometry.focalPx * c.x() / c.z() + geometry.cxLeftPx;
         const double v = geometry.focalPx * c.y() / c.z() + geometry.cyPx;
         seen += u >= 0 && v >= 0 && u < geometry.imageSize.width && v < geometry.imageSize.height;
@@ -630,7 +626,7 @@ RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches,
     std::vector<int> usable;
     for (std::size_t i = 0; i < modelPointsWorldMm.size(); ++i) {
       const Eigen::Vector3f c = R * modelPointsWorldMm[i] + t;
-      if (!(c.z() >= kMinDepthMm)) continue;
+      if (!(c.z() >= kMinVisibleDepthMm)) continue;
       const int x = static_cast<int>(std::floor(s.geometry.focalPx * c.x() / c.z() + s.geometry.cxLeftPx + 0.5));
       const int y = static_cast<int>(std::floor(s.geometry.focalPx * c.y() / c.z() + s.geometry.cyPx + 0.5));
       if (x < 0 || y < 0 || x >= valid.cols || y >= valid.rows) continue;
@@ -662,7 +658,7 @@ RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches,
                     : 1.0;
   problem.camera = {s.geometry.focalPx, s.geometry.focalPx, s.geometry.cxLeftPx, s.geometry.cyPx,
                     s.geometry.imageSize.width, s.geometry.imageSize.height};
-  problem.robust = {p.baHuberPx, p.icpTukeyMm, result.beta, kMinDepthMm};
+  problem.robust = {p.baHuberPx, p.icpTukeyMm, result.beta, kMinVisibleDepthMm};
   problem.poses.push_back(toPose(T_camera_world));
   for (int f : frameOfSlot) problem.poses.push_back(toPose(inverseRigid(s.intermediates[f].T_world_camera)));
 

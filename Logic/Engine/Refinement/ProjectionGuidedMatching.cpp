@@ -1,6 +1,7 @@
 #include "ProjectionGuidedMatching.h"
 
 #include "Core/Error.h"
+#include "Core/Statistics.h"
 
 #include <opencv2/core/hal/hal.hpp>
 
@@ -11,8 +12,6 @@
 namespace tissuemosaic {
 
 namespace {
-
-constexpr double kMinDepthMm = 0.1;  ///< nearer than this a point counts as behind the camera
 
 /// The frame's keypoints bucketed by pixel in square cells of the search radius: the candidates of a projection
 /// lie in its cell and the 8 around it.
@@ -65,12 +64,6 @@ private:
   std::vector<int> start_, order_;
 };
 
-double median(std::vector<double> values) {
-  const std::size_t middle = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(middle), values.end());
-  return values[middle];
-}
-
 }  // namespace
 
 ProjectionGuidedMatches matchProjectedPoints(const Points3d& queryPointsWorldMm,
@@ -103,7 +96,7 @@ ProjectionGuidedMatches matchProjectedPoints(const Points3d& queryPointsWorldMm,
   std::vector<Eigen::Vector2d> projectedPx(queryPointsWorldMm.size());
   for (std::size_t q = 0; q < queryPointsWorldMm.size(); ++q) {
     const Eigen::Vector3d c = R * queryPointsWorldMm[q] + t;
-    if (!(c.z() >= kMinDepthMm)) continue;
+    if (!(c.z() >= kMinVisibleDepthMm)) continue;
     const double u = intrinsics.fxPx * c.x() / c.z() + intrinsics.cxPx;
     const double v = intrinsics.fyPx * c.y() / c.z() + intrinsics.cyPx;
     projectedPx[q] = Eigen::Vector2d(u, v);

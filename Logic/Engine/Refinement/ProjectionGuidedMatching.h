@@ -16,6 +16,10 @@
 
 namespace tissuemosaic {
 
+/// A point nearer to the camera than this (or behind it) is not seen: it has no projection (refinement: guided
+/// matching, key-frame overlap, ICP samples and the LM's residuals).
+constexpr double kMinVisibleDepthMm = 0.1;
+
 struct ProjectionGuidedMatchParameters {
   double searchRadiusPx = 16.0;  ///< a keypoint farther than this from the projection is not a candidate
   int maxHammingDistance = 64;   ///< of 256 bits; a nearer descriptor is needed for a match
