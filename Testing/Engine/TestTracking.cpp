@@ -177,6 +177,50 @@ TEST(FrameTracker, ReportsABlankFrameAsLostAndResumes) {
   EXPECT_THROW(tracker.track(cv::Mat(10, 10, CV_8UC3, cv::Scalar(0)), cv::Mat(10, 10, CV_32F)), Error);
 }
 
+// The pipeline computes a frame's disparity beside its tracking: the tracker asks for it only after matching and the
+// pose, once per frame on every path (first frame, tracked, lost), and tracks exactly as with the disparity given.
+TEST(FrameTracker, AsksForTheDisparityOncePerFrameAndTracksTheSame) {
+  synthetic::SyntheticScanOptions options = shortScan();
+  options.frames = 4;
+  const synthetic::SyntheticScan scan(options);
+  FrameTrackerOptions trackerOptions;
+  trackerOptions.extractor = FeatureExtractor::TissueMosaicOrb;
+  FrameTracker given(scan.geometry(), trackerOptions, scan.T_world_camera(0));
+  FrameTracker asked(scan.geometry(), trackerOptions, scan.T_world_camera(0));
+  std::vector<cv::Mat> lefts, disparities;
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
+    lefts.push_back(frame.leftRectified);
+    disparities.push_back(frame.disparityPx);
+  }
+  // Frame 2 is blank (lens covered): lost, but its disparity is still asked for.
+  lefts[2] = cv::Mat(lefts[0].size(), CV_8UC3, cv::Scalar(90, 90, 160));
+  disparities[2] = cv::Mat(lefts[0].size(), CV_32F, cv::Scalar(std::nanf("")));
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    int calls = 0;
+    const TrackResult a = given.track(lefts[k], disparities[k]);
+    const TrackResult b = asked.track(lefts[k], [&] {
+      ++calls;
+      return disparities[k];
+    });
+    EXPECT_EQ(calls, 1) << "frame " << k;
+    EXPECT_EQ(a.tracked, b.tracked) << "frame " << k;
+    EXPECT_EQ(b.tracked, k != 2) << "frame " << k << ": " << b.failureReason;
+    EXPECT_EQ(a.keyFrame, b.keyFrame);
+    EXPECT_EQ(a.inliers, b.inliers);
+    EXPECT_EQ(a.featuresWithDepth, b.featuresWithDepth);
+    EXPECT_GT(b.featuresWithDepth, k == 2 ? -1 : 100);
+    EXPECT_TRUE(a.T_world_camera == b.T_world_camera) << "frame " << k;
+    ASSERT_EQ(given.lastFeatures().pointsCameraMm.size(), asked.lastFeatures().pointsCameraMm.size());
+    for (std::size_t i = 0; i < given.lastFeatures().pointsCameraMm.size(); ++i) {
+      const Eigen::Vector3d p = given.lastFeatures().pointsCameraMm[i], q = asked.lastFeatures().pointsCameraMm[i];
+      EXPECT_TRUE((p.array() == q.array()).all() || (!p.allFinite() && !q.allFinite())) << "feature " << i;
+    }
+  }
+  // The stage computing the disparity failed: its error reaches the caller.
+  EXPECT_THROW(asked.track(lefts[3], []() -> cv::Mat { throw Error("stereo failed"); }), Error);
+}
+
 TEST(FrameTracker, RefusesAStartPoseThatIsNotARigidTransform) {
   synthetic::SyntheticScanOptions options = shortScan();
   options.frames = 1;

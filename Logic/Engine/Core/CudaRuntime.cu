@@ -4,6 +4,8 @@
 
 #include <cuda_runtime.h>
 
+#include <cstdint>
+
 namespace tissuemosaic::cuda {
 
 namespace {
@@ -44,15 +46,43 @@ std::size_t deviceBytesInUse() {
   return totalBytes - freeBytes;
 }
 
+namespace {
+
+/// Whether the device has stream-ordered memory pools; when it has, the default pool keeps up to 256 MiB of what is
+/// freed, so that the per-key-frame buffers (surface maps, solver arrays: about 20 MB) are taken from it again rather
+/// than from the driver, while the model's outgrown arrays still go back at the next synchronisation.
+bool useMemoryPool() {
+  static const bool pooled = [] {
+    int device = 0, supported = 0;
+    if (cudaGetDevice(&device) != cudaSuccess) return false;
+    if (cudaDeviceGetAttribute(&supported, cudaDevAttrMemoryPoolsSupported, device) != cudaSuccess || !supported) {
+      return false;
+    }
+    cudaMemPool_t pool = nullptr;
+    if (cudaDeviceGetDefaultMemPool(&pool, device) != cudaSuccess) return false;
+    uint64_t keptBytes = 256ull << 20;
+    return cudaMemPoolSetAttribute(pool, cudaMemPoolAttrReleaseThreshold, &keptBytes) == cudaSuccess;
+  }();
+  return pooled;
+}
+
+}  // namespace
+
+// Stream-ordered on the calling thread's stream: neither call waits for the device, so a buffer allocated or freed
+// on one thread does not stall the work another thread has queued (cudaMalloc and cudaFree would). A buffer handed to
+// another thread is handed over after synchronize(), as all device data is.
 void* allocate(std::size_t bytes) {
   void* pointer = nullptr;
   if (bytes == 0) return nullptr;
-  check(cudaMalloc(&pointer, bytes), "cudaMalloc");
+  if (useMemoryPool()) check(cudaMallocAsync(&pointer, bytes, cudaStreamPerThread), "cudaMallocAsync");
+  else check(cudaMalloc(&pointer, bytes), "cudaMalloc");
   return pointer;
 }
 
 void release(void* pointer) noexcept {
-  if (pointer) cudaFree(pointer);
+  if (!pointer) return;
+  if (useMemoryPool()) cudaFreeAsync(pointer, cudaStreamPerThread);
+  else cudaFree(pointer);
 }
 
 void copyHostToDevice(void* device, const void* host, std::size_t bytes) {
@@ -67,7 +97,7 @@ void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes
 void setZero(void* device, std::size_t bytes) {
   if (bytes) check(cudaMemset(device, 0, bytes), "cudaMemset");
 }
-void synchronize() { check(cudaDeviceSynchronize(), "cudaDeviceSynchronize"); }
+void synchronize() { check(cudaStreamSynchronize(cudaStreamPerThread), "cudaStreamSynchronize"); }
 
 void checkLaunch(const char* what) { check(cudaGetLastError(), what); }
 

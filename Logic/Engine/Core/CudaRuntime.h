@@ -22,10 +22,13 @@ void copyHostToDevice(void* device, const void* host, std::size_t bytes);
 void copyDeviceToHost(void* host, const void* device, std::size_t bytes);
 void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes);
 void setZero(void* device, std::size_t bytes);
+/// Blocks until the work the calling thread queued has finished. The engine is built with per-thread default
+/// streams, so this does not wait for work another thread queued (and a thread that hands device data to another
+/// must call it first).
 void synchronize();
 /// Throws Error naming `what` when the last kernel launch failed.
 void checkLaunch(const char* what);
-/// Time marks queued on the default stream behind the work launched before them (cudaEvent_t as an opaque handle).
+/// Time marks queued on the calling thread's stream behind the work launched before them (cudaEvent_t as an opaque handle).
 void* createEvent();
 void destroyEvent(void* event) noexcept;
 void recordEvent(void* event);

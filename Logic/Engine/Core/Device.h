@@ -23,7 +23,7 @@ Device parseDevice(const std::string& text);
 const char* deviceLabel(Device device);
 /// Human-readable name: the GPU's name for CUDA, the CPU model and thread count otherwise.
 std::string deviceDescription(Device device);
-/// Blocks until all queued work on the device has finished (no-op on the CPU).
+/// Blocks until the work the calling thread queued on the device has finished (no-op on the CPU).
 void synchronize(Device device);
 
 }  // namespace tissuemosaic

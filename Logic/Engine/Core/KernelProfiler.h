@@ -17,7 +17,7 @@ void reset();
 
 /// Records the wall time of a host section (from construction to destruction) under `name` when profiling is on;
 /// costs one branch when it is off.
-/// With `synchronize` (e.g. cuda::synchronize around a kernel launch), the device is synchronised at both ends, so
+/// With `synchronize` (e.g. cuda::synchronize around a kernel launch), the calling thread's device work is waited for at both ends, so
 /// that the section's time is the device work it started.
 class ScopedTimer {
 public:

@@ -1,11 +1,14 @@
 #pragma once
 /// @file ParallelFor.h
 /// @brief The engine's one parallel loop: parallelFor<Backend>(n, functor) calls functor(i) for i in [0, n).
-/// CpuBackend runs it on OpenCV's thread pool; CudaBackend (only in .cu translation units) as a grid-stride
+/// CpuBackend runs it on oneTBB's thread pool; CudaBackend (only in .cu translation units) as a grid-stride
 /// kernel. Algorithms are written once as functors with a TM_HOST_DEVICE operator() and instantiated for both.
+/// Not cv::parallel_for_: OpenCV runs a loop serially while any other thread is inside one (a process-wide flag),
+/// which serialised the pipeline's stages that run side by side (e.g. the refiner's two matching steps).
 #include "HostDevice.h"
 
-#include <opencv2/core/utility.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -35,8 +38,8 @@ struct ParallelFor<CpuBackend> {
     grain = std::max<int64_t>(1, grain);
     const int64_t tasks = (count + grain - 1) / grain;
     profiling::ScopedTimer timer(typeid(Functor).name());
-    cv::parallel_for_(cv::Range(0, static_cast<int>(tasks)), [&](const cv::Range& range) {
-      for (int64_t task = range.start; task < range.end; ++task) {
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, tasks), [&](const tbb::blocked_range<int64_t>& range) {
+      for (int64_t task = range.begin(); task < range.end(); ++task) {
         const int64_t end = std::min(count, (task + 1) * grain);
         for (int64_t i = task * grain; i < end; ++i) functor(i);
       }

@@ -1,7 +1,9 @@
 #include "Reconstruction/ReconstructionPipeline.h"
 
+#include "Core/BackgroundWorker.h"
 #include "Core/CudaRuntime.h"
 #include "Core/Error.h"
+#include "Core/ParallelFor.h"
 #include "Core/PixelFormat.h"
 #include "Core/Stopwatch.h"
 #include "Core/SurfaceMeasurement.h"
@@ -15,7 +17,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <future>
 #include <limits>
 #include <optional>
 
@@ -31,9 +32,15 @@ cv::Mat withinWorkingRange(const cv::Mat& disparityPx, const RectifiedGeometry& 
   const float highest = fusion.minDepthMm > 0 ? static_cast<float>(fb / fusion.minDepthMm - g.doffsPx)
                                               : std::numeric_limits<float>::infinity();
   cv::Mat kept = disparityPx.clone();
-  kept.forEach<float>([&](float& d, const int*) {
-    if (!(d >= lowest && d <= highest)) d = std::numeric_limits<float>::quiet_NaN();
-  });
+  parallelFor<CpuBackend>(
+      kept.rows,
+      [&](int64_t y) {
+        float* row = kept.ptr<float>(static_cast<int>(y));
+        for (int x = 0; x < kept.cols; ++x) {
+          if (!(row[x] >= lowest && row[x] <= highest)) row[x] = std::numeric_limits<float>::quiet_NaN();
+        }
+      },
+      16);
   return kept;
 }
 
@@ -71,6 +78,7 @@ struct ReconstructionPipeline::Impl {
   std::vector<KeyFramePose> keyFrames;
   std::size_t peakDeviceBytes = 0;
   std::string lastRefinementMessage;
+  BackgroundWorker worker;  ///< the stage beside the calling thread's; last, so that it stops first
 
   Impl(const RectifiedGeometry& g, std::optional<StereoRectifier> r, const ReconstructionParameters& p, Device d,
        const Eigen::Matrix4d& T_world_start)
@@ -137,11 +145,29 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   }
   result.timesMs.videoReading = millisecondsSince(start);
 
-  auto stageStart = Clock::now();
-  result.disparityPx = s.matcher.computeDisparity(result.leftRectified, result.rightRectified);
-  result.timesMs.stereo = millisecondsSince(stageStart);
-
-  const TrackResult track = s.tracker.track(result.leftRectified, result.disparityPx);
+  // Stereo runs beside the tracking: matching and the pose need only the reference frame's depth, and the tracker
+  // asks for this frame's disparity at its end, to lift the features for the frames after it.
+  struct TimedDisparity {
+    cv::Mat disparityPx;
+    double milliseconds = 0;
+  };
+  PendingResult<TimedDisparity> stereo = s.worker.run([&] {
+    const auto stereoStart = Clock::now();
+    TimedDisparity computed{s.matcher.computeDisparity(result.leftRectified, result.rightRectified)};
+    synchronize(s.device);  // nothing of this thread's left in flight when another thread takes over
+    computed.milliseconds = millisecondsSince(stereoStart);
+    return computed;
+  });
+  const auto takeDisparity = [&]() -> cv::Mat {
+    if (stereo.pending()) {
+      TimedDisparity computed = stereo.get();
+      result.disparityPx = computed.disparityPx;
+      result.timesMs.stereo = computed.milliseconds;
+    }
+    return result.disparityPx;
+  };
+  const TrackResult track = s.tracker.track(result.leftRectified, FrameTracker::DisparitySource(takeDisparity));
+  takeDisparity();  // the tracker has taken it on every path that returns; this only guards that contract
   result.timesMs.orbVoting = track.orbVotingMs;
   result.timesMs.pnp = track.pnpMs;
   result.tracked = track.tracked;
@@ -154,14 +180,14 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     s.refiner.addIntermediateFrame(result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera);
   }
   if (result.keyFrame) {
-    stageStart = Clock::now();
+    auto stageStart = Clock::now();
     // The surface (refinement's ICP term and fusion) and the model points seen from the tracked pose need no
     // matches: they are prepared on another thread while the refiner matches the key frame's features.
     struct SurfaceAndModel {
       SurfaceMeasurement measurement;
       std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;
     };
-    std::future<SurfaceAndModel> surfaceAndModel = std::async(std::launch::async, [&] {
+    PendingResult<SurfaceAndModel> surfaceAndModel = s.worker.run([&] {
       SurfaceAndModel prepared;
       const auto surfaceStart = Clock::now();
       prepared.measurement =
@@ -174,6 +200,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
         s.fusion.sampleVisible(result.T_world_camera, s.parameters.refinement.icpSamples, prepared.modelPointsWorldMm,
                                prepared.modelNormalsWorld);
       }
+      synchronize(s.device);  // the maps stay on the device for the refiner and fusion on the calling thread
       result.refinementPartsMs.modelSample = millisecondsSince(sampleStart);
       return prepared;
     });

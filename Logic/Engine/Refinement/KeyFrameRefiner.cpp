@@ -1,5 +1,6 @@
 #include "KeyFrameRefiner.h"
 
+#include "Core/BackgroundWorker.h"
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
@@ -126,6 +127,15 @@ struct KeyFrameMatches::Data {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
+/// The intermediate frames' part of KeyFrameMatches, with what it counted.
+struct IntermediateMatches {
+  std::vector<Observation> observations;  ///< pose slot 1.. per intermediate frame kept
+  std::vector<int> frameOfSlot;
+  int guidedFrames = 0;
+  int hypotheses = 0;
+  double milliseconds = 0;
+};
+
 KeyFrameMatches::KeyFrameMatches() = default;
 KeyFrameMatches::~KeyFrameMatches() = default;
 KeyFrameMatches::KeyFrameMatches(KeyFrameMatches&&) noexcept = default;
@@ -138,14 +148,16 @@ struct KeyFrameRefiner::Impl {
   FeatureParameters features;
   Device device;
   HammingMatcher matcher;  ///< all frames of a step in one call
+  HammingMatcher intermediateMatcher;  ///< the same for the intermediate frames, matched beside the key frames
   std::shared_ptr<SubPixelMatcher> subPixel;
   std::deque<StoredKeyFrame, Eigen::aligned_allocator<StoredKeyFrame>> keyFrames;
   std::vector<IntermediateFrame, Eigen::aligned_allocator<IntermediateFrame>> intermediates;
   uint64_t state = 0;  ///< counts the changes of keyFrames and intermediates (matches must see the same frames)
+  BackgroundWorker worker;  ///< matches the intermediate frames beside the earlier key frames; last: stops first
 
   Impl(const RectifiedGeometry& g, const RefinementParameters& p, const TrackingParameters& t,
        const FeatureParameters& f, Device d, std::shared_ptr<SubPixelMatcher> sharedSubPixel)
-      : geometry(g), parameters(p), tracking(t), features(f), device(d), matcher(d),
+      : geometry(g), parameters(p), tracking(t), features(f), device(d), matcher(d), intermediateMatcher(d),
         subPixel(sharedSubPixel ? std::move(sharedSubPixel)
                                 : std::make_shared<SubPixelMatcher>(d, f.maxRefinementShiftPx)) {
     tracking.maxRansacIterations = std::min(tracking.maxRansacIterations, parameters.maxSolveHypotheses);
@@ -258,6 +270,93 @@ struct KeyFrameRefiner::Impl {
       else inliers.push_back({m, set.candidateTrain[m][j], set.candidates[m][j].pixelPx});
     }
     return inliers;
+  }
+
+  /// Step 2 of matchKeyFrame: the observations of the key frame's features with depth (`lifted`, at liftedWorld and
+  /// liftedPx) in the intermediate frames. Runs on `worker` beside step 1, with its own Hamming matcher.
+  IntermediateMatches matchIntermediateFrames(const StereoFeatures& features, int frameIndex,
+                                              const std::vector<int>& lifted, const Points3d& liftedWorld,
+                                              const std::vector<cv::Point2f>& liftedPx) {
+    const auto start = std::chrono::steady_clock::now();
+    IntermediateMatches matched;
+    std::vector<Observation>& observations = matched.observations;
+    std::vector<int>& frameOfSlot = matched.frameOfSlot;
+    if (lifted.empty()) return matched;
+    cv::Mat liftedDescriptors(static_cast<int>(lifted.size()), features.descriptors.cols, features.descriptors.type());
+    for (std::size_t k = 0; k < lifted.size(); ++k) features.descriptors.row(lifted[k]).copyTo(liftedDescriptors.row(static_cast<int>(k)));
+    std::vector<MatchSet> sets(intermediates.size());
+    std::vector<std::vector<Inlier>> inlierSets(intermediates.size());
+    std::vector<int> hypotheses(intermediates.size(), 0);
+    // First near the projections at the tracked poses; each frame on its own thread.
+    std::vector<uint8_t> guided(intermediates.size(), 0);
+    if (parameters.guidedSearchRadiusPx > 0) {
+      profiling::ScopedTimer timer("host: refinement, intermediate-frame matching (guided by the tracked poses)");
+      parallelFor<CpuBackend>(
+          static_cast<int64_t>(intermediates.size()),
+          [&](int64_t f) {
+            const IntermediateFrame& frame = intermediates[static_cast<std::size_t>(f)];
+            const ProjectionGuidedMatches found =
+                matchProjectedPoints(liftedWorld, liftedDescriptors, frame.features.keypoints, frame.features.descriptors,
+                                     inverseRigid(frame.T_world_camera), intrinsics(), guidedMatchParameters());
+            if (!found.trusted || static_cast<int>(found.matches.size()) < parameters.minFrameInliers) return;
+            // The tracked poses already agree with these matches: they are the observations (the paper takes them
+            // from tracking), without a pose solve.
+            MatchSet& set = sets[static_cast<std::size_t>(f)];
+            set = toMatchSet(found, liftedWorld, liftedPx, frame.features);
+            std::vector<Inlier>& inliers = inlierSets[static_cast<std::size_t>(f)];
+            for (std::size_t i = 0; i < set.query.size(); ++i) inliers.push_back({static_cast<int>(i), set.train[i], set.pixelsPx[i]});
+            guided[static_cast<std::size_t>(f)] = 1;
+          },
+          1);
+    }
+    // The other frames: all descriptors, then DynamicR1PPnP; matched and solved in parallel, merged in order (as
+    // for the key frames above).
+    std::vector<int> unguided;
+    for (std::size_t f = 0; f < intermediates.size(); ++f) {
+      if (guided[f]) ++matched.guidedFrames;
+      else unguided.push_back(static_cast<int>(f));
+    }
+    std::vector<std::pair<cv::Mat, cv::Mat>> framePairs;
+    for (int f : unguided) framePairs.emplace_back(liftedDescriptors, intermediates[static_cast<std::size_t>(f)].features.descriptors);
+    const auto frameKnn = [&] {
+      profiling::ScopedTimer timer("host: refinement, intermediate-frame matching (Hamming kNN)");
+      return intermediateMatcher.matchPairs(framePairs, matchK());
+    }();
+    parallelFor<CpuBackend>(
+        static_cast<int64_t>(unguided.size()),
+        [&](int64_t u) {
+          const std::size_t f = static_cast<std::size_t>(unguided[static_cast<std::size_t>(u)]);
+          const IntermediateFrame& frame = intermediates[f];
+          MatchSet& set = sets[f];
+          std::vector<Inlier>& inliers = inlierSets[f];
+          set = toMatchSet(frameKnn[static_cast<std::size_t>(u)], liftedWorld, liftedPx, frame.features);
+          inliers = solveInliers(set, parameters.minFrameInliers, frame.T_world_camera, hypotheses[f]);
+        },
+        1);
+    for (int h : hypotheses) matched.hypotheses += h;
+    std::vector<cv::Mat> frameGreys;
+    std::vector<int> frameIndices;
+    for (const IntermediateFrame& frame : intermediates) {
+      frameGreys.push_back(frame.features.grey);
+      frameIndices.push_back(frame.frameIndex);
+    }
+    {
+      profiling::ScopedTimer timer("host: refinement, intermediate-frame sub-pixel refinement");
+      refineInliers(inlierSets, sets, features.grey, frameIndex, frameGreys, frameIndices);
+    }
+    for (std::size_t f = 0; f < intermediates.size(); ++f) {
+      const MatchSet& set = sets[f];
+      const std::vector<Inlier>& inliers = inlierSets[f];
+      if (static_cast<int>(inliers.size()) < parameters.minFrameInliers) continue;
+      const int slot = 1 + static_cast<int>(frameOfSlot.size());
+      frameOfSlot.push_back(static_cast<int>(f));
+      for (const Inlier& inlier : inliers) {
+        observations.push_back({slot, lifted[set.query[inlier.match]], inlier.pixelPx.x(), inlier.pixelPx.y()});
+      }
+    }
+    synchronize(device);  // nothing of this thread's left in flight for the caller's thread
+    matched.milliseconds = millisecondsSince(start);
+    return matched;
   }
 
   /// Stored key frames whose points fall into the view at T_world_camera, the most overlapping first.
@@ -402,6 +501,11 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
   fixed.assign(n, 0);
   for (std::size_t k = 0; k < lifted.size(); ++k) trackWorld[lifted[k]] = liftedWorld[k];
 
+  // 2. (beside 1) The intermediate frames: observations of the key frame's features with depth. Independent of the
+  // key-frame matches, so they are matched on the refiner's worker meanwhile.
+  PendingResult<IntermediateMatches> intermediateTask = s.worker.run(
+      [&] { return s.matchIntermediateFrames(features, frameIndex, lifted, liftedWorld, liftedPx); });
+
   // 1. Earlier key frames that overlap: their matched points are fixed. The frames are matched and solved in
   // parallel (independent), then merged in order: the same result as one after the other.
   auto partStart = std::chrono::steady_clock::now();
@@ -473,85 +577,15 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
   result.keyFrameMatchingMs = millisecondsSince(partStart);
   partStart = std::chrono::steady_clock::now();
 
-  // 2. Intermediate frames: observations of the key frame's features (with depth).
-  std::vector<Observation>& observations = m.observations;
-  std::vector<int>& frameOfSlot = m.frameOfSlot;  // intermediate index per pose slot 1..
-  if (result.matchedKeyFrames > 0 && !lifted.empty()) {
-    cv::Mat liftedDescriptors(static_cast<int>(lifted.size()), features.descriptors.cols, features.descriptors.type());
-    for (std::size_t k = 0; k < lifted.size(); ++k) features.descriptors.row(lifted[k]).copyTo(liftedDescriptors.row(static_cast<int>(k)));
-    std::vector<MatchSet> sets(s.intermediates.size());
-    std::vector<std::vector<Inlier>> inlierSets(s.intermediates.size());
-    std::vector<int> hypotheses(s.intermediates.size(), 0);
-    // First near the projections at the tracked poses; each frame on its own thread.
-    std::vector<uint8_t> guided(s.intermediates.size(), 0);
-    if (p.guidedSearchRadiusPx > 0) {
-      profiling::ScopedTimer timer("host: refinement, intermediate-frame matching (guided by the tracked poses)");
-      parallelFor<CpuBackend>(
-          static_cast<int64_t>(s.intermediates.size()),
-          [&](int64_t f) {
-            const IntermediateFrame& frame = s.intermediates[static_cast<std::size_t>(f)];
-            const ProjectionGuidedMatches found =
-                matchProjectedPoints(liftedWorld, liftedDescriptors, frame.features.keypoints, frame.features.descriptors,
-                                     inverseRigid(frame.T_world_camera), s.intrinsics(), s.guidedMatchParameters());
-            if (!found.trusted || static_cast<int>(found.matches.size()) < p.minFrameInliers) return;
-            // The tracked poses already agree with these matches: they are the observations (the paper takes them
-            // from tracking), without a pose solve.
-            MatchSet& set = sets[static_cast<std::size_t>(f)];
-            set = s.toMatchSet(found, liftedWorld, liftedPx, frame.features);
-            std::vector<Inlier>& inliers = inlierSets[static_cast<std::size_t>(f)];
-            for (std::size_t i = 0; i < set.query.size(); ++i) inliers.push_back({static_cast<int>(i), set.train[i], set.pixelsPx[i]});
-            guided[static_cast<std::size_t>(f)] = 1;
-          },
-          1);
-    }
-    // The other frames: all descriptors, then DynamicR1PPnP; matched and solved in parallel, merged in order (as
-    // for the key frames above).
-    std::vector<int> unguided;
-    for (std::size_t f = 0; f < s.intermediates.size(); ++f) {
-      if (guided[f]) ++result.guidedFrames;
-      else unguided.push_back(static_cast<int>(f));
-    }
-    std::vector<std::pair<cv::Mat, cv::Mat>> framePairs;
-    for (int f : unguided) framePairs.emplace_back(liftedDescriptors, s.intermediates[static_cast<std::size_t>(f)].features.descriptors);
-    const auto frameKnn = [&] {
-      profiling::ScopedTimer timer("host: refinement, intermediate-frame matching (Hamming kNN)");
-      return s.matcher.matchPairs(framePairs, s.matchK());
-    }();
-    parallelFor<CpuBackend>(
-        static_cast<int64_t>(unguided.size()),
-        [&](int64_t u) {
-          const std::size_t f = static_cast<std::size_t>(unguided[static_cast<std::size_t>(u)]);
-          const IntermediateFrame& frame = s.intermediates[f];
-          MatchSet& set = sets[f];
-          std::vector<Inlier>& inliers = inlierSets[f];
-          set = s.toMatchSet(frameKnn[static_cast<std::size_t>(u)], liftedWorld, liftedPx, frame.features);
-          inliers = s.solveInliers(set, p.minFrameInliers, frame.T_world_camera, hypotheses[f]);
-        },
-        1);
-    for (int h : hypotheses) result.pnpHypotheses += h;
-    std::vector<cv::Mat> frameGreys;
-    std::vector<int> frameIndices;
-    for (const IntermediateFrame& frame : s.intermediates) {
-      frameGreys.push_back(frame.features.grey);
-      frameIndices.push_back(frame.frameIndex);
-    }
-    {
-      profiling::ScopedTimer timer("host: refinement, intermediate-frame sub-pixel refinement");
-      s.refineInliers(inlierSets, sets, features.grey, frameIndex, frameGreys, frameIndices);
-    }
-    for (std::size_t f = 0; f < s.intermediates.size(); ++f) {
-      const MatchSet& set = sets[f];
-      const std::vector<Inlier>& inliers = inlierSets[f];
-      if (static_cast<int>(inliers.size()) < p.minFrameInliers) continue;
-      const int slot = 1 + static_cast<int>(frameOfSlot.size());
-      frameOfSlot.push_back(static_cast<int>(f));
-      for (const Inlier& inlier : inliers) {
-        observations.push_back({slot, lifted[set.query[inlier.match]], inlier.pixelPx.x(), inlier.pixelPx.y()});
-      }
-    }
+  // 2. The intermediate frames, matched beside step 1; kept only when an earlier key frame anchors the solve.
+  IntermediateMatches intermediate = intermediateTask.get();
+  if (result.matchedKeyFrames > 0) {
+    m.observations = std::move(intermediate.observations);
+    m.frameOfSlot = std::move(intermediate.frameOfSlot);
+    result.guidedFrames = intermediate.guidedFrames;
+    result.pnpHypotheses += intermediate.hypotheses;
   }
-
-  result.intermediateMatchingMs = millisecondsSince(partStart);
+  result.intermediateMatchingMs = intermediate.milliseconds;
   return matches;
 }
 

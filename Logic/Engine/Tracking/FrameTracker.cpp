@@ -48,16 +48,16 @@ struct FrameTracker::Impl {
   std::unique_ptr<HammingMatcher> ownMatcher;
   std::shared_ptr<SubPixelMatcher> subPixel;
 
-  StereoFeatures extract(const cv::Mat& leftRectified, const cv::Mat& disparityPx) {
-    if (!ownExtractor) return extractStereoFeatures(*orb, leftRectified, disparityPx, geometry);
+  StereoFeatures detect(const cv::Mat& leftRectified) {
+    if (!ownExtractor) return detectFeatures(*orb, leftRectified);
     const double scaleFactor = options.features.scaleFactor;
-    return extractStereoFeatures(
+    return detectFeatures(
         [&](const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
           const OrbFeatures found = ownExtractor->extract(grey);
           keypoints = toCvKeyPoints(found, scaleFactor);
           descriptors = found.descriptors;
         },
-        leftRectified, disparityPx, geometry);
+        leftRectified);
   }
 
   std::vector<std::vector<cv::DMatch>> match(const cv::Mat& from, const cv::Mat& to, int k) {
@@ -149,6 +149,10 @@ int FrameTracker::frameCount() const { return impl_->frames; }
 const FrameTrackerOptions& FrameTracker::options() const { return impl_->options; }
 
 TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& disparityPx) {
+  return track(leftRectified, [&disparityPx] { return disparityPx; });
+}
+
+TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySource& disparityPx) {
   Impl& s = *impl_;
   require(leftRectified.size() == s.geometry.imageSize,
           "tracker: frame size " + std::to_string(leftRectified.cols) + "x" + std::to_string(leftRectified.rows) +
@@ -157,15 +161,26 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   TrackResult result;
   result.frameIndex = s.frames++;
   const auto start = std::chrono::steady_clock::now();
-  s.lastFeatures = s.extract(leftRectified, disparityPx);
+  s.lastFeatures = s.detect(leftRectified);
   result.extractMs = millisecondsSince(start);
   s.lastTracked = false;
   const StereoFeatures& features = s.lastFeatures;
   result.features = static_cast<int>(features.keypoints.size());
-  result.featuresWithDepth = features.withDepth;
+  // Matching and the pose need only the reference's depth: this frame's disparity is waited for at the end, to
+  // lift the features for the frames after it (and for the refiner), on every path out.
+  const auto liftWithDisparity = [&] {
+    const cv::Mat disparity = disparityPx();
+    const auto liftStart = std::chrono::steady_clock::now();
+    liftFeatures(s.lastFeatures, disparity, s.geometry);
+    result.featuresWithDepth = s.lastFeatures.withDepth;
+    const double liftMs = millisecondsSince(liftStart);
+    result.extractMs += liftMs;
+    result.orbVotingMs += liftMs;
+  };
 
   if (s.reference.frameIndex < 0) {  // the first frame defines the start
     result.orbVotingMs = millisecondsSince(start);
+    liftWithDisparity();
     result.tracked = result.initial = result.keyFrame = true;
     result.T_world_camera = s.T_world_start;
     s.setReference(features, s.T_world_start, result.frameIndex);
@@ -236,6 +251,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   result.orbVotingMs = millisecondsSince(start);
 
   const auto lost = [&](const std::string& why) {
+    liftWithDisparity();
     result.tracked = false;
     result.failureReason = why;
     return result;
@@ -268,6 +284,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
     return lost(cv::format("implausible pose jump (%.1f mm, %.1f deg per frame)", stepMm, stepDeg));
   }
 
+  liftWithDisparity();
   result.tracked = true;
   result.T_world_camera = T_world_camera;
   const double difference = keyFramePoseDifference(T_world_camera, s.T_world_lastKeyFrame);

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -54,7 +55,7 @@ struct TrackResult {
   int matches = 0;               ///< reference features (with depth) that found a descriptor match here
   int inliers = 0;               ///< DynamicR1PPnP inliers
   double rmsErrorPx = 0;         ///< inliers' reprojection error
-  double orbVotingMs = 0;        ///< ORB detection, description, lifting, matching and histogram voting
+  double orbVotingMs = 0;        ///< ORB detection, description, lifting, matching and histogram voting (not the wait for the disparity)
   double pnpMs = 0;              ///< DynamicR1PPnP
   /// orbVotingMs in parts: ORB and lifting, descriptor matching, sub-pixel refinement of the matches, voting.
   double extractMs = 0, matchMs = 0, subPixelMs = 0, voteMs = 0;
@@ -75,6 +76,12 @@ public:
   /// Tracks the next frame: the rectified left image (8-bit grey or BGR) and its left-view disparity (CV_32F,
   /// NaN = none). Throws Error only for misuse (empty or mismatched images).
   TrackResult track(const cv::Mat& leftRectified, const cv::Mat& disparityPx);
+  /// Supplies the frame's disparity when the tracker needs it; it may block (e.g. on the stereo stage running on
+  /// another thread).
+  using DisparitySource = std::function<cv::Mat()>;
+  /// The same, with the disparity asked for only after the features are matched and the pose is solved, so that the
+  /// stereo stage can compute it meanwhile. `disparityPx` is called exactly once, on every path that returns.
+  TrackResult track(const cv::Mat& leftRectified, const DisparitySource& disparityPx);
 
   /// Frames given to track() so far.
   int frameCount() const;

@@ -32,6 +32,12 @@ float sampleDisparity(const cv::Mat& disparity, const cv::Point2f& p) {
   return disparity.at<float>(y, x);
 }
 
+FeatureDetector orbDetector(cv::ORB& orb) {
+  return [&orb](const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
+    orb.detectAndCompute(grey, cv::noArray(), keypoints, descriptors);
+  };
+}
+
 }  // namespace
 
 void FeatureParameters::validate() const {
@@ -78,22 +84,10 @@ FeatureParameters FeatureParameters::read(const cv::FileNode& node) {
   return p;
 }
 
-StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified, const cv::Mat& disparityPx,
-                                     const RectifiedGeometry& geometry) {
-  return extractStereoFeatures(
-      [&orb](const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
-        orb.detectAndCompute(grey, cv::noArray(), keypoints, descriptors);
-      },
-      leftRectified, disparityPx, geometry);
-}
-
-StereoFeatures extractStereoFeatures(const FeatureDetector& detect, const cv::Mat& leftRectified,
-                                     const cv::Mat& disparityPx, const RectifiedGeometry& geometry) {
+StereoFeatures detectFeatures(const FeatureDetector& detect, const cv::Mat& leftRectified) {
   require(!leftRectified.empty(), "tracking: the left image is empty");
   require(leftRectified.depth() == CV_8U && (leftRectified.channels() == 1 || leftRectified.channels() == 3),
           "tracking: the left image must be 8-bit grey or BGR");
-  require(disparityPx.type() == CV_32FC1 && disparityPx.size() == leftRectified.size(),
-          "tracking: the disparity map must be CV_32F and of the left image's size");
   StereoFeatures features;
   cv::Mat& grey = features.grey;
   {
@@ -101,13 +95,24 @@ StereoFeatures extractStereoFeatures(const FeatureDetector& detect, const cv::Ma
     if (leftRectified.channels() == 3) cv::cvtColor(leftRectified, grey, cv::COLOR_BGR2GRAY);
     else grey = leftRectified.clone();
   }
-  {
-    profiling::ScopedTimer timer("host: features detect");
-    detect(grey, features.keypoints, features.descriptors);
-  }
+  profiling::ScopedTimer timer("host: features detect");
+  detect(grey, features.keypoints, features.descriptors);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  features.pointsCameraMm.assign(features.keypoints.size(), Eigen::Vector3d(nan, nan, nan));
+  return features;
+}
+
+StereoFeatures detectFeatures(cv::ORB& orb, const cv::Mat& leftRectified) {
+  return detectFeatures(orbDetector(orb), leftRectified);
+}
+
+void liftFeatures(StereoFeatures& features, const cv::Mat& disparityPx, const RectifiedGeometry& geometry) {
+  require(disparityPx.type() == CV_32FC1 && disparityPx.size() == features.grey.size(),
+          "tracking: the disparity map must be CV_32F and of the left image's size");
   profiling::ScopedTimer timer("host: features lift");
   const double nan = std::numeric_limits<double>::quiet_NaN();
   features.pointsCameraMm.assign(features.keypoints.size(), Eigen::Vector3d(nan, nan, nan));
+  features.withDepth = 0;
   for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
     const cv::Point2f p = features.keypoints[i].pt;
     const double d = sampleDisparity(disparityPx, p);
@@ -117,6 +122,20 @@ StereoFeatures extractStereoFeatures(const FeatureDetector& detect, const cv::Ma
                                                  (p.y - geometry.cyPx) * z / geometry.focalPx, z);
     ++features.withDepth;
   }
+}
+
+StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified, const cv::Mat& disparityPx,
+                                     const RectifiedGeometry& geometry) {
+  return extractStereoFeatures(orbDetector(orb), leftRectified, disparityPx, geometry);
+}
+
+StereoFeatures extractStereoFeatures(const FeatureDetector& detect, const cv::Mat& leftRectified,
+                                     const cv::Mat& disparityPx, const RectifiedGeometry& geometry) {
+  require(!leftRectified.empty(), "tracking: the left image is empty");
+  require(disparityPx.type() == CV_32FC1 && disparityPx.size() == leftRectified.size(),
+          "tracking: the disparity map must be CV_32F and of the left image's size");
+  StereoFeatures features = detectFeatures(detect, leftRectified);
+  liftFeatures(features, disparityPx, geometry);
   return features;
 }
 

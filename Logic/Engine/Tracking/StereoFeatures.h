@@ -54,7 +54,16 @@ struct StereoFeatures {
 /// Finds keypoints and 32-byte binary descriptors (one CV_8U row each) in an 8-bit grey image.
 using FeatureDetector = std::function<void(const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors)>;
 
-/// Detects features on the (grey or BGR, 8-bit) rectified left image and lifts each with the disparity
+/// Detects features on the (grey or BGR, 8-bit) rectified left image, without depth yet (pointsCameraMm all NaN):
+/// the tracker matches them while the stereo stage is still computing the frame's disparity.
+StereoFeatures detectFeatures(const FeatureDetector& detect, const cv::Mat& leftRectified);
+/// The same with OpenCV's ORB as the detector.
+StereoFeatures detectFeatures(cv::ORB& orb, const cv::Mat& leftRectified);
+/// Lifts each feature with the disparity (CV_32F, NaN = none, of the features' image size) sampled bilinearly at
+/// the keypoint when its 4 neighbours have estimates, else at the nearest pixel; sets pointsCameraMm and withDepth.
+void liftFeatures(StereoFeatures& features, const cv::Mat& disparityPx, const RectifiedGeometry& geometry);
+
+/// detectFeatures, then liftFeatures: detects features on the (grey or BGR, 8-bit) rectified left image and lifts each with the disparity
 /// (CV_32F, NaN = none, same size) sampled bilinearly at the keypoint when its 4 neighbours have estimates, else at
 /// the nearest pixel. Throws Error on empty or mismatched inputs.
 StereoFeatures extractStereoFeatures(const FeatureDetector& detect, const cv::Mat& leftRectified,

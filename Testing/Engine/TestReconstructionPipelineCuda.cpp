@@ -1,0 +1,70 @@
+// The whole pipeline on CUDA against the CPU (ctest label "cuda"; skipped with a message where no GPU exists). On
+// CUDA, stereo runs on a second thread and stream beside the tracking, and the surface beside the key-frame
+// matching, and the intermediate frames are matched beside the earlier key frames: each frame must still get its own
+// disparity, the same tracking decisions, poses and model as on the CPU, bit for bit (every stage computes the same
+// floats on both backends: the stereo, ORB, sub-pixel, solver and fusion tests check each one).
+#include "SyntheticScan.h"
+
+#include "Core/Device.h"
+#include "Reconstruction/ReconstructionPipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+using namespace tissuemosaic;
+
+namespace {
+
+bool sameDisparity(const cv::Mat& a, const cv::Mat& b) {
+  if (a.size() != b.size() || a.type() != b.type()) return false;
+  for (int y = 0; y < a.rows; ++y)
+    for (int x = 0; x < a.cols; ++x) {
+      const float p = a.at<float>(y, x), q = b.at<float>(y, x);
+      if (std::memcmp(&p, &q, sizeof p) != 0 && !(std::isnan(p) && std::isnan(q))) return false;
+    }
+  return true;
+}
+
+}  // namespace
+
+TEST(ReconstructionPipelineCuda, ReconstructsLikeTheCpu) {
+  if (!cudaAvailable()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  synthetic::SyntheticScanOptions options;  // 960x540
+  options.frames = 32;
+  options.seed = 11;
+  const synthetic::SyntheticScan scan(options);
+  ReconstructionParameters parameters;
+  parameters.extractor = FeatureExtractor::TissueMosaicOrb;  // the GPU's extractor, on both devices
+  ReconstructionPipeline cpu(scan.geometry(), parameters, Device::Cpu, scan.T_world_camera(0));
+  ReconstructionPipeline gpu(scan.geometry(), parameters, Device::Cuda, scan.T_world_camera(0));
+  double worstMm = 0, worstDeg = 0;
+  int keyFrames = 0;
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
+    const FrameResult a = cpu.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    const FrameResult b = gpu.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    ASSERT_TRUE(sameDisparity(a.disparityPx, b.disparityPx)) << "frame " << k;
+    ASSERT_EQ(a.tracked, b.tracked) << "frame " << k;
+    ASSERT_EQ(a.keyFrame, b.keyFrame) << "frame " << k;
+    EXPECT_TRUE(b.tracked) << "frame " << k << ": " << b.trackingMessage;
+    EXPECT_GT(b.timesMs.stereo, 0.0);
+    keyFrames += b.keyFrame;
+    const Eigen::Matrix4d& p = a.T_world_camera;
+    const Eigen::Matrix4d& q = b.T_world_camera;
+    worstMm = std::max(worstMm, (p.block<3, 1>(0, 3) - q.block<3, 1>(0, 3)).norm());
+    worstDeg = std::max(worstDeg, Eigen::AngleAxisd(Eigen::Matrix3d(p.block<3, 3>(0, 0).transpose() *
+                                                                    q.block<3, 3>(0, 0))).angle() * 180 / M_PI);
+  }
+  const std::size_t cpuPoints = cpu.modelPointCount(), gpuPoints = gpu.modelPointCount();
+  std::printf("CUDA against CPU over %d frames, %d key frames: poses differ by at most %.2e mm and %.2e deg; model "
+              "%zu against %zu points\n", scan.frameCount(), keyFrames, worstMm, worstDeg, gpuPoints, cpuPoints);
+  EXPECT_GE(keyFrames, 3);
+  EXPECT_EQ(worstMm, 0.0);
+  EXPECT_EQ(worstDeg, 0.0);
+  EXPECT_EQ(gpuPoints, cpuPoints);
+}
