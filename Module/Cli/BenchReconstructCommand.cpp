@@ -104,7 +104,17 @@ int runBenchReconstruct(const Words& words) {
   ReconstructionPipeline pipeline(scan.geometry(), parameters, device, scan.T_world_camera(0));
   TimingTable timing;
   int lost = 0;
-  std::vector<double> surfaceMs, modelSampleMs, keyFrameMatchingMs, intermediateMatchingMs, solveMs;
+  // The refinement's parts per key frame, by their JSON names (RefinementPartsMs).
+  const std::vector<std::pair<const char*, double RefinementPartsMs::*>> partFields = {
+      {"surface", &RefinementPartsMs::surface},
+      {"model_sample", &RefinementPartsMs::modelSample},
+      {"key_frame_matching", &RefinementPartsMs::keyFrameMatching},
+      {"intermediate_matching", &RefinementPartsMs::intermediateMatching},
+      {"solve", &RefinementPartsMs::solve},
+      {"matching_call", &RefinementPartsMs::matchingCall},
+      {"surface_wait", &RefinementPartsMs::surfaceWait},
+      {"solve_call", &RefinementPartsMs::solveCall}};
+  std::vector<std::vector<double>> partsMs(partFields.size());
   // How the refinement matched (RefinementParameters::guidedSearchRadiusPx), summed over the key frames.
   int keyFramesMatched = 0, keyFramesGuided = 0, intermediateFrames = 0, intermediateFramesGuided = 0;
   // Stereo against the truth on the key frames (what fusion receives): the worst share of gross errors (> 3 px).
@@ -120,11 +130,7 @@ int runBenchReconstruct(const Words& words) {
     }
     lost += !result.tracked;
     if (result.keyFrame && frame.index > 0) {
-      surfaceMs.push_back(result.refinementPartsMs.surface);
-      modelSampleMs.push_back(result.refinementPartsMs.modelSample);
-      keyFrameMatchingMs.push_back(result.refinementPartsMs.keyFrameMatching);
-      intermediateMatchingMs.push_back(result.refinementPartsMs.intermediateMatching);
-      solveMs.push_back(result.refinementPartsMs.solve);
+      for (std::size_t i = 0; i < partFields.size(); ++i) partsMs[i].push_back(result.refinementPartsMs.*partFields[i].second);
       keyFramesMatched += result.matchedKeyFrames;
       keyFramesGuided += result.guidedKeyFrames;
       intermediateFrames += result.intermediateFrames;
@@ -208,24 +214,27 @@ int runBenchReconstruct(const Words& words) {
                              memory[i].modelPoints);
   }
   memoryJson += "]";
+  const auto partsJson = [&](auto statistic) {
+    std::string json = "{";
+    for (std::size_t i = 0; i < partFields.size(); ++i) {
+      json += cv::format("%s\"%s\": %.4f", i ? ", " : "", partFields[i].first, statistic(partsMs[i]));
+    }
+    return json + "}";
+  };
   std::printf("{\"command\": \"bench reconstruct\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d, \"key_frames\": %zu, "
               "\"model_points\": %zu, \"key_frame_position_rmse_mm\": %.4f, \"model_rmse_mm\": %.4f, \"model_p95_mm\": %.4f, \"peak_host_mib\": %.1f, "
               "\"peak_device_mib\": %.1f,\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
               "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
-              "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": {\"surface\": %.4f, \"model_sample\": %.4f, "
-              "\"key_frame_matching\": %.4f, \"intermediate_matching\": %.4f, \"solve\": %.4f},\n "
-              "\"refinement_parts_max_ms\": {\"surface\": %.4f, \"model_sample\": %.4f, \"key_frame_matching\": %.4f, "
-              "\"intermediate_matching\": %.4f, \"solve\": %.4f},\n \"refinement_matching\": {\"key_frames_matched\": %d, "
+              "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": %s,\n "
+              "\"refinement_parts_max_ms\": %s,\n \"refinement_matching\": {\"key_frames_matched\": %d, "
               "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cv::getNumThreads(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
-              memoryJson.c_str(), median(surfaceMs), median(modelSampleMs), median(keyFrameMatchingMs), median(intermediateMatchingMs),
-              median(solveMs), largest(surfaceMs), largest(modelSampleMs), largest(keyFrameMatchingMs),
-              largest(intermediateMatchingMs), largest(solveMs), keyFramesMatched, keyFramesGuided, intermediateFrames,
+              memoryJson.c_str(), partsJson(median).c_str(), partsJson(largest).c_str(), keyFramesMatched, keyFramesGuided, intermediateFrames,
               intermediateFramesGuided, timing.toJson().c_str());
   return 0;
 }

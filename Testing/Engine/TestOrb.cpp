@@ -337,6 +337,21 @@ TEST(OrbQuality, MatchesAdjacentScanFramesAtLeastNearlyAsWellAsOpenCv) {
   EXPECT_GE(ours.inliers, opencv.inliers / 2) << "and not by matching only a few features";
 }
 
+TEST(OrbDescriptor, RowsAreSelectedInTheGivenOrder) {
+  cv::Mat descriptors(5, 32, CV_8U);
+  cv::randu(descriptors, 0, 256);
+  const cv::Mat selected = descriptorRows(descriptors, {4, 0, 4});
+  ASSERT_EQ(selected.rows, 3);
+  ASSERT_EQ(selected.cols, 32);
+  ASSERT_EQ(selected.type(), CV_8U);
+  EXPECT_EQ(cv::norm(selected.row(0), descriptors.row(4), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(selected.row(1), descriptors.row(0), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(selected.row(2), descriptors.row(4), cv::NORM_INF), 0.0);
+  EXPECT_EQ(descriptorRows(descriptors, {}).rows, 0);
+  EXPECT_THROW(descriptorRows(descriptors, {5}), Error);
+  EXPECT_THROW(descriptorRows(descriptors, {-1}), Error);
+}
+
 TEST(OrbExtractorApi, RejectsBadInput) {
   OrbExtractor extractor(Device::Cpu);
   EXPECT_THROW(extractor.extract(cv::Mat()), Error);

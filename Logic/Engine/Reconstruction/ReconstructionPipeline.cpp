@@ -204,11 +204,17 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
       result.refinementPartsMs.modelSample = millisecondsSince(sampleStart);
       return prepared;
     });
+    auto partStart = Clock::now();
     KeyFrameMatches matches = s.refiner.matchKeyFrame(result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera);
+    result.refinementPartsMs.matchingCall = millisecondsSince(partStart);
+    partStart = Clock::now();
     const SurfaceAndModel prepared = surfaceAndModel.get();
+    result.refinementPartsMs.surfaceWait = millisecondsSince(partStart);
     const SurfaceMeasurement& measurement = prepared.measurement;
+    partStart = Clock::now();
     const RefinementResult refinement = s.refiner.refineMatchedKeyFrame(
         std::move(matches), measurement, prepared.modelPointsWorldMm, prepared.modelNormalsWorld);
+    result.refinementPartsMs.solveCall = millisecondsSince(partStart);
     s.lastRefinementMessage = refinement.message;
     result.refinementPartsMs.keyFrameMatching = refinement.keyFrameMatchingMs;
     result.refinementPartsMs.intermediateMatching = refinement.intermediateMatchingMs;

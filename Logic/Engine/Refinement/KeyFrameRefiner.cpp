@@ -282,8 +282,7 @@ struct KeyFrameRefiner::Impl {
     std::vector<Observation>& observations = matched.observations;
     std::vector<int>& frameOfSlot = matched.frameOfSlot;
     if (lifted.empty()) return matched;
-    cv::Mat liftedDescriptors(static_cast<int>(lifted.size()), features.descriptors.cols, features.descriptors.type());
-    for (std::size_t k = 0; k < lifted.size(); ++k) features.descriptors.row(lifted[k]).copyTo(liftedDescriptors.row(static_cast<int>(k)));
+    const cv::Mat liftedDescriptors = descriptorRows(features.descriptors, lifted);
     std::vector<MatchSet> sets(intermediates.size());
     std::vector<std::vector<Inlier>> inlierSets(intermediates.size());
     std::vector<int> hypotheses(intermediates.size(), 0);
@@ -405,11 +404,10 @@ struct KeyFrameRefiner::Impl {
     if (static_cast<int>(rows.size()) > parameters.storedFeaturesPerKeyFrame) rows.resize(parameters.storedFeaturesPerKeyFrame);
     const Eigen::Matrix3d R = T_world_camera.block<3, 3>(0, 0);
     const Eigen::Vector3d t = T_world_camera.block<3, 1>(0, 3);
-    kf.descriptors.create(static_cast<int>(rows.size()), f.descriptors.cols, f.descriptors.type());
+    kf.descriptors = descriptorRows(f.descriptors, rows);
     for (std::size_t r = 0; r < rows.size(); ++r) {
       kf.pixelsPx.push_back(f.keypoints[rows[r]].pt);
       kf.pointsWorldMm.push_back((R * f.pointsCameraMm[rows[r]] + t).cast<float>());
-      f.descriptors.row(rows[r]).copyTo(kf.descriptors.row(static_cast<int>(r)));
     }
     keyFrames.push_back(std::move(kf));
     while (static_cast<int>(keyFrames.size()) > parameters.maxStoredKeyFrames) keyFrames.pop_front();

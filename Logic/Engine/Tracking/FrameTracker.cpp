@@ -105,8 +105,7 @@ struct FrameTracker::Impl {
       reference.pixelsPx.push_back(features.keypoints[i].pt);
       reference.pointsWorldMm.push_back(R * features.pointsCameraMm[i] + t);
     }
-    reference.descriptors.create(static_cast<int>(rows.size()), features.descriptors.cols, features.descriptors.type());
-    for (std::size_t r = 0; r < rows.size(); ++r) features.descriptors.row(rows[r]).copyTo(reference.descriptors.row(static_cast<int>(r)));
+    reference.descriptors = descriptorRows(features.descriptors, rows);
   }
 };
 

@@ -93,6 +93,16 @@ std::vector<cv::KeyPoint> toCvKeyPoints(const OrbFeatures& features, double scal
   return keypoints;
 }
 
+cv::Mat descriptorRows(const cv::Mat& descriptors, const std::vector<int>& rows) {
+  cv::Mat selected(static_cast<int>(rows.size()), descriptors.cols, descriptors.type());
+  const std::size_t rowBytes = descriptors.cols * descriptors.elemSize();
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    require(rows[r] >= 0 && rows[r] < descriptors.rows, "descriptorRows: a row index is outside the matrix");
+    std::memcpy(selected.ptr(static_cast<int>(r)), descriptors.ptr(rows[r]), rowBytes);
+  }
+  return selected;
+}
+
 struct OrbExtractor::Impl {
   Device device;
   OrbParameters parameters;

@@ -52,6 +52,10 @@ struct OrbFeatures {
 /// cv::KeyPoint views of the keypoints (size 31 * scale^level, octave = level), for OpenCV-based code.
 std::vector<cv::KeyPoint> toCvKeyPoints(const OrbFeatures& features, double scaleFactor);
 
+/// The given rows of a descriptor matrix (any type), in the given order, as a new matrix. One memcpy a row: with
+/// Mat::row().copyTo() a thousand rows took 0.12 ms, paid at every tracked frame.
+cv::Mat descriptorRows(const cv::Mat& descriptors, const std::vector<int>& rows);
+
 class OrbExtractor {
 public:
   /// Throws Error for invalid parameters, or for Device::Cuda in a build or on a machine without CUDA.
