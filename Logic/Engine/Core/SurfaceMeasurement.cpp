@@ -73,9 +73,13 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
   measurement.validMask.create(height, width, CV_8U);
   valid.buffer().download(measurement.validMask.ptr<uint8_t>());
   measurement.validPixels = cv::countNonZero(measurement.validMask);
-  if (device == Device::Cuda) measurement.onDevice = std::move(maps);
   if (leftRectified.channels() == 3) measurement.colourBgr = leftRectified.clone();
   else cv::cvtColor(leftRectified, measurement.colourBgr, leftRectified.channels() == 1 ? cv::COLOR_GRAY2BGR : cv::COLOR_BGRA2BGR);
+  if (device == Device::Cuda) {
+    maps->colourBgr = Buffer<uint8_t>(device, measurement.colourBgr.total() * 3);
+    maps->colourBgr.upload(measurement.colourBgr.ptr<uint8_t>());  // continuous: cloned or converted above
+    measurement.onDevice = std::move(maps);
+  }
   return measurement;
 }
 

@@ -18,6 +18,9 @@ namespace tissuemosaic {
 struct SurfaceMapsOnDevice {
   Image<Float3> pointsCameraMm;
   Image<Float3> normalsCamera;
+  /// SurfaceMeasurement::colourBgr (3 bytes a pixel, row-major), uploaded where the surface is measured, which the
+  /// pipeline does beside the key frame's matching: fusion then copies it on the device.
+  Buffer<uint8_t> colourBgr;
 };
 
 /// All maps have the rectified image size; "no estimate" is NaN in every channel.

@@ -105,9 +105,13 @@ FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const 
           "of the rectified size " + std::to_string(size.width) + "x" + std::to_string(size.height));
   const fusion::FramePose pose = framePose(T_world_camera);
   fusion::FusionModel& model = *model_;
-  copySurfaceMaps(measurement.pointsCameraMm, measurement.normalsCamera, measurement.onDevice.get(), model.pointsMm,
-                  model.normals);
-  model.colourBgr.upload(continuous(measurement.colourBgr).ptr<uint8_t>());
+  const SurfaceMapsOnDevice* onDevice = measurement.onDevice.get();
+  copySurfaceMaps(measurement.pointsCameraMm, measurement.normalsCamera, onDevice, model.pointsMm, model.normals);
+  if (device_ == Device::Cuda && onDevice && onDevice->colourBgr.size() == model.colourBgr.size()) {
+    model.colourBgr.copyFrom(onDevice->colourBgr);  // uploaded where the surface was measured
+  } else {
+    model.colourBgr.upload(continuous(measurement.colourBgr).ptr<uint8_t>());
+  }
 
   const fusion::FusionSettings settings = fusionSettings(geometry_, parameters_);
   const fusion::IntegrateCounts counts = device_ == Device::Cuda
