@@ -4,7 +4,8 @@
 ///  1. picks the stored earlier key frames whose points project into T's view (tracked pose), matches their ORB
 ///     descriptors with T's and keeps DynamicR1PPnP's inliers: those feature points are fixed at the earlier key
 ///     frame's world position (the paper fixes the last key frame and its points against scale drift);
-///  2. matches T's features with the intermediate frames since the last key frame (DynamicR1PPnP inliers);
+///  2. matches T's features with the intermediate frames since the last key frame (DynamicR1PPnP inliers), on the
+///     refiner's own worker thread beside step 1, which it does not need;
 ///  3. minimises f_BA + beta f_ICP by Levenberg-Marquardt (RefinementSolver.h), alternating the free feature points
 ///     (one 3x3 LM per point) and the poses (one 6x6 LM per frame; only T's pose has the point-to-plane ICP term
 ///     with Tukey's penalty, q_i re-found at the pixel where each model point p_i projects at every evaluation);
