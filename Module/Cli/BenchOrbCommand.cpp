@@ -5,10 +5,11 @@
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
-#include "SyntheticScan.h"
-#include "Tracking/OrbFeatures.h"
+#include "Core/ParallelFor.h"
 #include "Core/Statistics.h"
 #include "Core/Stopwatch.h"
+#include "SyntheticScan.h"
+#include "Tracking/OrbFeatures.h"
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
@@ -87,7 +88,7 @@ int runBenchOrb(const Words& words) {
   std::printf("{\"command\": \"bench orb\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, \"height\": %d, "
               "\"levels\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, parameters.levels,
-              repeats, cv::getNumThreads());
+              repeats, cpuThreadCount());
   std::printf(" \"features\": [%zu, %zu], \"median_ms\": {\"extract\": %.4f, \"match\": %.4f, \"extract2_match\": %.4f}",
               a.keypoints.size(), b.keypoints.size(), extractMs, matchMs, 2 * extractMs + matchMs);
   if (device == Device::Cpu) {

@@ -4,14 +4,15 @@
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
-#include "Reconstruction/ReconstructionPipeline.h"
+#include "Core/ParallelFor.h"
+#include "Core/Statistics.h"
 #include "IO/MeshPly.h"
 #include "IO/PointCloudPly.h"
 #include "IO/TrajectoryTum.h"
+#include "Reconstruction/ReconstructionPipeline.h"
 #include "Reconstruction/TimingTable.h"
 #include "SyntheticScan.h"
 #include "TissueSurface.h"
-#include "Core/Statistics.h"
 
 #include <opencv2/core/utility.hpp>
 
@@ -230,7 +231,7 @@ int runBenchReconstruct(const Words& words) {
               "\"refinement_parts_max_ms\": %s,\n \"refinement_matching\": {\"key_frames_matched\": %d, "
               "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
-              lost, cv::getNumThreads(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
+              lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,

@@ -4,11 +4,12 @@
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
+#include "Core/ParallelFor.h"
+#include "Core/Statistics.h"
+#include "Core/Stopwatch.h"
 #include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
 #include "SyntheticStereoScene.h"
-#include "Core/Statistics.h"
-#include "Core/Stopwatch.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
@@ -89,7 +90,7 @@ int runBenchStereo(const Words& words) {
   std::printf("{\"command\": \"bench stereo\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, disparities,
-              parameters.minDisparityPx, repeats, cv::getNumThreads());
+              parameters.minDisparityPx, repeats, cpuThreadCount());
   std::printf(" \"median_ms\": {\"zncc\": %.4f, \"outliers_holes\": %.4f, \"refinement\": %.4f, \"total\": %.4f, "
               "\"upload\": %.4f},\n",
               median(zncc), median(outliers), median(refinement), median(total), median(upload));

@@ -4,10 +4,11 @@
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
+#include "Core/ParallelFor.h"
+#include "Core/Statistics.h"
 #include "Stereo/StereoMatcher.h"
 #include "SyntheticScan.h"
 #include "Tracking/FrameTracker.h"
-#include "Core/Statistics.h"
 
 #include <opencv2/core/utility.hpp>
 
@@ -94,7 +95,7 @@ int runBenchTrack(const Words& words) {
               " \"orb_voting_parts_median_ms\": {\"extract_and_lift\": %.4f, \"match\": %.4f, \"subpixel\": %.4f, "
               "\"vote\": %.4f}}\n",
               deviceLabel(device), deviceDescription(device).c_str(), features.c_str(), options.width, options.height,
-              options.frames, lost, cv::getNumThreads(), median(orbVoting), median(pnp), median(tracking), median(stereo),
+              options.frames, lost, cpuThreadCount(), median(orbVoting), median(pnp), median(tracking), median(stereo),
               median(extract), median(matching), median(subPixel), median(voting));
   return 0;
 }

@@ -2,8 +2,7 @@
 
 #include "CudaRuntime.h"
 #include "Error.h"
-
-#include <opencv2/core/utility.hpp>
+#include "ParallelFor.h"
 
 #include <fstream>
 #include <thread>
@@ -51,7 +50,7 @@ static std::string cpuModelName() {
 
 std::string deviceDescription(Device device) {
   if (device == Device::Cuda) return cuda::deviceName();
-  return cpuModelName() + " (" + std::to_string(cv::getNumThreads()) + " threads)";
+  return cpuModelName() + " (" + std::to_string(cpuThreadCount()) + " threads)";
 }
 
 void synchronize(Device device) {

@@ -9,6 +9,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -71,6 +72,10 @@ struct ParallelFor<CudaBackend> {
   }
 };
 #endif
+
+/// Threads the CPU backend's loops run on (oneTBB's pool): what the engine sizes its CPU work by and reports. Not
+/// cv::getNumThreads(): OpenCV's own setting (e.g. OPENCV_FOR_THREADS_NUM) does not limit these loops.
+inline int cpuThreadCount() { return tbb::this_task_arena::max_concurrency(); }
 
 template <class Backend, class Functor>
 void parallelFor(int64_t count, const Functor& functor, int64_t grain = 4096) {

@@ -1,7 +1,7 @@
 // The CPU instantiation of the section II pipeline, and the CPU launcher of the ZNCC cost volume.
 #include "StereoPipeline.inl"
 
-#include <opencv2/core/utility.hpp>
+#include "Core/ParallelFor.h"
 
 #include <algorithm>
 #include <vector>
@@ -291,7 +291,7 @@ void fillHolesRadialCpu(ImageView<const int16_t> input, ImageView<int16_t> outpu
                         float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue, int rowBands) {
   // 8 directions give 8 tasks: with more threads than that, cut each direction into bands of rows (each band
   // sweeps radius rows more, so only where threads would otherwise idle).
-  if (rowBands <= 0) rowBands = std::max(1, (cv::getNumThreads() + 7) / 8);
+  if (rowBands <= 0) rowBands = std::max(1, (cpuThreadCount() + 7) / 8);
   rowBands = std::min(rowBands, std::max(1, input.height));
   parallelFor<CpuBackend>(8 * static_cast<int64_t>(rowBands),
                           NearestAlongRay{input, radius, rowBands, hitDistance, hitValue}, 1);

@@ -131,10 +131,7 @@ StereoFeatures extractStereoFeatures(cv::ORB& orb, const cv::Mat& leftRectified,
 
 StereoFeatures extractStereoFeatures(const FeatureDetector& detect, const cv::Mat& leftRectified,
                                      const cv::Mat& disparityPx, const RectifiedGeometry& geometry) {
-  require(!leftRectified.empty(), "tracking: the left image is empty");
-  require(disparityPx.type() == CV_32FC1 && disparityPx.size() == leftRectified.size(),
-          "tracking: the disparity map must be CV_32F and of the left image's size");
-  StereoFeatures features = detectFeatures(detect, leftRectified);
+  StereoFeatures features = detectFeatures(detect, leftRectified);  // each half checks its own input
   liftFeatures(features, disparityPx, geometry);
   return features;
 }
