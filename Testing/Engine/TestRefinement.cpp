@@ -6,14 +6,19 @@
 
 #include "Core/Error.h"
 #include "Refinement/KeyFrameRefiner.h"
+#include "Refinement/PoseLmKernels.h"
 #include "Refinement/RefinementParameters.h"
 #include "Refinement/RefinementSolver.h"
 #include "Tracking/FrameTracker.h"
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <numeric>
+#include <random>
 
 #include <opencv2/core/persistence.hpp>
 
@@ -100,6 +105,76 @@ TEST(RefinementParameters, RoundTripAndValidation) {
   EXPECT_THROW(bad.validate(), Error);
   cv::FileStorage wrong("%YAML:1.0\nrefinement:\n  lmIterations: 2.5\n", cv::FileStorage::READ | cv::FileStorage::MEMORY);
   EXPECT_THROW(RefinementParameters::read(wrong["refinement"]), Error);
+}
+
+// The damped 6x6 step written for both backends (PoseLmKernels.h) against Eigen's LDLT on random normal equations
+// J^T J, J^T r of 40 residual rows, and the cases that must give no step.
+TEST(PoseLm, DampedStepSolvesTheNormalEquations) {
+  std::mt19937 random(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::Matrix<double, 40, 6> J;
+    Eigen::Matrix<double, 40, 1> r;
+    for (int i = 0; i < 40; ++i) {
+      for (int j = 0; j < 6; ++j) J(i, j) = normal(random) * (j < 3 ? 1.0 : 50.0);  // pose units differ in scale
+      r(i) = normal(random);
+    }
+    const Eigen::Matrix<double, 6, 6> H = J.transpose() * J;
+    const Eigen::Matrix<double, 6, 1> g = J.transpose() * r;
+    double terms[refinement::kTerms] = {};
+    int k = 0;
+    for (int i = 0; i < 6; ++i) {
+      for (int j = i; j < 6; ++j) terms[k++] = H(i, j);
+      terms[refinement::kGradientOffset + i] = g(i);
+    }
+    const double lambda = trial % 2 ? 1e-3 : 10.0;
+    Eigen::Matrix<double, 6, 6> damped = H;
+    for (int i = 0; i < 6; ++i) damped(i, i) += lambda * H(i, i);
+    const Eigen::Matrix<double, 6, 1> expected = damped.ldlt().solve(-g);
+    double step[6];
+    ASSERT_TRUE(refinement::dampedPoseStep(terms, lambda, step));
+    for (int i = 0; i < 6; ++i) EXPECT_NEAR(step[i], expected(i), 1e-10 * (1.0 + expected.cwiseAbs().maxCoeff()));
+  }
+  double terms[refinement::kTerms] = {};
+  double step[6];
+  terms[refinement::kGradientOffset] = std::nan("");
+  terms[0] = 1.0;
+  EXPECT_FALSE(refinement::dampedPoseStep(terms, 1e-3, step)) << "a NaN gradient gives no step";
+  for (double& t : terms) t = 0.0;
+  terms[0] = -1.0;  // H(0, 0) < 0: not positive definite
+  EXPECT_FALSE(refinement::dampedPoseStep(terms, 1e-3, step));
+}
+
+// The Cayley rotation of a pose step: a rotation (orthonormal, det 1), exact for a zero step, equal to the
+// exponential map to second order (the error shrinks with the cube of the angle), and t moved as R.
+TEST(PoseLm, StepIsARigidMotionThatFollowsTheExponentialMap) {
+  refinement::Pose pose;
+  const Eigen::Matrix3d R0 = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) pose.r[3 * r + c] = R0(r, c);
+    pose.t[r] = 10.0 * (r + 1);
+  }
+  const double zero[6] = {0, 0, 0, 0, 0, 0};
+  const refinement::Pose same = refinement::stepPose(pose, zero);
+  for (int i = 0; i < 9; ++i) EXPECT_EQ(same.r[i], pose.r[i]);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(same.t[i], pose.t[i]);
+  double previousError = 0;
+  for (const double angle : {0.1, 0.05, 0.025}) {
+    const Eigen::Vector3d w = angle * Eigen::Vector3d(-2, 1, 0.5).normalized();
+    const double step[6] = {1.0, -2.0, 0.5, w.x(), w.y(), w.z()};
+    const refinement::Pose moved = refinement::stepPose(pose, step);
+    const Eigen::Matrix3d R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(moved.r);
+    EXPECT_NEAR((R.transpose() * R - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-14);
+    EXPECT_NEAR(R.determinant(), 1.0, 1e-14);
+    const Eigen::Matrix3d C = R * R0.transpose();  // the step's own rotation
+    const Eigen::Matrix3d expW = Eigen::AngleAxisd(angle, w.normalized()).toRotationMatrix();
+    const double error = (C - expW).norm();
+    EXPECT_LT(error, angle * angle * angle);
+    if (previousError > 0) EXPECT_LT(error, previousError / 6.0) << "third order: halving the angle divides by 8";
+    previousError = error;
+    const Eigen::Vector3d t = C * Eigen::Vector3d(10, 20, 30) + Eigen::Vector3d(1.0, -2.0, 0.5);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(moved.t[i], t(i), 1e-12);
+  }
 }
 
 // The pose step alone: fixed points, exact projections, two frames perturbed by 2 degrees and 3 mm. Exact data

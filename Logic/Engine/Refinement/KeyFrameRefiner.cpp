@@ -655,14 +655,19 @@ RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches,
     const cv::Mat valid = measurement.validPixelMask();
     const Eigen::Matrix3f R = T_camera_world.block<3, 3>(0, 0).cast<float>();
     const Eigen::Vector3f t = T_camera_world.block<3, 1>(0, 3).cast<float>();
-    std::vector<int> usable;
-    for (std::size_t i = 0; i < modelPointsWorldMm.size(); ++i) {
-      const Eigen::Vector3f c = R * modelPointsWorldMm[i] + t;
-      if (!(c.z() >= kMinVisibleDepthMm)) continue;
+    // Flagged in parallel (a model sample has 10^5 points: 0.3 ms on one thread), kept in order.
+    std::vector<uint8_t> lands(modelPointsWorldMm.size(), 0);
+    parallelFor<CpuBackend>(static_cast<int64_t>(modelPointsWorldMm.size()), [&](int64_t i) {
+      const Eigen::Vector3f c = R * modelPointsWorldMm[static_cast<std::size_t>(i)] + t;
+      if (!(c.z() >= kMinVisibleDepthMm)) return;
       const int x = static_cast<int>(std::floor(s.geometry.focalPx * c.x() / c.z() + s.geometry.cxLeftPx + 0.5));
       const int y = static_cast<int>(std::floor(s.geometry.focalPx * c.y() / c.z() + s.geometry.cyPx + 0.5));
-      if (x < 0 || y < 0 || x >= valid.cols || y >= valid.rows) continue;
-      if (valid.at<uint8_t>(y, x)) usable.push_back(static_cast<int>(i));
+      if (x < 0 || y < 0 || x >= valid.cols || y >= valid.rows) return;
+      lands[static_cast<std::size_t>(i)] = valid.at<uint8_t>(y, x) ? 1 : 0;
+    });
+    std::vector<int> usable;
+    for (std::size_t i = 0; i < lands.size(); ++i) {
+      if (lands[i]) usable.push_back(static_cast<int>(i));
     }
     const std::size_t samples = std::min<std::size_t>(usable.size(), static_cast<std::size_t>(p.icpSamples));
     if (static_cast<int>(samples) >= p.minIcpPoints) {

@@ -3,7 +3,9 @@
 
 namespace tissuemosaic::refinement {
 
-void evaluatePoseTermsCpu(RefinementWorkspace& workspace) { evaluatePoseTerms<CpuBackend>(workspace); }
+void runPoseStepsCpu(RefinementWorkspace& workspace, int iterations) {
+  runPoseSteps<CpuBackend>(workspace, iterations);
+}
 void updatePointsCpu(RefinementWorkspace& workspace) { updatePoints<CpuBackend>(workspace); }
 
 }  // namespace tissuemosaic::refinement

@@ -3,7 +3,9 @@
 
 namespace tissuemosaic::refinement {
 
-void evaluatePoseTermsCuda(RefinementWorkspace& workspace) { evaluatePoseTerms<CudaBackend>(workspace); }
+void runPoseStepsCuda(RefinementWorkspace& workspace, int iterations) {
+  runPoseSteps<CudaBackend>(workspace, iterations);
+}
 void updatePointsCuda(RefinementWorkspace& workspace) { updatePoints<CudaBackend>(workspace); }
 
 }  // namespace tissuemosaic::refinement

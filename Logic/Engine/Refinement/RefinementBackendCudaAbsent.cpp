@@ -4,7 +4,7 @@
 
 namespace tissuemosaic::refinement {
 
-void evaluatePoseTermsCuda(RefinementWorkspace&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
+void runPoseStepsCuda(RefinementWorkspace&, int) { throw Error("this build of TissueMosaic has no CUDA backend"); }
 void updatePointsCuda(RefinementWorkspace&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
 
 }  // namespace tissuemosaic::refinement

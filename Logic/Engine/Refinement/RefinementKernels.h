@@ -107,8 +107,10 @@ struct BaPoseTerms {
   RobustConstants robust;
   double* terms;
   int64_t stride;
+  const int* stop;  ///< when set (PoseLmKernels.h), the LM has ended: nothing to do
 
   TM_HOST_DEVICE void operator()(int64_t i) const {
+    if (*stop) return;
     double acc[kTerms];
     for (int k = 0; k < kTerms; ++k) acc[k] = 0.0;
     const Observation o = observations[i];
@@ -147,7 +149,7 @@ struct BaPoseTerms {
 /// gain. Writes residual `offset + i`.
 struct IcpPoseTerms {
   const Float3* modelPointsWorldMm;
-  Pose pose;
+  const Pose* poses;  ///< poses[0] is the key frame's
   ImageView<const Float3> measuredPointsCameraMm;
   ImageView<const Float3> measuredNormalsCamera;
   Camera camera;
@@ -155,8 +157,11 @@ struct IcpPoseTerms {
   double* terms;
   int64_t stride;
   int64_t offset;
+  const int* stop;  ///< as BaPoseTerms::stop
 
   TM_HOST_DEVICE void operator()(int64_t i) const {
+    if (*stop) return;
+    const Pose pose = poses[0];
     double acc[kTerms];
     for (int k = 0; k < kTerms; ++k) acc[k] = 0.0;
     const double beta = robust.beta, tukey = robust.icpTukeyMm;
@@ -194,12 +199,15 @@ struct ReduceTerms {
   int64_t stride;
   const int* chunkBegin;
   double* partials;
+  const int* stop;  ///< as BaPoseTerms::stop
 
   TM_HOST_DEVICE void operator()(int64_t i) const {
+    if (*stop) return;
     const int64_t chunk = i / kTerms;
     const int k = static_cast<int>(i % kTerms);
     const double* column = terms + k * stride;
     double sum = 0.0;
+    TM_UNROLL_BY(16)
     for (int j = chunkBegin[chunk]; j < chunkBegin[chunk + 1]; ++j) sum += column[j];
     partials[i] = sum;
   }

@@ -3,9 +3,10 @@
 /// @brief The device-resident working set of one key-frame refinement and the backend entry points that run the
 /// per-residual and per-point steps on it. The steps are one template (RefinementPipeline.inl) instantiated for
 /// the CPU (RefinementBackendCpu.cpp) and for CUDA (RefinementBackendCuda.cu); RefinementBackendCudaAbsent.cpp
-/// stands in without CUDA. The LM bookkeeping around them (RefinementSolver.cpp) is the same for both.
+/// stands in without CUDA. The LM's pose iterations run there too (PoseLmKernels.h); RefinementSolver.cpp drives them.
 #include "Core/Buffer.h"
 #include "Core/Image.h"
+#include "PoseLmKernels.h"
 #include "RefinementKernels.h"
 
 namespace tissuemosaic::refinement {
@@ -18,6 +19,7 @@ struct RefinementWorkspace {
   RobustConstants robust{};
   int frameCount = 0, observationCount = 0, icpCount = 0, freeCount = 0, chunkCount = 0;
   int pointIterations = 1;           ///< LM iterations of each point update
+  double initialLambda = 1e-3;       ///< of the pose LM
   Buffer<Pose> poses;                ///< frameCount; frame 0 is the key frame
   Buffer<double> pointsWorldMm;      ///< 3 per point
   Buffer<uint8_t> pointFixed;        ///< 1 per point
@@ -31,12 +33,23 @@ struct RefinementWorkspace {
   Buffer<double> terms;              ///< kTerms x (observationCount + icpCount), structure of arrays
   Buffer<int> chunkBegin;            ///< chunkCount + 1
   Buffer<double> partials;           ///< chunkCount x kTerms
-  Pose keyFramePose{};               ///< host copy of poses[0] for the ICP functor
+  Buffer<int> frameChunkBegin;       ///< frameCount + 1: frame f's chunks are frameChunks[begin[f] .. begin[f + 1])
+  Buffer<int> frameChunks;           ///< chunkCount
+  // The pose LM's state (PoseLmKernels.h).
+  Buffer<Pose> candidatePoses;       ///< frameCount
+  Buffer<uint8_t> stepped;           ///< frameCount
+  Buffer<double> poseLambdas;        ///< frameCount
+  Buffer<double> currentTerms;       ///< frameCount x kTerms, at poses
+  Buffer<double> trialTerms;         ///< frameCount x kTerms, at candidatePoses
+  Buffer<double> gains;              ///< frameCount: relative cost decrease of the last iteration
+  Buffer<PoseLmControl> control;     ///< 1
 };
 
-/// Writes every residual's terms at the poses in workspace.poses and sums them per chunk into workspace.partials.
-void evaluatePoseTermsCpu(RefinementWorkspace& workspace);
-void evaluatePoseTermsCuda(RefinementWorkspace& workspace);
+/// Queues `iterations` LM iterations on every pose at once (points fixed), after evaluating currentTerms at the
+/// poses; with 0 it only evaluates. Nothing is waited for: read currentTerms, poses or control afterwards (their
+/// download waits). Frames whose steps kept failing start again from initialLambda.
+void runPoseStepsCpu(RefinementWorkspace& workspace, int iterations);
+void runPoseStepsCuda(RefinementWorkspace& workspace, int iterations);
 /// Runs UpdatePoints on every free point (poses fixed).
 void updatePointsCpu(RefinementWorkspace& workspace);
 void updatePointsCuda(RefinementWorkspace& workspace);

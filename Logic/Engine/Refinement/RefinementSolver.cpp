@@ -4,12 +4,7 @@
 #include "Core/Error.h"
 #include "RefinementPipeline.h"
 
-#include <Eigen/Cholesky>
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -20,79 +15,57 @@ namespace {
 
 constexpr int kChunkResiduals = 256;  ///< residuals summed per reduction thread (64: no faster on the H100)
 constexpr int kMinFixedForStart = 10;  ///< fixed-point observations a frame needs to start from them alone
-/// A relative cost decrease below this ends the LM iterations (about 1e-4 px of reprojection error left to gain).
-constexpr double kConvergedGain = 1e-9;
-
-using FrameTerms = std::array<double, kTerms>;
-
-Pose applyStep(const Pose& pose, const Eigen::Matrix<double, 6, 1>& step) {
-  const Eigen::Vector3d w = step.tail<3>();
-  const double angle = w.norm();
-  const Eigen::Matrix3d exp =
-      angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(pose.r);
-  const Eigen::Vector3d t(pose.t[0], pose.t[1], pose.t[2]);
-  Pose out;
-  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(out.r) = exp * R;
-  Eigen::Map<Eigen::Vector3d>(out.t) = exp * t + step.head<3>();
-  return out;
-}
-
-/// The damped 6x6 step -(H + lambda diag(H))^-1 g; false when the system cannot be solved.
-bool poseStep(const FrameTerms& terms, double lambda, Eigen::Matrix<double, 6, 1>& step) {
-  Eigen::Matrix<double, 6, 6> H;
-  Eigen::Matrix<double, 6, 1> g;
-  int k = 0;
-  for (int i = 0; i < 6; ++i) {
-    for (int j = i; j < 6; ++j) H(i, j) = H(j, i) = terms[k++];
-    g(i) = terms[kGradientOffset + i];
-  }
-  const double floor = 1e-12 * std::max(H.diagonal().maxCoeff(), 1e-300);
-  for (int i = 0; i < 6; ++i) H(i, i) += lambda * std::max(H(i, i), floor);
-  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(H);
-  if (ldlt.info() != Eigen::Success || !(H.diagonal().minCoeff() > 0)) return false;
-  step = ldlt.solve(-g);
-  return step.allFinite();
-}
 
 struct Layout {
   std::vector<Observation> observations;  ///< sorted by frame
   std::vector<int> chunkBegin, chunkFrame;
+  std::vector<int> frameChunkBegin, frameChunks;  ///< the chunks of each frame, in chunk order
   std::vector<int> freePoints, pointObservationBegin, pointObservationIndex;
 };
 
+/// Counting sorts (stable, linear): the layout is built once per key frame on the solve's critical path.
 Layout makeLayout(const RefinementProblem& problem) {
   Layout layout;
   const int frames = static_cast<int>(problem.poses.size());
-  layout.observations = problem.observations;
-  std::stable_sort(layout.observations.begin(), layout.observations.end(),
-                   [](const Observation& a, const Observation& b) { return a.frame < b.frame; });
-  const int observations = static_cast<int>(layout.observations.size());
+  const int observations = static_cast<int>(problem.observations.size());
+  std::vector<int> frameBegin(frames + 1, 0);
+  for (const Observation& o : problem.observations) ++frameBegin[o.frame + 1];
+  std::partial_sum(frameBegin.begin(), frameBegin.end(), frameBegin.begin());
+  layout.observations.resize(problem.observations.size());
+  std::vector<int> next(frameBegin.begin(), frameBegin.end() - 1);
+  for (const Observation& o : problem.observations) layout.observations[next[o.frame]++] = o;
+
   const auto addChunks = [&](int begin, int end, int frame) {
     for (int c = begin; c < end; c += kChunkResiduals) {
       layout.chunkBegin.push_back(c);
       layout.chunkFrame.push_back(frame);
     }
   };
-  int begin = 0;
-  for (int f = 0; f < frames; ++f) {
-    int end = begin;
-    while (end < observations && layout.observations[end].frame == f) ++end;
-    addChunks(begin, end, f);
-    begin = end;
-  }
-  addChunks(observations, observations + static_cast<int>(problem.modelPointsWorldMm.size()), 0);
-  layout.chunkBegin.push_back(observations + static_cast<int>(problem.modelPointsWorldMm.size()));
+  for (int f = 0; f < frames; ++f) addChunks(frameBegin[f], frameBegin[f + 1], f);
+  const int residuals = observations + static_cast<int>(problem.modelPointsWorldMm.size());
+  addChunks(observations, residuals, 0);
+  layout.chunkBegin.push_back(residuals);
+  layout.frameChunkBegin.assign(frames + 1, 0);
+  for (int frame : layout.chunkFrame) ++layout.frameChunkBegin[frame + 1];
+  std::partial_sum(layout.frameChunkBegin.begin(), layout.frameChunkBegin.end(), layout.frameChunkBegin.begin());
+  layout.frameChunks.resize(layout.chunkFrame.size());
+  next.assign(layout.frameChunkBegin.begin(), layout.frameChunkBegin.end() - 1);
+  for (int c = 0; c < static_cast<int>(layout.chunkFrame.size()); ++c) layout.frameChunks[next[layout.chunkFrame[c]]++] = c;
 
   // Free points with their observations (CSR), in point order.
   const int points = static_cast<int>(problem.pointFixed.size());
-  std::vector<std::vector<int>> byPoint(points);
-  for (int i = 0; i < observations; ++i) byPoint[layout.observations[i].point].push_back(i);
+  std::vector<int> pointBegin(points + 1, 0);
+  for (const Observation& o : layout.observations) ++pointBegin[o.point + 1];
+  std::partial_sum(pointBegin.begin(), pointBegin.end(), pointBegin.begin());
+  std::vector<int> byPoint(layout.observations.size());
+  next.assign(pointBegin.begin(), pointBegin.end() - 1);
+  for (int i = 0; i < observations; ++i) byPoint[next[layout.observations[i].point]++] = i;
   layout.pointObservationBegin.push_back(0);
   for (int p = 0; p < points; ++p) {
-    if (problem.pointFixed[p] || byPoint[p].empty()) continue;
+    if (problem.pointFixed[p] || pointBegin[p] == pointBegin[p + 1]) continue;
     layout.freePoints.push_back(p);
-    layout.pointObservationIndex.insert(layout.pointObservationIndex.end(), byPoint[p].begin(), byPoint[p].end());
+    layout.pointObservationIndex.insert(layout.pointObservationIndex.end(), byPoint.begin() + pointBegin[p],
+                                        byPoint.begin() + pointBegin[p + 1]);
     layout.pointObservationBegin.push_back(static_cast<int>(layout.pointObservationIndex.size()));
   }
   return layout;
@@ -168,65 +141,32 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
   w.terms = Buffer<double>(device, static_cast<std::size_t>(kTerms) * (w.observationCount + w.icpCount));
   w.chunkBegin = upload(device, layout.chunkBegin);
   w.partials = Buffer<double>(device, static_cast<std::size_t>(w.chunkCount) * kTerms);
+  w.frameChunkBegin = upload(device, layout.frameChunkBegin);
+  w.frameChunks = upload(device, layout.frameChunks);
+  w.initialLambda = parameters.initialLambda;
+  const std::vector<double> initialLambdas(frames, parameters.initialLambda);
+  w.candidatePoses = Buffer<Pose>(device, static_cast<std::size_t>(frames));
+  w.stepped = Buffer<uint8_t>(device, static_cast<std::size_t>(frames));
+  w.poseLambdas = upload(device, initialLambdas);
+  w.currentTerms = Buffer<double>(device, static_cast<std::size_t>(frames) * kTerms);
+  w.trialTerms = Buffer<double>(device, static_cast<std::size_t>(frames) * kTerms);
+  w.gains = Buffer<double>(device, static_cast<std::size_t>(frames));
+  w.control = upload(device, std::vector<PoseLmControl>{PoseLmControl{0, 0}});
 
-  const auto evaluateCpuOrCuda = device == Device::Cuda ? evaluatePoseTermsCuda : evaluatePoseTermsCpu;
-  const auto updatePointsCpuOrCuda = device == Device::Cuda ? updatePointsCuda : updatePointsCpu;
-  std::vector<double> partials(w.partials.size());
-  // Per-frame sums of the terms at the given poses, chunk by chunk in a fixed order.
-  const auto evaluate = [&](const std::vector<Pose>& poses) {
-    w.poses.upload(poses.data());
-    w.keyFramePose = poses[0];
-    evaluateCpuOrCuda(w);
-    w.partials.download(partials.data());
-    std::vector<FrameTerms> sums(frames);
-    for (FrameTerms& s : sums) s.fill(0.0);
-    for (int c = 0; c < w.chunkCount; ++c) {
-      FrameTerms& s = sums[layout.chunkFrame[c]];
-      for (int k = 0; k < kTerms; ++k) s[k] += partials[static_cast<std::size_t>(c) * kTerms + k];
-    }
-    return sums;
-  };
-  const auto totalCost = [&](const std::vector<FrameTerms>& sums) {
+  const auto runPoseSteps = device == Device::Cuda ? runPoseStepsCuda : runPoseStepsCpu;
+  const auto updatePoints = device == Device::Cuda ? updatePointsCuda : updatePointsCpu;
+  // The total cost at the poses: waits for the queued iterations.
+  std::vector<double> currentTerms(static_cast<std::size_t>(frames) * kTerms);
+  const auto currentCost = [&] {
+    w.currentTerms.download(currentTerms.data());
     double cost = 0;
-    for (const FrameTerms& s : sums) cost += s[kCostOffset];
+    for (int f = 0; f < frames; ++f) cost += currentTerms[static_cast<std::size_t>(f) * kTerms + kCostOffset];
     return cost;
   };
 
   RefinementSolution solution;
-  solution.poses = problem.poses;
-  std::vector<FrameTerms> current = evaluate(solution.poses);
-  solution.initialCost = totalCost(current);
-  std::vector<double> lambdas(frames, parameters.initialLambda);
-  // LM on every pose at once; the frames are independent given the points, so each keeps its step only when its
-  // own cost falls.
-  const auto poseSteps = [&](int iterations) {
-    for (double& lambda : lambdas) lambda = lambda > 1e12 ? parameters.initialLambda : lambda;  // points moved
-    for (int it = 0; it < iterations; ++it) {
-      std::vector<Pose> candidates = solution.poses;
-      bool anyStep = false;
-      for (int f = 0; f < frames; ++f) {
-        Eigen::Matrix<double, 6, 1> step;
-        if (lambdas[f] > 1e12 || !poseStep(current[f], lambdas[f], step)) continue;
-        candidates[f] = applyStep(solution.poses[f], step);
-        anyStep = true;
-      }
-      if (!anyStep) break;
-      const std::vector<FrameTerms> trial = evaluate(candidates);
-      ++solution.iterations;
-      double gain = 0;  // the largest relative cost decrease of a frame
-      for (int f = 0; f < frames; ++f) {
-        if (trial[f][kCostOffset] < current[f][kCostOffset]) {
-          gain = std::max(gain, (current[f][kCostOffset] - trial[f][kCostOffset]) / current[f][kCostOffset]);
-          solution.poses[f] = candidates[f];
-          current[f] = trial[f];
-          lambdas[f] = std::max(lambdas[f] * 0.1, 1e-12);
-        } else {
-          lambdas[f] *= 10.0;
-        }
-      }
-      if (gain > 0 && gain < kConvergedGain) break;  // converged (a rejected step only raises lambda)
-    }
-  };
+  runPoseSteps(w, 0);
+  solution.initialCost = currentCost();
 
   // Start: frames that see enough fixed points take their pose from those alone (free points start where the
   // tracked key-frame pose put them, so they would hold every pose near its tracked error; alternating steps
@@ -242,27 +182,27 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
     }
     if (any) {
       w.frameFixedOnly.upload(fixedOnly.data());
-      current = evaluate(solution.poses);
-      poseSteps(parameters.lmIterations);
+      runPoseSteps(w, parameters.lmIterations);
       w.frameFixedOnly.setZero();
-      std::fill(lambdas.begin(), lambdas.end(), parameters.initialLambda);
+      w.poseLambdas.upload(initialLambdas.data());
     }
   }
 
+  // Alternations: the free points, then every pose at once (the frames are independent given the points, so each
+  // keeps its step only when its own cost falls).
   double previousCost = std::numeric_limits<double>::infinity();
+  double cost = solution.initialCost;
   for (int a = 0; a < parameters.alternations; ++a) {
-    if (w.freeCount > 0) {
-      w.poses.upload(solution.poses.data());
-      updatePointsCpuOrCuda(w);
-    }
-    current = evaluate(solution.poses);
-    poseSteps(parameters.lmIterations);
-    const double cost = totalCost(current);
+    if (w.freeCount > 0) updatePoints(w);
+    runPoseSteps(w, parameters.lmIterations);
+    cost = currentCost();
     if (previousCost - cost <= kConvergedGain * previousCost) break;
     previousCost = cost;
   }
-  solution.finalCost = totalCost(current);
+  solution.finalCost = cost;
+  solution.poses = w.poses.toHost();
   solution.pointsWorldMm = w.pointsWorldMm.toHost();
+  solution.iterations = w.control.toHost()[0].iterations;
   return solution;
 }
 
