@@ -61,8 +61,10 @@ cv::Mat readPfm(const std::string& path) {
   const std::streamsize rowBytes = static_cast<std::streamsize>(width * channels * sizeof(float));
   for (int y = image.rows - 1; y >= 0; --y) {
     file.read(reinterpret_cast<char*>(image.ptr<float>(y)), rowBytes);
-    require(file.gcount() == rowBytes, context + "the file is truncated (" + std::to_string(width) + "x" +
-                                           std::to_string(height) + " floats expected)");
+    if (file.gcount() != rowBytes) {
+      throw Error(context + "the file is truncated (" + std::to_string(width) + "x" + std::to_string(height) +
+                  " floats expected)");
+    }
   }
   const bool fileLittle = scale < 0;
   if (fileLittle != hostIsLittleEndian()) swapBytes(image.ptr<float>(), image.total() * channels);

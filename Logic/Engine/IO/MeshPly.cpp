@@ -54,8 +54,10 @@ void writeMeshPly(const std::string& path, const TriangleMesh& mesh, const std::
   const auto vertexCount = static_cast<int64_t>(mesh.verticesMm.size());
   for (const cv::Vec3i& t : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
-      require(t[k] >= 0 && t[k] < vertexCount, "mesh PLY '" + path + "': a triangle refers to vertex " +
-                                                   std::to_string(t[k]) + " of " + std::to_string(vertexCount));
+      if (t[k] < 0 || t[k] >= vertexCount) {
+        throw Error("mesh PLY '" + path + "': a triangle refers to vertex " + std::to_string(t[k]) + " of " +
+                    std::to_string(vertexCount));
+      }
     }
   }
   std::ofstream file(path, std::ios::binary);

@@ -153,8 +153,9 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
           "DynamicR1PPnP: candidate lists (" + std::to_string(candidates.size()) + ") must match the 3D points (" +
               std::to_string(points.size()) + ")");
   for (int index : voteOrder) {
-    require(index >= 0 && index < n, "PnP: vote order index " + std::to_string(index) + " is outside [0, " +
-                                         std::to_string(n) + ")");
+    if (index < 0 || index >= n) {  // no message built per index (this runs per match, every frame)
+      throw Error("PnP: vote order index " + std::to_string(index) + " is outside [0, " + std::to_string(n) + ")");
+    }
   }
   if (n < 4) return failure("PnP needs at least 4 matches, got " + std::to_string(n));
   const bool intrinsicsOk = std::isfinite(k.fxPx) && std::isfinite(k.fyPx) && std::isfinite(k.cxPx) &&

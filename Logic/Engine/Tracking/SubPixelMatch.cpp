@@ -99,8 +99,9 @@ std::vector<SubPixelMatchAnswer> SubPixelMatcher::refine(const std::vector<cv::M
   std::vector<subpixel::Query> hostQueries(queries.size());
   for (std::size_t i = 0; i < queries.size(); ++i) {
     const SubPixelMatchQuery& q = queries[i];
-    require(q.referenceImage >= 0 && q.referenceImage < count && q.image >= 0 && q.image < count,
-            "sub-pixel matching: a query names an image outside the list of " + std::to_string(count));
+    if (q.referenceImage < 0 || q.referenceImage >= count || q.image < 0 || q.image >= count) {
+      throw Error("sub-pixel matching: a query names an image outside the list of " + std::to_string(count));
+    }
     hostQueries[i] = {q.referenceImage, q.image, q.fromPx.x, q.fromPx.y, q.toPx.x, q.toPx.y};
   }
 
