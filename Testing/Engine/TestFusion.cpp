@@ -119,6 +119,45 @@ TEST(SurfaceMeasurement, ValidMaskMarksThePixelsWithAPointAndANormal) {
   EXPECT_EQ(cv::norm(m.validPixelMask(), fromMask, cv::NORM_INF), 0);
 }
 
+// A kept disparity range (the pipeline's working depth range) measures exactly what the disparity with the others
+// set to NaN measures: the same points, normals and mask, bit for bit; the bounds themselves are kept.
+TEST(SurfaceMeasurement, KeptRangeEqualsMissingDisparitiesOutsideIt) {
+  const RectifiedGeometry g = fusionGeometry(97, 61, 250, -8);
+  cv::Mat disparity(g.imageSize, CV_32F);
+  cv::RNG rng(12);
+  rng.fill(disparity, cv::RNG::UNIFORM, 18.0, 26.0);
+  DisparityRangePx kept;
+  kept.lowestPx = 20.0f;
+  kept.highestPx = 24.0f;
+  disparity.at<float>(3, 3) = kept.lowestPx;
+  disparity.at<float>(4, 4) = kept.highestPx;
+  cv::Mat masked = disparity.clone();
+  int outside = 0;
+  for (float& d : cv::Mat_<float>(masked)) {
+    if (!(d >= kept.lowestPx && d <= kept.highestPx)) {
+      d = NAN;
+      ++outside;
+    }
+  }
+  ASSERT_GT(outside, static_cast<int>(disparity.total() / 4));
+  const SurfaceMeasurement ranged =
+      measureSurface(disparity, test::uniformImage(g), g, Device::Cpu, 1, 50.0, SurfaceMapResidence::HostAndDevice, kept);
+  const SurfaceMeasurement reference = measureSurface(masked, test::uniformImage(g), g, Device::Cpu, 1, 50.0);
+  EXPECT_EQ(ranged.validPixels, reference.validPixels);
+  EXPECT_EQ(cv::norm(ranged.validMask, reference.validMask, cv::NORM_INF), 0);
+  EXPECT_TRUE(std::isfinite(ranged.pointsCameraMm.at<cv::Vec3f>(3, 3)[2])) << "the lowest bound is kept";
+  EXPECT_TRUE(std::isfinite(ranged.pointsCameraMm.at<cv::Vec3f>(4, 4)[2])) << "the highest bound is kept";
+  for (int y = 0; y < g.imageSize.height; ++y)
+    for (int x = 0; x < g.imageSize.width; ++x) {
+      const cv::Vec3f a = ranged.pointsCameraMm.at<cv::Vec3f>(y, x), b = reference.pointsCameraMm.at<cv::Vec3f>(y, x);
+      const cv::Vec3f na = ranged.normalsCamera.at<cv::Vec3f>(y, x), nb = reference.normalsCamera.at<cv::Vec3f>(y, x);
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(a[c] == b[c] || (std::isnan(a[c]) && std::isnan(b[c]))) << "point at " << x << "," << y;
+        ASSERT_TRUE(na[c] == nb[c] || (std::isnan(na[c]) && std::isnan(nb[c]))) << "normal at " << x << "," << y;
+      }
+    }
+}
+
 TEST(SurfaceMeasurement, NormalsOfATiltedPlaneMatchTheAnalyticNormal) {
   const RectifiedGeometry g = fusionGeometry();
   PlanePatch plane;

@@ -19,12 +19,15 @@ struct DisparityToPoints {
   ImageView<const float> disparityPx;
   ImageView<Float3> pointsMm;
   Reprojection reprojection;
+  float keptLowestPx, keptHighestPx;  ///< a disparity outside counts as missing
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const int i = static_cast<int>(index);
     const int y = i / disparityPx.width, x = i - y * disparityPx.width;
-    const double d = disparityPx[index];
+    const float kept = disparityPx[index];
     pointsMm[index] = nanFloat3();
+    if (!(kept >= keptLowestPx && kept <= keptHighestPx)) return;
+    const double d = kept;
     if (!(fabs(d) <= 1.7976931348623157e308)) return;
     const double(&q)[4][4] = reprojection.q;
     double h[4];
@@ -75,8 +78,9 @@ struct PointNormals {
 template <class Backend>
 void measureSurfaceOn(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
                       ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
-                      float maxDepthJumpMm) {
-  parallelFor<Backend>(disparityPx.pixelCount(), DisparityToPoints{disparityPx, pointsMm, reprojection});
+                      float maxDepthJumpMm, float keptLowestPx, float keptHighestPx) {
+  parallelFor<Backend>(disparityPx.pixelCount(),
+                       DisparityToPoints{disparityPx, pointsMm, reprojection, keptLowestPx, keptHighestPx});
   parallelFor<Backend>(pointsMm.pixelCount(),
                        PointNormals{pointsMm, normals, valid, normalRadiusPx, maxDepthJumpMm});
 }
@@ -85,9 +89,11 @@ void measureSurfaceOn(ImageView<const float> disparityPx, ImageView<Float3> poin
 /// throws Error without CUDA).
 void measureSurfaceCpu(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
                        ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
-                       float maxDepthJumpMm);
+                       float maxDepthJumpMm, float keptLowestPx,
+                       float keptHighestPx);
 void measureSurfaceCuda(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
                         ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
-                        float maxDepthJumpMm);
+                        float maxDepthJumpMm, float keptLowestPx,
+                        float keptHighestPx);
 
 }  // namespace tissuemosaic::surface

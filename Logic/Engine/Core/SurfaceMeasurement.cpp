@@ -16,15 +16,16 @@ namespace surface {
 
 void measureSurfaceCpu(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
                        ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
-                       float maxDepthJumpMm) {
-  measureSurfaceOn<CpuBackend>(disparityPx, pointsMm, normals, valid, reprojection, normalRadiusPx, maxDepthJumpMm);
+                       float maxDepthJumpMm, float keptLowestPx, float keptHighestPx) {
+  measureSurfaceOn<CpuBackend>(disparityPx, pointsMm, normals, valid, reprojection, normalRadiusPx, maxDepthJumpMm,
+                               keptLowestPx, keptHighestPx);
 }
 
 }  // namespace surface
 
 SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx,
-                                  double maxDepthJumpMm, SurfaceMapResidence residence) {
+                                  double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept) {
   require(!disparityPx.empty() && disparityPx.type() == CV_32FC1, "measureSurface: the disparity map must be a non-empty CV_32FC1 image");
   require(disparityPx.size() == geometry.imageSize,
           "measureSurface: the disparity map is " + std::to_string(disparityPx.cols) + "x" +
@@ -60,7 +61,7 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
   }
   const auto measure = device == Device::Cuda ? surface::measureSurfaceCuda : surface::measureSurfaceCpu;
   measure(disparityImage.view(), maps->pointsCameraMm.view(), maps->normalsCamera.view(), valid.view(), reprojection,
-          normalRadiusPx, static_cast<float>(maxDepthJumpMm));
+          normalRadiusPx, static_cast<float>(maxDepthJumpMm), kept.lowestPx, kept.highestPx);
 
   profiling::ScopedTimer timer("host: surface measurement, download and colour");
   SurfaceMeasurement measurement;

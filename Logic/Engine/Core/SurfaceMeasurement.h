@@ -9,6 +9,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <limits>
 #include <memory>
 
 namespace tissuemosaic {
@@ -60,14 +61,23 @@ enum class SurfaceMapResidence {
   DeviceOnly,     ///< only the valid-pixel mask comes down (0.5 MB instead of 12 MB at 960x540)
 };
 
+/// Disparities a measurement keeps: the others count as missing (e.g. the depth range fusion works in).
+struct DisparityRangePx {
+  float lowestPx = -std::numeric_limits<float>::infinity();
+  float highestPx = std::numeric_limits<float>::infinity();
+};
+
 /// Builds the measurement from a left-view disparity (CV_32F, NaN = none) and the rectified left image (8-bit grey,
 /// BGR or BGRA, same size): points as disparityToDepthMm / reconstructScene, normals from the cross product of the
 /// central differences of the neighbouring points `normalRadiusPx` away (NaN where a neighbour is missing or the
 /// depth jumps by more than `maxDepthJumpMm`). Runs on `device`; on CUDA the maps also stay on the device
-/// (`onDevice`), and `residence` says whether they come to the host too. Throws Error on empty or mismatched inputs.
+/// (`onDevice`), and `residence` says whether they come to the host too. A disparity outside `kept` counts as
+/// missing (tested in the kernel: no masked copy of the disparity on the host). Throws Error on empty or mismatched
+/// inputs.
 SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx = 2,
                                   double maxDepthJumpMm = 2.0,
-                                  SurfaceMapResidence residence = SurfaceMapResidence::HostAndDevice);
+                                  SurfaceMapResidence residence = SurfaceMapResidence::HostAndDevice,
+                                  DisparityRangePx kept = {});
 
 }  // namespace tissuemosaic

@@ -5,7 +5,7 @@
 namespace tissuemosaic::surface {
 
 void measureSurfaceCuda(ImageView<const float>, ImageView<Float3>, ImageView<Float3>, ImageView<uint8_t>,
-                        const Reprojection&, int, float) {
+                        const Reprojection&, int, float, float, float) {
   throw Error("this build of TissueMosaic has no CUDA backend");
 }
 

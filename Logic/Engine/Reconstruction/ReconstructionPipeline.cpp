@@ -25,22 +25,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// The disparity map without the estimates whose depth lies outside the working range [minDepthMm, maxDepthMm].
-cv::Mat withinWorkingRange(const cv::Mat& disparityPx, const RectifiedGeometry& g, const FusionParameters& fusion) {
+/// The disparities whose depth lies inside the working range [minDepthMm, maxDepthMm] (the rest count as missing).
+DisparityRangePx workingDisparityRange(const RectifiedGeometry& g, const FusionParameters& fusion) {
   const double fb = g.focalPx * g.baselineMm;
-  const float lowest = static_cast<float>(fb / fusion.maxDepthMm - g.doffsPx);
-  const float highest = fusion.minDepthMm > 0 ? static_cast<float>(fb / fusion.minDepthMm - g.doffsPx)
-                                              : std::numeric_limits<float>::infinity();
-  cv::Mat kept = disparityPx.clone();
-  parallelFor<CpuBackend>(
-      kept.rows,
-      [&](int64_t y) {
-        float* row = kept.ptr<float>(static_cast<int>(y));
-        for (int x = 0; x < kept.cols; ++x) {
-          if (!(row[x] >= lowest && row[x] <= highest)) row[x] = std::numeric_limits<float>::quiet_NaN();
-        }
-      },
-      16);
+  DisparityRangePx kept;
+  kept.lowestPx = static_cast<float>(fb / fusion.maxDepthMm - g.doffsPx);
+  if (fusion.minDepthMm > 0) kept.highestPx = static_cast<float>(fb / fusion.minDepthMm - g.doffsPx);
   return kept;
 }
 
@@ -191,9 +181,10 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
       SurfaceAndModel prepared;
       const auto surfaceStart = Clock::now();
       prepared.measurement =
-          measureSurface(withinWorkingRange(result.disparityPx, s.geometry, s.parameters.fusion), result.leftRectified,
-                         s.geometry, s.device, s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
-                         SurfaceMapResidence::DeviceOnly);  // refinement and fusion run on the same device
+          measureSurface(result.disparityPx, result.leftRectified, s.geometry, s.device,
+                         s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
+                         SurfaceMapResidence::DeviceOnly,  // refinement and fusion run on the same device
+                         workingDisparityRange(s.geometry, s.parameters.fusion));
       result.refinementPartsMs.surface = millisecondsSince(surfaceStart);
       const auto sampleStart = Clock::now();
       if (s.fusion.pointCount() > 0) {

@@ -2,8 +2,7 @@
 
 #include "Core/Error.h"
 #include "Core/Statistics.h"
-
-#include <opencv2/core/hal/hal.hpp>
+#include "Tracking/OrbKernels.h"
 
 #include <algorithm>
 #include <cmath>
@@ -105,7 +104,7 @@ ProjectionGuidedMatches matchProjectedPoints(const Points3d& queryPointsWorldMm,
     grid.forNeighbours(u, v, [&](int k) {
       const double du = keypoints[static_cast<std::size_t>(k)].pt.x - u, dv = keypoints[static_cast<std::size_t>(k)].pt.y - v;
       if (du * du + dv * dv > radius2) return;
-      const int distance = cv::hal::normHamming(query, trainDescriptors.ptr<uchar>(k), 32);
+      const int distance = orb::hammingDistance(query, trainDescriptors.ptr<uchar>(k));
       if (distance < bestDistance) {
         bestDistance = distance;
         best = k;

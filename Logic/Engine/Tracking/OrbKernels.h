@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace tissuemosaic::orb {
 
@@ -489,6 +490,15 @@ struct MatchSegments {
 /// Hamming distance of two 256-bit descriptors (4 words each).
 TM_HOST_DEVICE TM_FORCE_INLINE int hammingDistance(uint64_t a0, uint64_t a1, uint64_t a2, uint64_t a3, const uint64_t* q) {
   return popcount64(a0 ^ q[0]) + popcount64(a1 ^ q[1]) + popcount64(a2 ^ q[2]) + popcount64(a3 ^ q[3]);
+}
+
+/// The same for two 32-byte descriptor rows at any alignment (the host's guided matching: inline, four popcounts,
+/// where cv::hal::normHamming is a call through a table).
+TM_HOST_DEVICE TM_FORCE_INLINE int hammingDistance(const uint8_t* a, const uint8_t* b) {
+  uint64_t x[4], y[4];
+  memcpy(x, a, sizeof(x));
+  memcpy(y, b, sizeof(y));
+  return hammingDistance(x[0], x[1], x[2], x[3], y);
 }
 
 /// Per stacked row of A: the k nearest rows of its pair's B (distance asc, index asc); index -1 where that B has
