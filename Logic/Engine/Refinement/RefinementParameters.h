@@ -19,7 +19,10 @@ struct RefinementParameters {
   int icpSamples = 10000;        ///< model points p_i used per key frame (an even subsample of those visible)
 
   // Levenberg-Marquardt, alternating the feature points and the poses (paper: "update alternatively").
-  int alternations = 8;          ///< point step + pose step rounds
+  /// Point step + pose step rounds (more end early once the cost stops falling). One: on the 300-frame bench scan
+  /// (H100) rounds until convergence doubled the solve (0.95 -> 1.9 ms) for no gain in accuracy (model RMSE 0.1485 ->
+  /// 0.1482 mm, key-frame position RMSE 0.2022 -> 0.2031 mm).
+  int alternations = 1;
   int lmIterations = 5;          ///< LM iterations of each step (per point, per pose)
   double initialLambda = 1e-3;   ///< lambda of (J^T J + lambda diag(J^T J)) x = J^T b at the start
 

@@ -196,7 +196,8 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
     if (w.freeCount > 0) updatePoints(w);
     runPoseSteps(w, parameters.lmIterations);
     cost = currentCost();
-    if (previousCost - cost <= kConvergedGain * previousCost) break;
+    // Not after the first round: inf - cost <= gain * inf would hold, and one round would always be all.
+    if (a > 0 && previousCost - cost <= kConvergedGain * previousCost) break;
     previousCost = cost;
   }
   solution.finalCost = cost;
