@@ -199,19 +199,28 @@ TEST(RefinementSolver, PoseStepsConvergeToExactPoses) {
   EXPECT_LT(solution.finalCost, 1e-12 * solution.initialCost);
 }
 
+namespace {
+
+/// Fixes every fifth point (as those of earlier key frames) and moves the others by up to 2 mm per axis.
+void freeAndMovePoints(refinement::RefinementProblem& problem, std::mt19937& random) {
+  std::uniform_real_distribution<double> offset(-2, 2);
+  for (std::size_t i = 0; i < problem.pointFixed.size(); ++i) {
+    problem.pointFixed[i] = i % 5 == 0;
+    if (!problem.pointFixed[i]) {
+      for (int c = 0; c < 3; ++c) problem.pointsWorldMm[3 * i + c] += offset(random);
+    }
+  }
+}
+
+}  // namespace
+
 // The point step alone: exact poses, free points moved by up to 2 mm: each point's 3x3 LM must find it again.
 TEST(RefinementSolver, PointStepsConvergeToExactPoints) {
   const FeatureScene scene(300, 4);
   std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> truth = {truePose(0), truePose(5), truePose(10)};
   refinement::RefinementProblem problem = exactProblem(truth, scene);
   std::mt19937 random(5);
-  std::uniform_real_distribution<double> offset(-2, 2);
-  for (std::size_t i = 0; i < problem.pointFixed.size(); ++i) {
-    problem.pointFixed[i] = i % 5 == 0;  // some points fixed, as those of earlier key frames
-    if (!problem.pointFixed[i]) {
-      for (int c = 0; c < 3; ++c) problem.pointsWorldMm[3 * i + c] += offset(random);
-    }
-  }
+  freeAndMovePoints(problem, random);
   RefinementParameters parameters;
   parameters.lmIterations = 20;
   parameters.alternations = 2;
@@ -240,13 +249,7 @@ TEST(RefinementSolver, AlternatesWhileTheCostFalls) {
   std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> truth = {truePose(0), truePose(5), truePose(10)};
   refinement::RefinementProblem problem = exactProblem(truth, scene);
   std::mt19937 random(7);
-  std::uniform_real_distribution<double> offset(-2, 2);
-  for (std::size_t i = 0; i < problem.pointFixed.size(); ++i) {
-    problem.pointFixed[i] = i % 5 == 0;
-    if (!problem.pointFixed[i]) {
-      for (int c = 0; c < 3; ++c) problem.pointsWorldMm[3 * i + c] += offset(random);
-    }
-  }
+  freeAndMovePoints(problem, random);
   for (std::size_t f = 1; f < truth.size(); ++f) problem.poses[f] = toPose(perturb(truth[f], 1.0, 1.0, random).inverse());
   RefinementParameters parameters;
   parameters.lmIterations = 2;
