@@ -1,5 +1,6 @@
 #include "ProjectionGuidedMatching.h"
 
+#include "Core/CountingSort.h"
 #include "Core/Error.h"
 #include "Core/Statistics.h"
 #include "Tracking/OrbKernels.h"
@@ -24,17 +25,12 @@ public:
     }
     columns_ = static_cast<int>(maxX / cellPx_) + 1;
     rows_ = static_cast<int>(maxY / cellPx_) + 1;
-    // Counting sort of the keypoints by cell: start_[c] .. start_[c + 1] index order_.
-    std::vector<int> cellOf(keypoints.size());
-    start_.assign(static_cast<std::size_t>(columns_) * rows_ + 1, 0);
-    for (std::size_t i = 0; i < keypoints.size(); ++i) {
-      cellOf[i] = cell(keypoints[i].pt.x, keypoints[i].pt.y);
-      ++start_[static_cast<std::size_t>(cellOf[i]) + 1];
-    }
-    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-    order_.resize(keypoints.size());
-    std::vector<int> next(start_.begin(), start_.end() - 1);
-    for (std::size_t i = 0; i < keypoints.size(); ++i) order_[static_cast<std::size_t>(next[cellOf[i]]++)] = static_cast<int>(i);
+    // The keypoints by cell: start_[c] .. start_[c + 1] index order_.
+    Buckets byCell = bucketByKey(static_cast<int>(keypoints.size()), columns_ * rows_, [&](int i) {
+      return cell(keypoints[static_cast<std::size_t>(i)].pt.x, keypoints[static_cast<std::size_t>(i)].pt.y);
+    });
+    start_ = std::move(byCell.begin);
+    order_ = std::move(byCell.order);
   }
 
   /// Calls visit(keypoint index) for every keypoint in the cells around (x, y).

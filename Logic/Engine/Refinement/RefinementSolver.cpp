@@ -1,5 +1,6 @@
 #include "RefinementSolver.h"
 
+#include "Core/CountingSort.h"
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "RefinementPipeline.h"
@@ -7,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 namespace tissuemosaic::refinement {
 
@@ -28,12 +28,9 @@ Layout makeLayout(const RefinementProblem& problem) {
   Layout layout;
   const int frames = static_cast<int>(problem.poses.size());
   const int observations = static_cast<int>(problem.observations.size());
-  std::vector<int> frameBegin(frames + 1, 0);
-  for (const Observation& o : problem.observations) ++frameBegin[o.frame + 1];
-  std::partial_sum(frameBegin.begin(), frameBegin.end(), frameBegin.begin());
-  layout.observations.resize(problem.observations.size());
-  std::vector<int> next(frameBegin.begin(), frameBegin.end() - 1);
-  for (const Observation& o : problem.observations) layout.observations[next[o.frame]++] = o;
+  const Buckets byFrame =
+      bucketByKey(observations, frames, [&](int i) { return problem.observations[static_cast<std::size_t>(i)].frame; });
+  for (int i : byFrame.order) layout.observations.push_back(problem.observations[static_cast<std::size_t>(i)]);
 
   const auto addChunks = [&](int begin, int end, int frame) {
     for (int c = begin; c < end; c += kChunkResiduals) {
@@ -41,31 +38,25 @@ Layout makeLayout(const RefinementProblem& problem) {
       layout.chunkFrame.push_back(frame);
     }
   };
-  for (int f = 0; f < frames; ++f) addChunks(frameBegin[f], frameBegin[f + 1], f);
+  for (int f = 0; f < frames; ++f) addChunks(byFrame.begin[f], byFrame.begin[f + 1], f);
   const int residuals = observations + static_cast<int>(problem.modelPointsWorldMm.size());
   addChunks(observations, residuals, 0);
   layout.chunkBegin.push_back(residuals);
-  layout.frameChunkBegin.assign(frames + 1, 0);
-  for (int frame : layout.chunkFrame) ++layout.frameChunkBegin[frame + 1];
-  std::partial_sum(layout.frameChunkBegin.begin(), layout.frameChunkBegin.end(), layout.frameChunkBegin.begin());
-  layout.frameChunks.resize(layout.chunkFrame.size());
-  next.assign(layout.frameChunkBegin.begin(), layout.frameChunkBegin.end() - 1);
-  for (int c = 0; c < static_cast<int>(layout.chunkFrame.size()); ++c) layout.frameChunks[next[layout.chunkFrame[c]]++] = c;
+  Buckets chunksByFrame = bucketByKey(static_cast<int>(layout.chunkFrame.size()), frames,
+                                      [&](int c) { return layout.chunkFrame[static_cast<std::size_t>(c)]; });
+  layout.frameChunkBegin = std::move(chunksByFrame.begin);
+  layout.frameChunks = std::move(chunksByFrame.order);
 
   // Free points with their observations (CSR), in point order.
   const int points = static_cast<int>(problem.pointFixed.size());
-  std::vector<int> pointBegin(points + 1, 0);
-  for (const Observation& o : layout.observations) ++pointBegin[o.point + 1];
-  std::partial_sum(pointBegin.begin(), pointBegin.end(), pointBegin.begin());
-  std::vector<int> byPoint(layout.observations.size());
-  next.assign(pointBegin.begin(), pointBegin.end() - 1);
-  for (int i = 0; i < observations; ++i) byPoint[next[layout.observations[i].point]++] = i;
+  const Buckets byPoint =
+      bucketByKey(observations, points, [&](int i) { return layout.observations[static_cast<std::size_t>(i)].point; });
   layout.pointObservationBegin.push_back(0);
   for (int p = 0; p < points; ++p) {
-    if (problem.pointFixed[p] || pointBegin[p] == pointBegin[p + 1]) continue;
+    if (problem.pointFixed[p] || byPoint.begin[p] == byPoint.begin[p + 1]) continue;
     layout.freePoints.push_back(p);
-    layout.pointObservationIndex.insert(layout.pointObservationIndex.end(), byPoint.begin() + pointBegin[p],
-                                        byPoint.begin() + pointBegin[p + 1]);
+    layout.pointObservationIndex.insert(layout.pointObservationIndex.end(), byPoint.order.begin() + byPoint.begin[p],
+                                        byPoint.order.begin() + byPoint.begin[p + 1]);
     layout.pointObservationBegin.push_back(static_cast<int>(layout.pointObservationIndex.size()));
   }
   return layout;
