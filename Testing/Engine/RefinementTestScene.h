@@ -210,7 +210,8 @@ inline Eigen::Matrix4d truePose(int frame) {
 }
 
 /// Key frames 0 and 10 at their true poses, then intermediate frames 11..19 and key frame 20 tracked with errors
-/// of `errorDeg` and `errorMm` each (random directions); key frame 20 is refined.
+/// of `errorDeg` and `errorMm` each (random directions); key frame 20 is refined (withIcp: with the scene's surface as
+/// the model and its measurement at the true pose; inTwoHalves: in the refiner's parts rather than one call).
 struct BundleRun {
   RefinementResult result;
   RefinementResult previous;  ///< key frame 10's refinement (from its true pose)
@@ -241,15 +242,15 @@ inline BundleRun runBundleScenario(Device device, const RefinementParameters& pa
   }
   run.trueKey = truePose(20);
   run.trackedKey = perturb(run.trueKey, errorDeg, errorMm, random);
-  if (withIcp) {
-    run.result = refiner.refineKeyFrame(20, observe(20), run.trackedKey, scene.measure(run.trueKey, g),
-                                        FeatureScene::model(0.5), {});
-  } else if (inTwoHalves) {  // KeyFrameRefiner::matchKeyFrame, then refineMatchedKeyFrame
+  const SurfaceMeasurement measurement = withIcp ? scene.measure(run.trueKey, g) : none;
+  const std::vector<Eigen::Vector3f> model = withIcp ? FeatureScene::model(0.5) : std::vector<Eigen::Vector3f>{};
+  if (inTwoHalves) {  // KeyFrameRefiner::matchKeyFrame, selectIcpModelPoints, then refineMatchedKeyFrame
     const StereoFeatures features = observe(20);
     KeyFrameMatches matches = refiner.matchKeyFrame(20, features, run.trackedKey);
-    run.result = refiner.refineMatchedKeyFrame(std::move(matches), none, {}, {});
+    const IcpModelPoints icp = refiner.selectIcpModelPoints(measurement, model, run.trackedKey);
+    run.result = refiner.refineMatchedKeyFrame(std::move(matches), measurement, icp);
   } else {
-    run.result = refiner.refineKeyFrame(20, observe(20), run.trackedKey, none, {}, {});
+    run.result = refiner.refineKeyFrame(20, observe(20), run.trackedKey, measurement, model, {});
   }
   run.storedKeyFrames = refiner.keyFrameCount();
   return run;

@@ -306,8 +306,9 @@ TEST(KeyFrameRefiner, LowersTheErrorOfPerturbedPoses) {
   EXPECT_LT(worstMm, 0.2);
 }
 
-// The refinement in two halves (matching, then the solve: the pipeline measures the surface in between) gives the
-// same pose as in one call; a frame added between the halves is refused.
+// The refinement in parts (matching, choosing the ICP points, then the solve: the pipeline measures the surface and
+// chooses the ICP points beside the matching) gives the same pose as in one call, with and without the ICP term; a
+// frame added between the parts, or ICP points chosen at another pose, are refused.
 TEST(KeyFrameRefiner, RefinesTheSameInTwoHalves) {
   const BundleRun once = runBundleScenario(Device::Cpu);
   const BundleRun halves = runBundleScenario(Device::Cpu, {}, 1.5, 2.0, 0.5, 0.1, 100, false, 7, true);
@@ -316,6 +317,14 @@ TEST(KeyFrameRefiner, RefinesTheSameInTwoHalves) {
   EXPECT_EQ(halves.result.baObservations, once.result.baObservations);
   EXPECT_EQ(halves.storedKeyFrames, once.storedKeyFrames);
 
+  // The same with the ICP term, its model points chosen apart from the matching (the pipeline does it beside).
+  const BundleRun onceIcp = runBundleScenario(Device::Cpu, {}, 1.5, 2.0, 0.5, 0.1, 100, true);
+  const BundleRun halvesIcp = runBundleScenario(Device::Cpu, {}, 1.5, 2.0, 0.5, 0.1, 100, true, 7, true);
+  ASSERT_TRUE(halvesIcp.result.refined) << halvesIcp.result.message;
+  EXPECT_GT(halvesIcp.result.icpPoints, 0);
+  EXPECT_EQ(halvesIcp.result.icpPoints, onceIcp.result.icpPoints);
+  EXPECT_EQ(halvesIcp.result.T_world_camera, onceIcp.result.T_world_camera);
+
   const RectifiedGeometry g = testGeometry();
   const FeatureScene scene(1500, 7);
   KeyFrameRefiner refiner(g, RefinementParameters{}, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
@@ -323,8 +332,17 @@ TEST(KeyFrameRefiner, RefinesTheSameInTwoHalves) {
   const StereoFeatures key = scene.observe(truePose(10), g, 0.5, 0.1, 4, 0, 2);
   KeyFrameMatches matches = refiner.matchKeyFrame(10, key, truePose(10));
   refiner.addIntermediateFrame(9, scene.observe(truePose(9), g, 0.5, 0.1, 4, 0, 3), truePose(9));
-  EXPECT_THROW(refiner.refineMatchedKeyFrame(std::move(matches), SurfaceMeasurement{}, {}, {}), Error);
-  EXPECT_THROW(refiner.refineMatchedKeyFrame(KeyFrameMatches{}, SurfaceMeasurement{}, {}, {}), Error);
+  IcpModelPoints noIcp;
+  noIcp.T_world_camera = truePose(10);
+  EXPECT_THROW(refiner.refineMatchedKeyFrame(std::move(matches), SurfaceMeasurement{}, noIcp), Error);
+  EXPECT_THROW(refiner.refineMatchedKeyFrame(KeyFrameMatches{}, SurfaceMeasurement{}, noIcp), Error);
+  // ICP points chosen at another pose than the matches were made at.
+  KeyFrameRefiner fresh(g, RefinementParameters{}, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+  fresh.refineKeyFrame(0, scene.observe(truePose(0), g, 0.5, 0.1, 4, 0, 1), truePose(0), SurfaceMeasurement{}, {}, {});
+  KeyFrameMatches again = fresh.matchKeyFrame(10, key, truePose(10));
+  IcpModelPoints elsewhere;
+  elsewhere.T_world_camera = truePose(11);
+  EXPECT_THROW(fresh.refineMatchedKeyFrame(std::move(again), SurfaceMeasurement{}, elsewhere), Error);
 }
 
 // The same with the ICP term: the fused model (the scene's surface) and the key frame's measurement from its true

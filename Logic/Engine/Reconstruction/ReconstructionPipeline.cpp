@@ -171,11 +171,11 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   }
   if (result.keyFrame) {
     auto stageStart = Clock::now();
-    // The surface (refinement's ICP term and fusion) and the model points seen from the tracked pose need no
-    // matches: they are prepared on another thread while the refiner matches the key frame's features.
+    // The surface (refinement's ICP term and fusion) and the ICP term's model points, seen from the tracked pose,
+    // need no matches: they are prepared on another thread while the refiner matches the key frame's features.
     struct SurfaceAndModel {
       SurfaceMeasurement measurement;
-      std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;
+      IcpModelPoints icp;
     };
     PendingResult<SurfaceAndModel> surfaceAndModel = s.worker.run([&] {
       SurfaceAndModel prepared;
@@ -187,11 +187,13 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
                          workingDisparityRange(s.geometry, s.parameters.fusion));
       result.refinementPartsMs.surface = millisecondsSince(surfaceStart);
       const auto sampleStart = Clock::now();
+      std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;
       if (s.fusion.pointCount() > 0) {
-        s.fusion.sampleVisible(result.T_world_camera, s.parameters.refinement.icpSamples, prepared.modelPointsWorldMm,
-                               prepared.modelNormalsWorld);
+        s.fusion.sampleVisible(result.T_world_camera, s.parameters.refinement.icpSamples, modelPointsWorldMm,
+                               modelNormalsWorld);
       }
       synchronize(s.device);  // the maps stay on the device for the refiner and fusion on the calling thread
+      prepared.icp = s.refiner.selectIcpModelPoints(prepared.measurement, modelPointsWorldMm, result.T_world_camera);
       result.refinementPartsMs.modelSample = millisecondsSince(sampleStart);
       return prepared;
     });
@@ -203,8 +205,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     result.refinementPartsMs.surfaceWait = millisecondsSince(partStart);
     const SurfaceMeasurement& measurement = prepared.measurement;
     partStart = Clock::now();
-    const RefinementResult refinement = s.refiner.refineMatchedKeyFrame(
-        std::move(matches), measurement, prepared.modelPointsWorldMm, prepared.modelNormalsWorld);
+    const RefinementResult refinement = s.refiner.refineMatchedKeyFrame(std::move(matches), measurement, prepared.icp);
     result.refinementPartsMs.solveCall = millisecondsSince(partStart);
     s.lastRefinementMessage = refinement.message;
     result.refinementPartsMs.keyFrameMatching = refinement.keyFrameMatchingMs;

@@ -36,7 +36,7 @@ struct StageTimesMs {
 };
 
 /// The refinement stage of a key frame in parts (milliseconds): the stereo surface measurement, the model points
-/// seen from the tracked pose, the matching with earlier key frames and with intermediate frames, and the LM solve.
+/// seen from the tracked pose with the choice of the ICP term's among them, the matching with earlier key frames and with intermediate frames, and the LM solve.
 /// Some run side by side, so the stage's own timeline follows: the matching call on the calling thread (both
 /// matchings inside it), the wait for the surface and the model sample after it, and the call that assembles the
 /// problem, solves it and stores the key frame.

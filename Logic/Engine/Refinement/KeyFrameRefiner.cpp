@@ -592,18 +592,55 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
                                                  const SurfaceMeasurement& measurement,
                                                  const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
                                                  const std::vector<Eigen::Vector3f>& modelNormalsWorld) {
-  return refineMatchedKeyFrame(matchKeyFrame(frameIndex, features, T_world_camera), measurement, modelPointsWorldMm,
-                               modelNormalsWorld);
+  return refineMatchedKeyFrame(matchKeyFrame(frameIndex, features, T_world_camera), measurement,
+                               selectIcpModelPoints(measurement, modelPointsWorldMm, T_world_camera));
+}
+
+IcpModelPoints KeyFrameRefiner::selectIcpModelPoints(const SurfaceMeasurement& measurement,
+                                                     const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
+                                                     const Eigen::Matrix4d& T_world_camera) const {
+  const Impl& s = *impl_;
+  const RefinementParameters& p = s.parameters;
+  IcpModelPoints icp;
+  icp.T_world_camera = T_world_camera;
+  if (modelPointsWorldMm.empty() || measurement.empty()) return icp;
+  require(measurement.onDevice || usableHostMaps(measurement.pointsCameraMm, measurement.normalsCamera),
+          "refinement: the measurement needs CV_32FC3 points and normals of one size");
+  // Which pixels have q and n: the mask comes with the measurement, so the maps themselves may stay on the device.
+  const cv::Mat valid = measurement.validPixelMask();
+  const Eigen::Matrix4d T_camera_world = inverseRigid(T_world_camera);
+  const Eigen::Matrix3f R = T_camera_world.block<3, 3>(0, 0).cast<float>();
+  const Eigen::Vector3f t = T_camera_world.block<3, 1>(0, 3).cast<float>();
+  // Flagged in parallel (a model sample has 10^4 points), kept in order.
+  std::vector<uint8_t> lands(modelPointsWorldMm.size(), 0);
+  parallelFor<CpuBackend>(static_cast<int64_t>(modelPointsWorldMm.size()), [&](int64_t i) {
+    const Eigen::Vector3f c = R * modelPointsWorldMm[static_cast<std::size_t>(i)] + t;
+    if (!(c.z() >= kMinVisibleDepthMm)) return;
+    const int x = static_cast<int>(std::floor(s.geometry.focalPx * c.x() / c.z() + s.geometry.cxLeftPx + 0.5));
+    const int y = static_cast<int>(std::floor(s.geometry.focalPx * c.y() / c.z() + s.geometry.cyPx + 0.5));
+    if (x < 0 || y < 0 || x >= valid.cols || y >= valid.rows) return;
+    lands[static_cast<std::size_t>(i)] = valid.at<uint8_t>(y, x) ? 1 : 0;
+  });
+  std::vector<int> usable;
+  for (std::size_t i = 0; i < lands.size(); ++i) {
+    if (lands[i]) usable.push_back(static_cast<int>(i));
+  }
+  const std::size_t samples = std::min<std::size_t>(usable.size(), static_cast<std::size_t>(p.icpSamples));
+  if (static_cast<int>(samples) < p.minIcpPoints) return icp;
+  icp.pointsWorldMm.reserve(samples);
+  for (std::size_t k = 0; k < samples; ++k) icp.pointsWorldMm.push_back(modelPointsWorldMm[usable[k * usable.size() / samples]]);
+  return icp;
 }
 
 RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches, const SurfaceMeasurement& measurement,
-                                                        const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
-                                                        const std::vector<Eigen::Vector3f>& /*modelNormalsWorld*/) {
+                                                        const IcpModelPoints& icp) {
   require(matches.data_ != nullptr, "refinement: no key-frame matches to refine (call matchKeyFrame first)");
   Impl& s = *impl_;
   KeyFrameMatches::Data& m = *matches.data_;
   require(m.refinerState == s.state,
           "refinement: the key frames or intermediate frames changed between matchKeyFrame and refineMatchedKeyFrame");
+  require(icp.T_world_camera == m.T_world_camera,
+          "refinement: the ICP points were selected at another pose than the key frame was matched at");
   const RefinementParameters& p = s.parameters;
   const StereoFeatures& features = *m.features;
   const int frameIndex = m.frameIndex;
@@ -646,39 +683,15 @@ RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches,
   }
   result.baObservations = static_cast<int>(problem.observations.size());
 
-  // The ICP term: model points that land on a measured pixel at the tracked pose, evenly subsampled.
+  // The ICP term: the model points chosen beside the matching (selectIcpModelPoints).
   const Eigen::Matrix4d T_camera_world = inverseRigid(T_world_camera);
-  if (!modelPointsWorldMm.empty() && !measurement.empty()) {
-    require(measurement.onDevice || usableHostMaps(measurement.pointsCameraMm, measurement.normalsCamera),
-            "refinement: the measurement needs CV_32FC3 points and normals of one size");
-    // Which pixels have q and n: the mask comes with the measurement, so the maps themselves may stay on the device.
-    const cv::Mat valid = measurement.validPixelMask();
-    const Eigen::Matrix3f R = T_camera_world.block<3, 3>(0, 0).cast<float>();
-    const Eigen::Vector3f t = T_camera_world.block<3, 1>(0, 3).cast<float>();
-    // Flagged in parallel (a model sample has 10^5 points: 0.3 ms on one thread), kept in order.
-    std::vector<uint8_t> lands(modelPointsWorldMm.size(), 0);
-    parallelFor<CpuBackend>(static_cast<int64_t>(modelPointsWorldMm.size()), [&](int64_t i) {
-      const Eigen::Vector3f c = R * modelPointsWorldMm[static_cast<std::size_t>(i)] + t;
-      if (!(c.z() >= kMinVisibleDepthMm)) return;
-      const int x = static_cast<int>(std::floor(s.geometry.focalPx * c.x() / c.z() + s.geometry.cxLeftPx + 0.5));
-      const int y = static_cast<int>(std::floor(s.geometry.focalPx * c.y() / c.z() + s.geometry.cyPx + 0.5));
-      if (x < 0 || y < 0 || x >= valid.cols || y >= valid.rows) return;
-      lands[static_cast<std::size_t>(i)] = valid.at<uint8_t>(y, x) ? 1 : 0;
-    });
-    std::vector<int> usable;
-    for (std::size_t i = 0; i < lands.size(); ++i) {
-      if (lands[i]) usable.push_back(static_cast<int>(i));
-    }
-    const std::size_t samples = std::min<std::size_t>(usable.size(), static_cast<std::size_t>(p.icpSamples));
-    if (static_cast<int>(samples) >= p.minIcpPoints) {
-      for (std::size_t k = 0; k < samples; ++k) {
-        const Eigen::Vector3f& point = modelPointsWorldMm[usable[k * usable.size() / samples]];
-        problem.modelPointsWorldMm.push_back({point.x(), point.y(), point.z()});
-      }
-      problem.measuredPointsCameraMm = measurement.pointsCameraMm;
-      problem.measuredNormalsCamera = measurement.normalsCamera;
-      problem.measuredOnDevice = measurement.onDevice;
-    }
+  if (!icp.pointsWorldMm.empty()) {
+    require(!measurement.empty(), "refinement: ICP points without a measurement");
+    problem.modelPointsWorldMm.reserve(icp.pointsWorldMm.size());
+    for (const Eigen::Vector3f& point : icp.pointsWorldMm) problem.modelPointsWorldMm.push_back({point.x(), point.y(), point.z()});
+    problem.measuredPointsCameraMm = measurement.pointsCameraMm;
+    problem.measuredNormalsCamera = measurement.normalsCamera;
+    problem.measuredOnDevice = measurement.onDevice;
   }
   result.icpPoints = static_cast<int>(problem.modelPointsWorldMm.size());
 

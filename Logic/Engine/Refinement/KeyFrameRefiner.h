@@ -87,6 +87,14 @@ private:
   std::unique_ptr<Data> data_;
 };
 
+/// The model points p_i of a key frame's ICP term (KeyFrameRefiner::selectIcpModelPoints), for the pose they were
+/// selected at.
+struct IcpModelPoints {
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();  ///< the key frame's tracked pose
+  std::vector<Eigen::Vector3f> pointsWorldMm;                     ///< empty: no ICP term
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
 /// Omega's frames: the intermediate frames since the last key frame, the current key frame, and the earlier key
 /// frames it overlaps. Not thread-safe.
 class KeyFrameRefiner {
@@ -121,13 +129,22 @@ public:
                                   const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
                                   const std::vector<Eigen::Vector3f>& modelNormalsWorld);
 
-  /// refineKeyFrame in two halves, so that other work (measuring the surface, sampling the model) can run between
-  /// or beside them. matchKeyFrame only reads the refiner; features must stay alive and unchanged until
-  /// refineMatchedKeyFrame, and no frame may be added in between (Error).
+  /// refineKeyFrame in three parts, so that other work (measuring the surface, sampling the model, choosing the ICP
+  /// points) can run between or beside them. matchKeyFrame and selectIcpModelPoints only read the refiner and may
+  /// run at the same time on different threads; features must stay alive and unchanged until
+  /// refineMatchedKeyFrame, and no frame may be added in between (Error). icp must be selected at the pose the
+  /// matches were made at (Error).
   KeyFrameMatches matchKeyFrame(int frameIndex, const StereoFeatures& features, const Eigen::Matrix4d& T_world_camera);
   RefinementResult refineMatchedKeyFrame(KeyFrameMatches matches, const SurfaceMeasurement& measurement,
-                                         const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
-                                         const std::vector<Eigen::Vector3f>& modelNormalsWorld);
+                                         const IcpModelPoints& icp);
+
+  /// The ICP term's model points for a key frame at its tracked pose T_world_camera: those of modelPointsWorldMm
+  /// that project onto a pixel where the measurement has a point and a normal, evenly subsampled to
+  /// RefinementParameters::icpSamples; none when fewer than minIcpPoints land there or either input is empty.
+  /// Throws Error for a measurement without usable maps.
+  IcpModelPoints selectIcpModelPoints(const SurfaceMeasurement& measurement,
+                                      const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
+                                      const Eigen::Matrix4d& T_world_camera) const;
 
   /// Key frames stored for matching.
   int keyFrameCount() const;
