@@ -14,7 +14,8 @@ namespace tissuemosaic {
 namespace {
 
 /// The frame's keypoints bucketed by pixel in square cells of the search radius: the candidates of a projection
-/// lie in its cell and the 8 around it.
+/// lie in its cell and the 8 around it. Their pixels are copied in cell order, so that a search reads them from
+/// contiguous memory (loading each from its cv::KeyPoint was most of the search's time).
 class KeypointGrid {
 public:
   KeypointGrid(const std::vector<cv::KeyPoint>& keypoints, double cellPx) : cellPx_(cellPx) {
@@ -31,18 +32,24 @@ public:
     });
     start_ = std::move(byCell.begin);
     order_ = std::move(byCell.order);
+    xPx_.reserve(order_.size());
+    yPx_.reserve(order_.size());
+    for (int k : order_) {
+      xPx_.push_back(keypoints[static_cast<std::size_t>(k)].pt.x);
+      yPx_.push_back(keypoints[static_cast<std::size_t>(k)].pt.y);
+    }
   }
 
-  /// Calls visit(keypoint index) for every keypoint in the cells around (x, y).
+  /// Calls visit(keypoint index, its x, its y) for every keypoint in the cells around (x, y).
   template <class Visit>
   void forNeighbours(double x, double y, const Visit& visit) const {
     const int cx = static_cast<int>(std::floor(x / cellPx_)), cy = static_cast<int>(std::floor(y / cellPx_));
     for (int gy = std::max(0, cy - 1); gy <= std::min(rows_ - 1, cy + 1); ++gy) {
-      for (int gx = std::max(0, cx - 1); gx <= std::min(columns_ - 1, cx + 1); ++gx) {
-        const int c = gy * columns_ + gx;
-        for (int k = start_[static_cast<std::size_t>(c)]; k < start_[static_cast<std::size_t>(c) + 1]; ++k) {
-          visit(order_[static_cast<std::size_t>(k)]);
-        }
+      // The three cells of a grid row are consecutive in cell order: one contiguous run.
+      const int first = gy * columns_ + std::max(0, cx - 1), last = gy * columns_ + std::min(columns_ - 1, cx + 1);
+      if (first > last) continue;
+      for (int k = start_[static_cast<std::size_t>(first)]; k < start_[static_cast<std::size_t>(last) + 1]; ++k) {
+        visit(order_[static_cast<std::size_t>(k)], xPx_[static_cast<std::size_t>(k)], yPx_[static_cast<std::size_t>(k)]);
       }
     }
   }
@@ -57,6 +64,7 @@ private:
   double cellPx_;
   int columns_ = 1, rows_ = 1;
   std::vector<int> start_, order_;
+  std::vector<float> xPx_, yPx_;  ///< the keypoints' pixels, in order_
 };
 
 }  // namespace
@@ -97,8 +105,8 @@ ProjectionGuidedMatches matchProjectedPoints(const Points3d& queryPointsWorldMm,
     projectedPx[q] = Eigen::Vector2d(u, v);
     const uchar* query = queryDescriptors.ptr<uchar>(static_cast<int>(q));
     int best = kNone, bestDistance = parameters.maxHammingDistance + 1;
-    grid.forNeighbours(u, v, [&](int k) {
-      const double du = keypoints[static_cast<std::size_t>(k)].pt.x - u, dv = keypoints[static_cast<std::size_t>(k)].pt.y - v;
+    grid.forNeighbours(u, v, [&](int k, float xPx, float yPx) {
+      const double du = xPx - u, dv = yPx - v;
       if (du * du + dv * dv > radius2) return;
       const int distance = orb::hammingDistance(query, trainDescriptors.ptr<uchar>(k));
       if (distance < bestDistance) {
