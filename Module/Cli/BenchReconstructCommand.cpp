@@ -109,6 +109,7 @@ int runBenchReconstruct(const Words& words) {
   const std::vector<std::pair<const char*, double RefinementPartsMs::*>> partFields = {
       {"surface", &RefinementPartsMs::surface},
       {"model_sample", &RefinementPartsMs::modelSample},
+      {"icp_selection", &RefinementPartsMs::icpSelection},
       {"key_frame_matching", &RefinementPartsMs::keyFrameMatching},
       {"intermediate_matching", &RefinementPartsMs::intermediateMatching},
       {"solve", &RefinementPartsMs::solve},

@@ -69,6 +69,7 @@ struct ReconstructionPipeline::Impl {
   std::size_t peakDeviceBytes = 0;
   std::string lastRefinementMessage;
   BackgroundWorker worker;  ///< the stage beside the calling thread's; last, so that it stops first
+  BackgroundWorker modelWorker;  ///< samples the model beside the key frame's surface measurement
 
   Impl(const RectifiedGeometry& g, std::optional<StereoRectifier> r, const ReconstructionParameters& p, Device d,
        const Eigen::Matrix4d& T_world_start)
@@ -172,36 +173,44 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   if (result.keyFrame) {
     auto stageStart = Clock::now();
     // The surface (refinement's ICP term and fusion) and the ICP term's model points, seen from the tracked pose,
-    // need no matches: they are prepared on another thread while the refiner matches the key frame's features.
-    struct SurfaceAndModel {
-      SurfaceMeasurement measurement;
-      IcpModelPoints icp;
-    };
-    PendingResult<SurfaceAndModel> surfaceAndModel = s.worker.run([&] {
-      SurfaceAndModel prepared;
-      const auto surfaceStart = Clock::now();
-      prepared.measurement =
-          measureSurface(result.disparityPx, result.leftRectified, s.geometry, s.device,
-                         s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
-                         SurfaceMapResidence::DeviceOnly,  // refinement and fusion run on the same device
-                         workingDisparityRange(s.geometry, s.parameters.fusion));
-      result.refinementPartsMs.surface = millisecondsSince(surfaceStart);
+    // need no matches: they are prepared on two other threads (the sample beside the surface) while the refiner
+    // matches the key frame's features; the surface's thread then chooses the ICP points from the sample.
+    PendingResult<std::vector<Eigen::Vector3f>> modelSample = s.modelWorker.run([&] {
       const auto sampleStart = Clock::now();
       std::vector<Eigen::Vector3f> modelPointsWorldMm, modelNormalsWorld;
       if (s.fusion.pointCount() > 0) {
         s.fusion.sampleVisible(result.T_world_camera, s.parameters.refinement.icpSamples, modelPointsWorldMm,
                                modelNormalsWorld);
       }
-      synchronize(s.device);  // the maps stay on the device for the refiner and fusion on the calling thread
-      prepared.icp = s.refiner.selectIcpModelPoints(prepared.measurement, modelPointsWorldMm, result.T_world_camera);
+      synchronize(s.device);  // nothing of this thread's left in flight for the next key frame's fusion
       result.refinementPartsMs.modelSample = millisecondsSince(sampleStart);
+      return modelPointsWorldMm;
+    });
+    struct SurfaceAndIcp {
+      SurfaceMeasurement measurement;
+      IcpModelPoints icp;
+    };
+    PendingResult<SurfaceAndIcp> surfaceAndIcp = s.worker.run([&] {
+      SurfaceAndIcp prepared;
+      const auto surfaceStart = Clock::now();
+      prepared.measurement =
+          measureSurface(result.disparityPx, result.leftRectified, s.geometry, s.device,
+                         s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
+                         SurfaceMapResidence::DeviceOnly,  // refinement and fusion run on the same device
+                         workingDisparityRange(s.geometry, s.parameters.fusion));
+      synchronize(s.device);  // the maps stay on the device for the refiner and fusion on the calling thread
+      result.refinementPartsMs.surface = millisecondsSince(surfaceStart);
+      const std::vector<Eigen::Vector3f> modelPointsWorldMm = modelSample.get();
+      const auto selectionStart = Clock::now();
+      prepared.icp = s.refiner.selectIcpModelPoints(prepared.measurement, modelPointsWorldMm, result.T_world_camera);
+      result.refinementPartsMs.icpSelection = millisecondsSince(selectionStart);
       return prepared;
     });
     auto partStart = Clock::now();
     KeyFrameMatches matches = s.refiner.matchKeyFrame(result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera);
     result.refinementPartsMs.matchingCall = millisecondsSince(partStart);
     partStart = Clock::now();
-    const SurfaceAndModel prepared = surfaceAndModel.get();
+    const SurfaceAndIcp prepared = surfaceAndIcp.get();
     result.refinementPartsMs.surfaceWait = millisecondsSince(partStart);
     const SurfaceMeasurement& measurement = prepared.measurement;
     partStart = Clock::now();
