@@ -36,10 +36,10 @@ struct StageTimesMs {
 };
 
 /// The refinement stage of a key frame in parts (milliseconds): the stereo surface measurement, the model points
-/// seen from the tracked pose (sampled beside the surface), the choice of the ICP term's among them, the matching with earlier key frames and with intermediate frames, and the LM solve.
-/// Some run side by side, so the stage's own timeline follows: the matching call on the calling thread (both
-/// matchings inside it), the wait for the surface and the model sample after it, and the call that assembles the
-/// problem, solves it and stores the key frame.
+/// seen from the tracked pose (sampled beside the surface), the choice of the ICP term's among them, the matching
+/// with earlier key frames and with intermediate frames, and the LM solve. Some run side by side, so the stage's own
+/// timeline follows: the matching call on the calling thread (both matchings inside it), the wait for the surface
+/// and the ICP points after it, and the call that assembles the problem, solves it and stores the key frame.
 struct RefinementPartsMs {
   double surface = 0, modelSample = 0, icpSelection = 0, keyFrameMatching = 0, intermediateMatching = 0, solve = 0;
   double matchingCall = 0, surfaceWait = 0, solveCall = 0;
