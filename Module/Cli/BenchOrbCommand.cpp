@@ -11,7 +11,6 @@
 #include "SyntheticScan.h"
 #include "Tracking/OrbFeatures.h"
 
-#include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 

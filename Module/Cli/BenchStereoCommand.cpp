@@ -12,7 +12,6 @@
 #include "SyntheticStereoScene.h"
 
 #include <opencv2/calib3d.hpp>
-#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>

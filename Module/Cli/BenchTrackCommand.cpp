@@ -10,7 +10,6 @@
 #include "SyntheticScan.h"
 #include "Tracking/FrameTracker.h"
 
-#include <opencv2/core/utility.hpp>
 
 #include <algorithm>
 #include <cstdio>

@@ -89,11 +89,9 @@ void measureSurfaceOn(ImageView<const float> disparityPx, ImageView<Float3> poin
 /// throws Error without CUDA).
 void measureSurfaceCpu(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
                        ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
-                       float maxDepthJumpMm, float keptLowestPx,
-                       float keptHighestPx);
+                       float maxDepthJumpMm, float keptLowestPx, float keptHighestPx);
 void measureSurfaceCuda(ImageView<const float> disparityPx, ImageView<Float3> pointsMm, ImageView<Float3> normals,
                         ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
-                        float maxDepthJumpMm, float keptLowestPx,
-                        float keptHighestPx);
+                        float maxDepthJumpMm, float keptLowestPx, float keptHighestPx);
 
 }  // namespace tissuemosaic::surface

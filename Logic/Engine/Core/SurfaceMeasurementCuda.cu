@@ -7,7 +7,7 @@ void measureSurfaceCuda(ImageView<const float> disparityPx, ImageView<Float3> po
                         ImageView<uint8_t> valid, const Reprojection& reprojection, int normalRadiusPx,
                         float maxDepthJumpMm, float keptLowestPx, float keptHighestPx) {
   measureSurfaceOn<CudaBackend>(disparityPx, pointsMm, normals, valid, reprojection, normalRadiusPx, maxDepthJumpMm,
-                             keptLowestPx, keptHighestPx);
+                                keptLowestPx, keptHighestPx);
 }
 
 }  // namespace tissuemosaic::surface

@@ -3,7 +3,6 @@
 #include "Core/BackgroundWorker.h"
 #include "Core/CudaRuntime.h"
 #include "Core/Error.h"
-#include "Core/ParallelFor.h"
 #include "Core/PixelFormat.h"
 #include "Core/Stopwatch.h"
 #include "Core/SurfaceMeasurement.h"
@@ -17,7 +16,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <optional>
 
 namespace tissuemosaic {
@@ -68,7 +66,8 @@ struct ReconstructionPipeline::Impl {
   std::vector<KeyFramePose> keyFrames;
   std::size_t peakDeviceBytes = 0;
   std::string lastRefinementMessage;
-  BackgroundWorker worker;  ///< the stage beside the calling thread's; last, so that it stops first
+  // The workers come last, so that they stop before the members their tasks use are destroyed.
+  BackgroundWorker worker;       ///< stereo beside tracking; the key frame's surface and ICP points beside matching
   BackgroundWorker modelWorker;  ///< samples the model beside the key frame's surface measurement
 
   Impl(const RectifiedGeometry& g, std::optional<StereoRectifier> r, const ReconstructionParameters& p, Device d,

@@ -4,8 +4,9 @@
 /// tracking (III.A-C), and at key frames the refinement (III.D) and the point-based TSDF fusion (III.E).
 ///
 /// Within process(), stages that need not wait for each other run on helper threads (docs/RECONSTRUCTION.md,
-/// "Stages side by side"): stereo beside tracking, the surface beside the key frame's matching. All of a frame's
-/// work is done when process() returns, and the result is the same as one stage after another.
+/// "Stages side by side"): stereo beside tracking, the surface and the model sample beside the key frame's
+/// matching. All of a frame's work is done when process() returns, and the result is the same as one stage after
+/// another.
 ///
 /// Not thread-safe: one thread calls process(); the logic layer runs it off the GUI thread and reads results
 /// through the FrameResult it returns and modelSnapshot().

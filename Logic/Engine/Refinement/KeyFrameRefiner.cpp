@@ -506,7 +506,7 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
 
   // 1. Earlier key frames that overlap: their matched points are fixed. The frames are matched and solved in
   // parallel (independent), then merged in order: the same result as one after the other.
-  auto partStart = std::chrono::steady_clock::now();
+  const auto partStart = std::chrono::steady_clock::now();
   const std::vector<int> overlapping = s.overlappingKeyFrames(T_world_camera);
   struct KeyFrameMatch {
     Points3d world;
@@ -573,7 +573,6 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
   }
 
   result.keyFrameMatchingMs = millisecondsSince(partStart);
-  partStart = std::chrono::steady_clock::now();
 
   // 2. The intermediate frames, matched beside step 1; kept only when an earlier key frame anchors the solve.
   IntermediateMatches intermediate = intermediateTask.get();
@@ -591,7 +590,7 @@ RefinementResult KeyFrameRefiner::refineKeyFrame(int frameIndex, const StereoFea
                                                  const Eigen::Matrix4d& T_world_camera,
                                                  const SurfaceMeasurement& measurement,
                                                  const std::vector<Eigen::Vector3f>& modelPointsWorldMm,
-                                                 const std::vector<Eigen::Vector3f>& modelNormalsWorld) {
+                                                 const std::vector<Eigen::Vector3f>& /*modelNormalsWorld: not used*/) {
   return refineMatchedKeyFrame(matchKeyFrame(frameIndex, features, T_world_camera), measurement,
                                selectIcpModelPoints(measurement, modelPointsWorldMm, T_world_camera));
 }

@@ -5,8 +5,6 @@
 #include "Core/Error.h"
 #include "RefinementPipeline.h"
 
-#include <algorithm>
-#include <cmath>
 #include <limits>
 
 namespace tissuemosaic::refinement {
