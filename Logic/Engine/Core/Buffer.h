@@ -42,6 +42,12 @@ public:
     if (device_ == Device::Cuda) cuda::copyHostToDevice(data_, host, count_ * sizeof(T));
     else if (count_) std::memcpy(data_, host, count_ * sizeof(T));
   }
+  /// As upload, but on CUDA queued on the calling thread's stream without waiting for the device: only the calling
+  /// thread's later work is sure to see the data. `host` must be pageable (cuda::copyHostToDeviceQueued).
+  void uploadQueued(const T* host) {
+    if (device_ == Device::Cuda) cuda::copyHostToDeviceQueued(data_, host, count_ * sizeof(T));
+    else if (count_) std::memcpy(data_, host, count_ * sizeof(T));
+  }
   /// Copies this buffer's elements into host memory.
   void download(T* host) const {
     if (device_ == Device::Cuda) cuda::copyDeviceToHost(host, data_, count_ * sizeof(T));

@@ -88,6 +88,12 @@ void release(void* pointer) noexcept {
 void copyHostToDevice(void* device, const void* host, std::size_t bytes) {
   if (bytes) check(cudaMemcpy(device, host, bytes, cudaMemcpyHostToDevice), "cudaMemcpy host to device");
 }
+void copyHostToDeviceQueued(void* device, const void* host, std::size_t bytes) {
+  if (bytes) {
+    check(cudaMemcpyAsync(device, host, bytes, cudaMemcpyHostToDevice, cudaStreamPerThread),
+          "cudaMemcpyAsync host to device");
+  }
+}
 void copyDeviceToHost(void* host, const void* device, std::size_t bytes) {
   if (bytes) check(cudaMemcpy(host, device, bytes, cudaMemcpyDeviceToHost), "cudaMemcpy device to host");
 }

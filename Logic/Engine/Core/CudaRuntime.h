@@ -19,6 +19,10 @@ std::size_t deviceBytesInUse();
 void* allocate(std::size_t bytes);
 void release(void* pointer) noexcept;
 void copyHostToDevice(void* device, const void* host, std::size_t bytes);
+/// Queues the copy on the calling thread's stream and returns without waiting for the device (copyHostToDevice first
+/// waits for the work queued before it). `host` must be pageable memory (not pinned), which is staged before the
+/// call returns, so it may be reused at once.
+void copyHostToDeviceQueued(void* device, const void* host, std::size_t bytes);
 void copyDeviceToHost(void* host, const void* device, std::size_t bytes);
 void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes);
 void setZero(void* device, std::size_t bytes);

@@ -16,6 +16,7 @@ std::size_t deviceBytesInUse() { absent(); }
 void* allocate(std::size_t) { absent(); }
 void release(void*) noexcept {}
 void copyHostToDevice(void*, const void*, std::size_t) { absent(); }
+void copyHostToDeviceQueued(void*, const void*, std::size_t) { absent(); }
 void copyDeviceToHost(void*, const void*, std::size_t) { absent(); }
 void copyDeviceToDevice(void*, const void*, std::size_t) { absent(); }
 void setZero(void*, std::size_t) { absent(); }

@@ -8,6 +8,8 @@
 /// One iteration: ProposePoseSteps (a damped 6x6 step per frame), the residual terms at the candidates
 /// (RefinementKernels.h), ReduceTerms, SumFrameTerms, AcceptPoseSteps (each frame keeps its step when its own cost
 /// falls), FinishPoseIteration. PoseLmControl::stop, once set, turns the rest of the queued iterations into no-ops.
+/// The per-frame steps are light, so RefinementPipeline.inl chains them (Core/ParallelChain.h): three launches per
+/// iteration on the GPU.
 #include "RefinementKernels.h"
 
 namespace tissuemosaic::refinement {
@@ -96,15 +98,16 @@ TM_HOST_DEVICE inline Pose stepPose(const Pose& pose, const double step[6]) {
 }
 
 /// Starts a run of pose iterations, per frame: clears stop (frame 0), and a frame whose steps kept failing (lambda
-/// beyond kMaxLambda) starts again from initialLambda, as the points have moved since.
+/// beyond kMaxLambda) starts again from initialLambda, as the points have moved since; with resetAll every frame does.
 struct BeginPoseSteps {
   double* lambdas;
   double initialLambda;
+  bool resetAll;
   PoseLmControl* control;
 
   TM_HOST_DEVICE void operator()(int64_t f) const {
     if (f == 0) control->stop = 0;
-    lambdas[f] = lambdas[f] > kMaxLambda ? initialLambda : lambdas[f];
+    lambdas[f] = resetAll || lambdas[f] > kMaxLambda ? initialLambda : lambdas[f];
   }
 };
 

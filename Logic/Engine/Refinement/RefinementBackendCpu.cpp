@@ -3,8 +3,8 @@
 
 namespace tissuemosaic::refinement {
 
-void runPoseStepsCpu(RefinementWorkspace& workspace, int iterations) {
-  runPoseSteps<CpuBackend>(workspace, iterations);
+void runPoseStepsCpu(RefinementWorkspace& workspace, const PoseRun& run) {
+  runPoseSteps<CpuBackend>(workspace, run);
 }
 void updatePointsCpu(RefinementWorkspace& workspace) { updatePoints<CpuBackend>(workspace); }
 

@@ -3,8 +3,8 @@
 
 namespace tissuemosaic::refinement {
 
-void runPoseStepsCuda(RefinementWorkspace& workspace, int iterations) {
-  runPoseSteps<CudaBackend>(workspace, iterations);
+void runPoseStepsCuda(RefinementWorkspace& workspace, const PoseRun& run) {
+  runPoseSteps<CudaBackend>(workspace, run);
 }
 void updatePointsCuda(RefinementWorkspace& workspace) { updatePoints<CudaBackend>(workspace); }
 

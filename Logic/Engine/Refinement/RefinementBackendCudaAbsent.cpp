@@ -4,7 +4,7 @@
 
 namespace tissuemosaic::refinement {
 
-void runPoseStepsCuda(RefinementWorkspace&, int) { throw Error("this build of TissueMosaic has no CUDA backend"); }
+void runPoseStepsCuda(RefinementWorkspace&, const PoseRun&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
 void updatePointsCuda(RefinementWorkspace&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
 
 }  // namespace tissuemosaic::refinement

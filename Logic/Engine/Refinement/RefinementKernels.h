@@ -96,13 +96,13 @@ TM_HOST_DEVICE inline void poseRow(const double c[3], const double a[3], double 
 
 /// The reprojection residual of one observation: normal-equation terms of its frame's pose (points fixed).
 /// terms[k * stride + i] is term k of residual i. Where fixedOnly[frame] is set, observations of free points count
-/// nothing (the first pose step, which starts every pose from the fixed points alone).
+/// nothing (the first pose step, which starts every pose from the fixed points alone); fixedOnly null: no frame.
 struct BaPoseTerms {
   const Observation* observations;
   const Pose* poses;
   const double* pointsWorldMm;  ///< 3 per point
   const uint8_t* pointFixed;
-  const uint8_t* fixedOnly;     ///< per frame
+  const uint8_t* fixedOnly;     ///< per frame, or null
   Camera camera;
   RobustConstants robust;
   double* terms;
@@ -114,7 +114,7 @@ struct BaPoseTerms {
     double acc[kTerms];
     for (int k = 0; k < kTerms; ++k) acc[k] = 0.0;
     const Observation o = observations[i];
-    if (fixedOnly[o.frame] && !pointFixed[o.point]) {
+    if (fixedOnly && fixedOnly[o.frame] && !pointFixed[o.point]) {
       for (int k = 0; k < kTerms; ++k) terms[k * stride + i] = 0.0;
       return;
     }

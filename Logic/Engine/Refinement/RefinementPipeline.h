@@ -23,7 +23,7 @@ struct RefinementWorkspace {
   Buffer<Pose> poses;                ///< frameCount; frame 0 is the key frame
   Buffer<double> pointsWorldMm;      ///< 3 per point
   Buffer<uint8_t> pointFixed;        ///< 1 per point
-  Buffer<uint8_t> frameFixedOnly;    ///< 1 per frame: its pose step sees only fixed points (BaPoseTerms)
+  Buffer<uint8_t> frameFixedOnly;    ///< 1 per frame: in a fixedPointsOnly run its pose step sees only fixed points
   Buffer<Observation> observations;
   Buffer<int> freePoints, pointObservationBegin, pointObservationIndex;
   Buffer<double> pointLambdas;       ///< freeCount
@@ -45,11 +45,17 @@ struct RefinementWorkspace {
   Buffer<PoseLmControl> control;     ///< 1
 };
 
-/// Queues `iterations` LM iterations on every pose at once (points fixed), after evaluating currentTerms at the
-/// poses; with 0 it only evaluates. Nothing is waited for: read currentTerms, poses or control afterwards (their
-/// download waits). Frames whose steps kept failing start again from initialLambda.
-void runPoseStepsCpu(RefinementWorkspace& workspace, int iterations);
-void runPoseStepsCuda(RefinementWorkspace& workspace, int iterations);
+/// How a run of pose iterations starts.
+struct PoseRun {
+  int iterations = 0;            ///< 0: only evaluate currentTerms at the poses
+  bool fixedPointsOnly = false;  ///< frames flagged in frameFixedOnly count only their fixed points' observations
+  bool resetLambdas = false;     ///< every frame starts from initialLambda (else only those whose steps kept failing)
+};
+
+/// Queues run.iterations LM iterations on every pose at once (points fixed), after evaluating currentTerms at the
+/// poses. Nothing is waited for: read currentTerms, poses or control afterwards (their download waits).
+void runPoseStepsCpu(RefinementWorkspace& workspace, const PoseRun& run);
+void runPoseStepsCuda(RefinementWorkspace& workspace, const PoseRun& run);
 /// Runs UpdatePoints on every free point (poses fixed).
 void updatePointsCpu(RefinementWorkspace& workspace);
 void updatePointsCuda(RefinementWorkspace& workspace);

@@ -5,6 +5,7 @@
 #include "Core/Error.h"
 #include "RefinementPipeline.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace tissuemosaic::refinement {
@@ -60,11 +61,22 @@ Layout makeLayout(const RefinementProblem& problem) {
   return layout;
 }
 
+/// Queued on the calling thread's stream without waiting for it (the host data is staged at once), so that the
+/// setup's copies do not each wait for the device.
 template <class T>
 Buffer<T> upload(Device device, const std::vector<T>& host) {
   Buffer<T> buffer(device, host.size());
-  if (!host.empty()) buffer.upload(host.data());
+  if (!host.empty()) buffer.uploadQueued(host.data());
   return buffer;
+}
+
+/// 1 for each frame that sees enough fixed-point observations to take its first pose step from those alone.
+std::vector<uint8_t> framesStartingFromFixedPoints(const RefinementProblem& problem, const Layout& layout) {
+  std::vector<int> fixedSeen(problem.poses.size(), 0);
+  for (const Observation& o : layout.observations) fixedSeen[o.frame] += problem.pointFixed[o.point];
+  std::vector<uint8_t> fixedOnly(problem.poses.size(), 0);
+  for (std::size_t f = 0; f < fixedSeen.size(); ++f) fixedOnly[f] = fixedSeen[f] >= kMinFixedForStart;
+  return fixedOnly;
 }
 
 }  // namespace
@@ -103,13 +115,20 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
   w.poses = upload(device, problem.poses);
   w.pointsWorldMm = upload(device, problem.pointsWorldMm);
   w.pointFixed = upload(device, problem.pointFixed);
-  w.frameFixedOnly = Buffer<uint8_t>(device, static_cast<std::size_t>(frames));
-  w.frameFixedOnly.setZero();
+  const std::vector<uint8_t> fixedOnly = framesStartingFromFixedPoints(problem, layout);
+  const bool startFromFixedPoints =
+      w.freeCount > 0 && std::find(fixedOnly.begin(), fixedOnly.end(), 1) != fixedOnly.end();
+  w.frameFixedOnly = upload(device, fixedOnly);
   w.observations = upload(device, layout.observations);
   w.freePoints = upload(device, layout.freePoints);
   w.pointObservationBegin = upload(device, layout.pointObservationBegin);
   w.pointObservationIndex = upload(device, layout.pointObservationIndex);
-  w.pointLambdas = upload(device, std::vector<double>(layout.freePoints.size(), parameters.initialLambda));
+  // The uploads are queued: their host data stays alive to the end (cuda::copyHostToDeviceQueued needs it only
+  // until it returns, but that is cheap insurance).
+  const std::vector<double> initialPointLambdas(layout.freePoints.size(), parameters.initialLambda);
+  const std::vector<double> initialPoseLambdas(frames, parameters.initialLambda);
+  const std::vector<PoseLmControl> initialControl{PoseLmControl{0, 0}};
+  w.pointLambdas = upload(device, initialPointLambdas);
   w.modelPointsWorldMm = upload(device, problem.modelPointsWorldMm);
   if (icp) {
     const SurfaceMapsOnDevice* onDevice = problem.measuredOnDevice.get();
@@ -133,62 +152,48 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
   w.frameChunkBegin = upload(device, layout.frameChunkBegin);
   w.frameChunks = upload(device, layout.frameChunks);
   w.initialLambda = parameters.initialLambda;
-  const std::vector<double> initialLambdas(frames, parameters.initialLambda);
   w.candidatePoses = Buffer<Pose>(device, static_cast<std::size_t>(frames));
   w.stepped = Buffer<uint8_t>(device, static_cast<std::size_t>(frames));
-  w.poseLambdas = upload(device, initialLambdas);
+  w.poseLambdas = upload(device, initialPoseLambdas);
   w.currentTerms = Buffer<double>(device, static_cast<std::size_t>(frames) * kTerms);
   w.trialTerms = Buffer<double>(device, static_cast<std::size_t>(frames) * kTerms);
   w.gains = Buffer<double>(device, static_cast<std::size_t>(frames));
-  w.control = upload(device, std::vector<PoseLmControl>{PoseLmControl{0, 0}});
+  w.control = upload(device, initialControl);
 
   const auto runPoseSteps = device == Device::Cuda ? runPoseStepsCuda : runPoseStepsCpu;
   const auto updatePoints = device == Device::Cuda ? updatePointsCuda : updatePointsCpu;
-  // The total cost at the poses: waits for the queued iterations.
-  std::vector<double> currentTerms(static_cast<std::size_t>(frames) * kTerms);
-  const auto currentCost = [&] {
-    w.currentTerms.download(currentTerms.data());
+  // The total cost of per-frame terms: waits for the queued iterations.
+  const auto totalCost = [&](const Buffer<double>& frameTerms) {
+    const std::vector<double> terms = frameTerms.toHost();
     double cost = 0;
-    for (int f = 0; f < frames; ++f) cost += currentTerms[static_cast<std::size_t>(f) * kTerms + kCostOffset];
+    for (int f = 0; f < frames; ++f) cost += terms[static_cast<std::size_t>(f) * kTerms + kCostOffset];
     return cost;
   };
 
-  RefinementSolution solution;
-  runPoseSteps(w, 0);
-  solution.initialCost = currentCost();
-
+  // The initial cost is read at the end: no wait for the device before the iterations are queued.
+  runPoseSteps(w, PoseRun{});
+  Buffer<double> initialTerms(device, w.currentTerms.size());
+  initialTerms.copyFrom(w.currentTerms);
   // Start: frames that see enough fixed points take their pose from those alone (free points start where the
   // tracked key-frame pose put them, so they would hold every pose near its tracked error; alternating steps
   // converge slowly out of that).
-  if (w.freeCount > 0) {
-    std::vector<int> fixedSeen(frames, 0);
-    for (const Observation& o : layout.observations) fixedSeen[o.frame] += problem.pointFixed[o.point];
-    std::vector<uint8_t> fixedOnly(frames, 0);
-    bool any = false;
-    for (int f = 0; f < frames; ++f) {
-      fixedOnly[f] = fixedSeen[f] >= kMinFixedForStart;
-      any = any || fixedOnly[f];
-    }
-    if (any) {
-      w.frameFixedOnly.upload(fixedOnly.data());
-      runPoseSteps(w, parameters.lmIterations);
-      w.frameFixedOnly.setZero();
-      w.poseLambdas.upload(initialLambdas.data());
-    }
-  }
+  if (startFromFixedPoints) runPoseSteps(w, PoseRun{parameters.lmIterations, true, false});
 
   // Alternations: the free points, then every pose at once (the frames are independent given the points, so each
   // keeps its step only when its own cost falls).
   double previousCost = std::numeric_limits<double>::infinity();
-  double cost = solution.initialCost;
+  double cost = 0;
   for (int a = 0; a < parameters.alternations; ++a) {
     if (w.freeCount > 0) updatePoints(w);
-    runPoseSteps(w, parameters.lmIterations);
-    cost = currentCost();
+    // After the start every frame starts from initialLambda again.
+    runPoseSteps(w, PoseRun{parameters.lmIterations, false, a == 0 && startFromFixedPoints});
+    cost = totalCost(w.currentTerms);
     // Not after the first round: inf - cost <= gain * inf would hold, and one round would always be all.
     if (a > 0 && previousCost - cost <= kConvergedGain * previousCost) break;
     previousCost = cost;
   }
+  RefinementSolution solution;
+  solution.initialCost = totalCost(initialTerms);
   solution.finalCost = cost;
   solution.poses = w.poses.toHost();
   solution.pointsWorldMm = w.pointsWorldMm.toHost();
