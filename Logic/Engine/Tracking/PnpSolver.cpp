@@ -36,9 +36,21 @@ bool collinear(const Points3d& points, const std::vector<int>& indices) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (int i : indices) mean += points[i];
   mean /= static_cast<double>(indices.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (int i : indices) covariance += (points[i] - mean) * (points[i] - mean).transpose();
-  const Eigen::Vector3d eig = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();
+  // The six distinct entries of the scatter matrix (it runs on every inlier set that PnP polishes).
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  for (int i : indices) {
+    const Eigen::Vector3d d = points[i] - mean;
+    xx += d.x() * d.x();
+    xy += d.x() * d.y();
+    xz += d.x() * d.z();
+    yy += d.y() * d.y();
+    yz += d.y() * d.z();
+    zz += d.z() * d.z();
+  }
+  Eigen::Matrix3d covariance;
+  covariance << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  const Eigen::Vector3d eig =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly).eigenvalues();
   return !(eig[2] > 0) || eig[1] <= 1e-10 * eig[2] || eig[1] <= 1e-12;
 }
 
@@ -83,29 +95,34 @@ std::vector<BestMatch> bestMatches(const Points3d& points, const Pixels2d& pixel
 bool polish(const Points3d& points, const std::vector<BestMatch>& matches, const std::vector<int>& indices,
             const PinholeIntrinsics& k, Eigen::Matrix3d& R, Eigen::Vector3d& t) {
   for (int iteration = 0; iteration < 10; ++iteration) {
-    Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
-    Eigen::Matrix<double, 6, 1> Jtr = Eigen::Matrix<double, 6, 1>::Zero();
+    // The upper triangle of J^T J and J^T r, written out: the rows of J = d(projection) / d(w, t) have two zeros
+    // each, and this loop is most of the solver's time (every hypothesis' inlier set, until it settles).
+    double upper[21] = {}, Jtr[6] = {};
     for (int i : indices) {
-      const Eigen::Vector3d c = R * points[i] + t;
+      const Eigen::Vector3d rotated = R * points[i];  // R X
+      const Eigen::Vector3d c = rotated + t;
       if (!(c.z() > 1e-9)) return false;
       const double iz = 1.0 / c.z();
-      const Eigen::Vector2d r(k.fxPx * c.x() * iz + k.cxPx - matches[i].pixelPx.x(),
-                              k.fyPx * c.y() * iz + k.cyPx - matches[i].pixelPx.y());
-      Eigen::Matrix<double, 2, 3> dProj;
-      dProj << k.fxPx * iz, 0, -k.fxPx * c.x() * iz * iz, 0, k.fyPx * iz, -k.fyPx * c.y() * iz * iz;
-      Eigen::Matrix<double, 3, 6> dC;
-      const Eigen::Vector3d rc = c - t;  // R X
-      dC << 0, rc.z(), -rc.y(), 1, 0, 0,  //
-          -rc.z(), 0, rc.x(), 0, 1, 0,    //
-          rc.y(), -rc.x(), 0, 0, 0, 1;    // d(exp(w) R X + t) / d(w, t) = [-[RX]x, I]
-      const Eigen::Matrix<double, 2, 6> J = dProj * dC;
-      JtJ.noalias() += J.transpose() * J;
-      Jtr.noalias() += J.transpose() * r;
+      const double ru = k.fxPx * c.x() * iz + k.cxPx - matches[i].pixelPx.x();
+      const double rv = k.fyPx * c.y() * iz + k.cyPx - matches[i].pixelPx.y();
+      // d(exp(w) R X + t) / d(w, t) = [-[RX]x, I], times d(projection) / dc.
+      const double au = k.fxPx * iz, cu = -k.fxPx * c.x() * iz * iz;
+      const double bv = k.fyPx * iz, cv = -k.fyPx * c.y() * iz * iz;
+      const double x = rotated.x(), y = rotated.y(), z = rotated.z();
+      const double Ju[6] = {cu * y, au * z - cu * x, -au * y, au, 0.0, cu};
+      const double Jv[6] = {cv * y - bv * z, -cv * x, bv * x, 0.0, bv, cv};
+      for (int a = 0, e = 0; a < 6; ++a) {
+        for (int b = a; b < 6; ++b, ++e) upper[e] += Ju[a] * Ju[b] + Jv[a] * Jv[b];
+        Jtr[a] += Ju[a] * ru + Jv[a] * rv;
+      }
+    }
+    Eigen::Matrix<double, 6, 6> JtJ;
+    for (int a = 0, e = 0; a < 6; ++a) {
+      for (int b = a; b < 6; ++b, ++e) JtJ(a, b) = JtJ(b, a) = upper[e];
     }
     const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(JtJ);
-    const Eigen::VectorXd dv = JtJ.diagonal();
-    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-9 * dv.maxCoeff())) return false;
-    const Eigen::Matrix<double, 6, 1> delta = -ldlt.solve(Jtr);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-9 * JtJ.diagonal().maxCoeff())) return false;
+    const Eigen::Matrix<double, 6, 1> delta = -ldlt.solve(Eigen::Map<const Eigen::Matrix<double, 6, 1>>(Jtr));
     if (!delta.allFinite()) return false;
     const double angle = delta.head<3>().norm();
     if (angle > 0) R = Eigen::AngleAxisd(angle, delta.head<3>() / angle).toRotationMatrix() * R;
