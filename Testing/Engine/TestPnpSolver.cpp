@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <opencv2/core/persistence.hpp>
+#include <tbb/task_arena.h>
 
 #include <gtest/gtest.h>
 
@@ -123,6 +124,40 @@ TEST(PnpSolver, APoseGuessGivesTheSamePoseInFewerIterations) {
   const SyntheticPnpCase scene = makeSyntheticPnpCase(1, 100, 0.0, 0.0);
   EXPECT_THROW(solveDynamicR1Ppnp(scene.pointsMm, scene.pixelsPx, scene.candidates, scene.intrinsics, parameters, {},
                                   &notFinite),
+               Error);
+}
+
+// Hypotheses in waves (the refinement's matches after tracking drifted): a wrong guess and 85 % outliers need many
+// hypotheses; the waves find the pose as the sequential loop does, the answer does not depend on the thread count,
+// and one at a time is the sequential loop exactly.
+TEST(PnpSolver, HypothesesInWavesFindThePoseWhateverTheThreadCount) {
+  const TrackingParameters parameters;
+  for (int trial = 0; trial < 6; ++trial) {
+    const SyntheticPnpCase scene = makeSyntheticPnpCase(700 + trial, 400, 0.85, 1.0);
+    Eigen::Matrix4d wrong = scene.T_camera_world;
+    wrong.block<3, 1>(0, 3) += Eigen::Vector3d(30, -20, 15);
+    const auto solve = [&](int atOnce) {
+      return solveDynamicR1Ppnp(scene.pointsMm, scene.pixelsPx, scene.candidates, scene.intrinsics, parameters, {},
+                                &wrong, atOnce);
+    };
+    const PnpResult sequential = solve(1);
+    const PnpResult waves = solve(8);
+    PnpResult oneThread;
+    tbb::task_arena(1).execute([&] { oneThread = solve(8); });
+    expectPose(sequential, scene.T_camera_world, 1.0, 2.0);
+    expectPose(waves, scene.T_camera_world, 1.0, 2.0);
+    EXPECT_GT(waves.hypotheses, 1) << "trial " << trial << ": the first hypothesis alone should not do";
+    EXPECT_EQ(oneThread.T_camera_world, waves.T_camera_world) << "trial " << trial;
+    EXPECT_EQ(oneThread.inlierIndices, waves.inlierIndices) << "trial " << trial;
+    EXPECT_EQ(oneThread.hypotheses, waves.hypotheses) << "trial " << trial;
+    const PnpResult defaultCall = solveDynamicR1Ppnp(scene.pointsMm, scene.pixelsPx, scene.candidates,
+                                                     scene.intrinsics, parameters, {}, &wrong);
+    EXPECT_EQ(defaultCall.T_camera_world, sequential.T_camera_world) << "trial " << trial;
+    EXPECT_EQ(defaultCall.hypotheses, sequential.hypotheses) << "trial " << trial;
+  }
+  const SyntheticPnpCase scene = makeSyntheticPnpCase(1, 100, 0.0, 0.0);
+  EXPECT_THROW(solveDynamicR1Ppnp(scene.pointsMm, scene.pixelsPx, scene.candidates, scene.intrinsics, parameters, {},
+                                  nullptr, 0),
                Error);
 }
 

@@ -31,6 +31,10 @@ using refinement::Observation;
 using refinement::Pose;
 
 constexpr int kOverlapSamples = 200;  ///< stored points projected per earlier key frame to measure its overlap
+/// DynamicR1PPnP hypotheses tried at once (solveDynamicR1Ppnp): a set matched by all descriptors after tracking
+/// drifted (a return to an earlier key frame) can take all of maxSolveHypotheses, one after another the longest part
+/// of such a key frame. A constant, so that the answer does not depend on the machine's thread count.
+constexpr int kPnpHypothesesAtOnce = 8;
 
 Pose toPose(const Eigen::Matrix4d& T_camera_world) {
   Pose pose;
@@ -258,7 +262,7 @@ struct KeyFrameRefiner::Impl {
     // The tracked pose starts the first hypothesis near its answer (PnpSolver.h: same iteration, fewer steps).
     const Eigen::Matrix4d T_camera_world_guess = inverseRigid(T_world_expected);
     const PnpResult pnp = solveDynamicR1Ppnp(set.pointsWorldMm, set.pixelsPx, set.candidates, intrinsics(), tracking,
-                                             vote.order, &T_camera_world_guess);
+                                             vote.order, &T_camera_world_guess, kPnpHypothesesAtOnce);
     hypotheses = pnp.hypotheses;
     if (!pnp.success || static_cast<int>(pnp.inlierIndices.size()) < minInliers) return inliers;
     double degrees = 0, mm = 0;

@@ -1,6 +1,7 @@
 #include "Tracking/PnpSolver.h"
 
 #include "Core/Error.h"
+#include "Core/ParallelFor.h"
 #include "Tracking/R1PpnpCore.h"
 
 #include <Eigen/Cholesky>
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 
 namespace tissuemosaic {
@@ -161,8 +163,10 @@ int refine(const Points3d& points, const Pixels2d& pixels, const std::vector<std
 
 PnpResult solve(const Points3d& points, const Pixels2d& pixels,
                 const std::vector<std::vector<CandidateMatch>>& candidates, const PinholeIntrinsics& k,
-                const TrackingParameters& params, const std::vector<int>& voteOrder, const Eigen::Matrix4d* guess) {
+                const TrackingParameters& params, const std::vector<int>& voteOrder, const Eigen::Matrix4d* guess,
+                int hypothesesAtOnce) {
   params.validate();
+  require(hypothesesAtOnce >= 1, "PnP: hypothesesAtOnce must be at least 1");
   const int n = static_cast<int>(points.size());
   require(pixels.size() == points.size(), "PnP: " + std::to_string(points.size()) + " 3D points but " +
                                               std::to_string(pixels.size()) + " pixels");
@@ -240,25 +244,43 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
     if (!listed[i]) order.push_back(i);
   }
 
-  detail::HypothesisSolver solver(problem, params);
+  // Hypotheses: the first alone (it starts from the guess and usually settles the pose), then waves of
+  // hypothesesAtOnce, each solved against the best pose before the wave and merged in order as the sequential loop
+  // would take them (a control point that an earlier hypothesis of the wave explained is dropped).
+  const int wave = std::min(hypothesesAtOnce, static_cast<int>(order.size()));
+  std::vector<std::unique_ptr<detail::HypothesisSolver>> solvers;
+  for (int i = 0; i < wave; ++i) solvers.push_back(std::make_unique<detail::HypothesisSolver>(problem, params));
+  struct Tried {
+    bool skipped = false;  ///< its control point was explained before the wave
+    Hypothesis polished;
+    int iterations = 0;
+  };
+  std::vector<Tried> tried(static_cast<std::size_t>(wave));
   Hypothesis best;
   std::vector<unsigned char> explained(n, 0);  // inliers of the best hypothesis: as control points they repeat it
   const double logFail = std::log(1.0 - params.ransacConfidence);
   int needed = std::min(params.maxRansacIterations, n);
   int hypotheses = 0, innerIterations = 0;
-  for (int h = 0; h < static_cast<int>(order.size()) && h < needed; ++h) {
+  const auto tryHypothesis = [&](int h, detail::HypothesisSolver& solver, Tried& out) {
     const int o = order[h];
-    ++hypotheses;
-    if (explained[o]) continue;
+    out = Tried{};
+    out.skipped = explained[o] != 0;
+    if (out.skipped) return;
     // A hypothesis must beat the best so far to matter: abandon it early when it is far behind.
     const int abortBelow = std::max(params.minInliers, best.inliers / 2);
     const Hypothesis hypothesis = solver.solve(o, abortBelow, h == 0 ? guess : nullptr);
-    innerIterations += hypothesis.iterations;
-    if (!hypothesis.valid) continue;
-    Hypothesis polished = hypothesis;
-    polished.inliers = refine(points, pixels, candidates, k, params.inlierThresholdPx, polished.R, polished.tMm);
-    if (polished.inliers <= best.inliers) continue;
-    best = polished;
+    out.iterations = hypothesis.iterations;
+    if (!hypothesis.valid) return;
+    out.polished = hypothesis;
+    out.polished.inliers =
+        refine(points, pixels, candidates, k, params.inlierThresholdPx, out.polished.R, out.polished.tMm);
+  };
+  const auto take = [&](int h, const Tried& t) {
+    ++hypotheses;
+    if (t.skipped || explained[order[h]]) return;
+    innerIterations += t.iterations;
+    if (!t.polished.valid || t.polished.inliers <= best.inliers) return;
+    best = t.polished;
     // Mark the new best's inliers, and bound the hypotheses still needed (1-point sample: 1 - eps per miss).
     const std::vector<BestMatch> matches = bestMatches(points, pixels, candidates, k, best.R, best.tMm);
     const double H2 = params.inlierThresholdPx * params.inlierThresholdPx;
@@ -275,6 +297,17 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
       const double bound = std::ceil(logFail / std::log(1.0 - inlierRatio));
       needed = static_cast<int>(std::min<double>(needed, bound));
     }
+  };
+  const int orderSize = static_cast<int>(order.size());
+  for (int h = 0; h < orderSize && h < needed;) {
+    const int count = h == 0 ? 1 : std::min({wave, orderSize - h, needed - h});
+    if (count == 1) {
+      tryHypothesis(h, *solvers[0], tried[0]);
+    } else {
+      parallelFor<CpuBackend>(count, [&](int64_t i) { tryHypothesis(h + static_cast<int>(i), *solvers[i], tried[i]); }, 1);
+    }
+    for (int i = 0; i < count && h + i < needed; ++i) take(h + i, tried[static_cast<std::size_t>(i)]);
+    h += count;
   }
   if (!best.valid || best.inliers < params.minInliers) {
     return failure("PnP: no pose with at least " + std::to_string(params.minInliers) + " inliers (best " +
@@ -310,17 +343,19 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
 
 PnpResult solveR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx, const PinholeIntrinsics& intrinsics,
                       const TrackingParameters& parameters, const std::vector<int>& voteOrder) {
-  return solve(pointsMm, pixelsPx, {}, intrinsics, parameters, voteOrder, nullptr);
+  return solve(pointsMm, pixelsPx, {}, intrinsics, parameters, voteOrder, nullptr, 1);
 }
 
 PnpResult solveDynamicR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx,
                              const std::vector<std::vector<CandidateMatch>>& candidates,
                              const PinholeIntrinsics& intrinsics, const TrackingParameters& parameters,
-                             const std::vector<int>& voteOrder, const Eigen::Matrix4d* T_camera_world_guess) {
+                             const std::vector<int>& voteOrder, const Eigen::Matrix4d* T_camera_world_guess,
+                             int hypothesesAtOnce) {
   if (T_camera_world_guess) {
     require(T_camera_world_guess->allFinite(), "DynamicR1PPnP: the pose guess is not finite");
   }
-  return solve(pointsMm, pixelsPx, candidates, intrinsics, parameters, voteOrder, T_camera_world_guess);
+  return solve(pointsMm, pixelsPx, candidates, intrinsics, parameters, voteOrder, T_camera_world_guess,
+               hypothesesAtOnce);
 }
 
 void poseDifference(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double& rotationDeg, double& centreMm) {

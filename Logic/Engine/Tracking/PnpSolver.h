@@ -70,11 +70,16 @@ PnpResult solveR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx, const 
 /// hypothesis then starts from the depths and weights this pose implies instead of the weak-perspective start:
 /// the same re-weighting iteration, entered near its end (tracking adjacent frames: about 4x fewer iterations).
 /// The other hypotheses start as the paper's, so a wrong guess costs time, not robustness.
+///
+/// hypothesesAtOnce > 1: after the first hypothesis, the control points are tried that many at a time on the CPU
+/// pool, each wave against the best pose before it (merged in order, so the answer does not depend on the thread
+/// count). For sets that may need many hypotheses on a latency-critical path (the refinement's matches with earlier
+/// key frames after tracking drifted); 1 is the paper's sequential loop.
 PnpResult solveDynamicR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx,
                              const std::vector<std::vector<CandidateMatch>>& candidates,
                              const PinholeIntrinsics& intrinsics, const TrackingParameters& parameters,
                              const std::vector<int>& voteOrder = {},
-                             const Eigen::Matrix4d* T_camera_world_guess = nullptr);
+                             const Eigen::Matrix4d* T_camera_world_guess = nullptr, int hypothesesAtOnce = 1);
 
 /// Rotation angle (degrees) and camera-centre distance (mm) between two T_camera_world poses; for tests and benches.
 void poseDifference(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double& rotationDeg, double& centreMm);
