@@ -117,6 +117,8 @@ int runBenchReconstruct(const Words& words) {
       {"surface_wait", &RefinementPartsMs::surfaceWait},
       {"solve_call", &RefinementPartsMs::solveCall}};
   std::vector<std::vector<double>> partsMs(partFields.size());
+  // Each key frame's total and main parts: what the median and the mean of the timing table are made of.
+  std::string keyFramesJson;
   // How the refinement matched (RefinementParameters::guidedSearchRadiusPx), summed over the key frames.
   int keyFramesMatched = 0, keyFramesGuided = 0, intermediateFrames = 0, intermediateFramesGuided = 0;
   // Stereo against the truth on the key frames (what fusion receives): the worst share of gross errors (> 3 px).
@@ -133,6 +135,12 @@ int runBenchReconstruct(const Words& words) {
     lost += !result.tracked;
     if (result.keyFrame && frame.index > 0) {
       for (std::size_t i = 0; i < partFields.size(); ++i) partsMs[i].push_back(result.refinementPartsMs.*partFields[i].second);
+      const RefinementPartsMs& parts = result.refinementPartsMs;
+      keyFramesJson += cv::format(
+          "%s{\"frame\": %d, \"total_ms\": %.3f, \"matching_call_ms\": %.3f, \"key_frame_matching_ms\": %.3f, "
+          "\"solve_call_ms\": %.3f, \"matched_key_frames\": %d, \"guided_key_frames\": %d}",
+          keyFramesJson.empty() ? "" : ", ", frame.index, result.timesMs.total, parts.matchingCall,
+          parts.keyFrameMatching, parts.solveCall, result.matchedKeyFrames, result.guidedKeyFrames);
       keyFramesMatched += result.matchedKeyFrames;
       keyFramesGuided += result.guidedKeyFrames;
       intermediateFrames += result.intermediateFrames;
@@ -230,14 +238,14 @@ int runBenchReconstruct(const Words& words) {
               "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
               "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": %s,\n "
               "\"refinement_parts_max_ms\": %s,\n \"refinement_matching\": {\"key_frames_matched\": %d, "
-              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"timing\": %s}\n",
+              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
               memoryJson.c_str(), partsJson(median).c_str(), partsJson(largest).c_str(), keyFramesMatched, keyFramesGuided, intermediateFrames,
-              intermediateFramesGuided, timing.toJson().c_str());
+              intermediateFramesGuided, keyFramesJson.c_str(), timing.toJson().c_str());
   return 0;
 }
 
