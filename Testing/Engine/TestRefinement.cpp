@@ -510,6 +510,36 @@ TEST(KeyFrameRefiner, CapsTheHypothesesOfAMatchThatFails) {
   EXPECT_GT(uncapped, 7);
 }
 
+// An earlier key frame seen again from elsewhere: many of its stored points find a wrong nearest descriptor near
+// their projections (here 30 % of the key frame's keypoints moved by 10 px, as a wrong neighbour lies), too many for
+// an intermediate frame's guided matches (90 % must agree), but the pose is right (the others agree at offset 0).
+// The agreeing matches are taken, DynamicR1PPnP checks them at its first hypothesis, and the key frame is matched
+// without the all-descriptor search (on the bench scan that search took all 50 hypotheses and mostly found no pose).
+TEST(KeyFrameRefiner, ChecksAnEarlierKeyFramesGuidedMatchesByItsPoseSolve) {
+  const RectifiedGeometry g = testGeometry();
+  const SurfaceMeasurement none;
+  const FeatureScene scene(1500, 21);
+  StereoFeatures seenAgain = scene.observe(truePose(3), g, 0.3, 0.1, 4, 0, 5);
+  int moved = 0;
+  for (std::size_t i = 0; i < seenAgain.keypoints.size(); i += 10) {
+    for (std::size_t j = i; j < std::min(i + 3, seenAgain.keypoints.size()); ++j, ++moved) seenAgain.keypoints[j].pt.x += 10.f;
+  }
+  const auto match = [&](const StereoFeatures& features) {
+    KeyFrameRefiner refiner(g, RefinementParameters{}, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+    refiner.refineKeyFrame(0, scene.observe(truePose(0), g, 0.3, 0.1, 4, 0, 4), truePose(0), none, {}, {});
+    return refiner.refineKeyFrame(3, features, truePose(3), none, {}, {});
+  };
+  const RefinementResult r = match(seenAgain);
+  std::printf("%d of %zu keypoints moved: %d key frame matched, %d guided, %d hypotheses\n", moved,
+              seenAgain.keypoints.size(), r.matchedKeyFrames, r.guidedKeyFrames, r.pnpHypotheses);
+  EXPECT_EQ(r.matchedKeyFrames, 1);
+  EXPECT_EQ(r.guidedKeyFrames, 1);
+  EXPECT_LE(r.pnpHypotheses, 2);
+  EXPECT_GT(r.fixedPoints, 0.5 * (seenAgain.keypoints.size() - moved));
+  EXPECT_LT(r.fixedPoints, seenAgain.keypoints.size() - 0.5 * moved);  // the moved ones are not among them
+
+}
+
 // A correction beyond the limits is refused: the tracked pose comes back and the message says why. (The ICP case:
 // feature matches are held to the same limits already, by DynamicR1PPnP's pose.)
 TEST(KeyFrameRefiner, RefusesImplausibleCorrections) {

@@ -35,6 +35,12 @@ constexpr int kOverlapSamples = 200;  ///< stored points projected per earlier k
 /// drifted (a return to an earlier key frame) can take all of maxSolveHypotheses, one after another the longest part
 /// of such a key frame. A constant, so that the answer does not depend on the machine's thread count.
 constexpr int kPnpHypothesesAtOnce = 8;
+/// Share of an earlier key frame's guided candidates that must agree with their median offset before DynamicR1PPnP
+/// checks them (an intermediate frame's guided matches need ProjectionGuidedMatchParameters' default, 0.9: they are
+/// taken as observations unchecked). An old key frame seen again from another distance and angle (the bench scan's
+/// first key frame at its return) has more wrong nearest descriptors: 0.75-0.87 of its candidates agreed, with a
+/// median offset of 0.2 px, and all descriptors then took all 50 hypotheses and mostly found no pose.
+constexpr double kKeyFrameGuidedMinConsistentShare = 0.5;
 
 Pose toPose(const Eigen::Matrix4d& T_camera_world) {
   Pose pose;
@@ -523,6 +529,8 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
   // Near the projections of the stored points at the tracked pose first: when tracking has not drifted from that
   // key frame, DynamicR1PPnP then checks a set that is nearly all inliers and stops at its first hypotheses.
   std::vector<uint8_t> keyFrameGuided(overlapping.size(), 0);
+  ProjectionGuidedMatchParameters keyFrameGuide = s.guidedMatchParameters();
+  keyFrameGuide.minConsistentShare = kKeyFrameGuidedMinConsistentShare;
   parallelFor<CpuBackend>(
       static_cast<int64_t>(overlapping.size()),
       [&](int64_t c) {
@@ -532,7 +540,7 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
         if (p.guidedSearchRadiusPx <= 0) return;
         const ProjectionGuidedMatches found = matchProjectedPoints(
             match.world, kf.descriptors, features.keypoints, features.descriptors, T_camera_world, s.intrinsics(),
-            s.guidedMatchParameters());
+            keyFrameGuide);
         if (!found.trusted || static_cast<int>(found.matches.size()) < p.minKeyFrameInliers) return;
         match.set = s.toMatchSet(found, match.world, kf.pixelsPx, features);
         keyFrameGuided[static_cast<std::size_t>(c)] = 1;
