@@ -540,6 +540,46 @@ TEST(KeyFrameRefiner, ChecksAnEarlierKeyFramesGuidedMatchesByItsPoseSolve) {
 
 }
 
+// Earlier key frames are chosen by the share of their points in view, whatever their bounding sphere (which only
+// skips key frames wholly outside the view): one whose points are mostly out of view, with their centre outside,
+// still matches when enough of them are in; one beside the view does not.
+TEST(KeyFrameRefiner, ChoosesEarlierKeyFramesByThePointsInView) {
+  const RectifiedGeometry g = testGeometry();
+  const SurfaceMeasurement none;
+  const FeatureScene scene(1500, 21);
+  const auto matchedAfterMoving = [&](double sidewaysMm, int& fixedPoints) {
+    KeyFrameRefiner refiner(g, RefinementParameters{}, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
+    const StereoFeatures first = scene.observe(truePose(0), g, 0.3, 0.1, 4, 0, 4);
+    refiner.refineKeyFrame(0, first, truePose(0), none, {}, {});
+    Eigen::Matrix4d moved = truePose(0);
+    moved(0, 3) += sidewaysMm;
+    const RefinementResult r = refiner.refineKeyFrame(1, scene.observe(moved, g, 0.3, 0.1, 4, 0, 5), moved, none, {}, {});
+    fixedPoints = r.fixedPoints;
+    // Where the first key frame's points are now: their mean (about the bounding sphere's centre) and the share in view.
+    const Eigen::Matrix4d T_camera_world = moved.inverse();
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    int inView = 0;
+    for (std::size_t i = 0; i < first.pointsCameraMm.size(); ++i) {
+      const Eigen::Vector3d c = T_camera_world.block<3, 3>(0, 0) * first.pointsCameraMm[i] + T_camera_world.block<3, 1>(0, 3);
+      mean += c / static_cast<double>(first.pointsCameraMm.size());
+      const double u = g.focalPx * c.x() / c.z() + g.cxLeftPx;
+      inView += u >= 0 && u < g.imageSize.width;
+    }
+    std::printf("moved %.0f mm: first key frame's points %.0f %% in view, their mean at u = %.0f px; %d key frame "
+                "matched, %d points fixed\n", sidewaysMm, 100.0 * inView / first.pointsCameraMm.size(),
+                g.focalPx * mean.x() / mean.z() + g.cxLeftPx, r.matchedKeyFrames, r.fixedPoints);
+    if (sidewaysMm == 46) {
+      EXPECT_LT(g.focalPx * mean.x() / mean.z() + g.cxLeftPx, 0);  // the centre is out of view
+      EXPECT_GT(inView, 0.3 * first.pointsCameraMm.size());
+    }
+    return r.matchedKeyFrames;
+  };
+  int fixedPartly = 0, fixedBeside = 0;
+  EXPECT_EQ(matchedAfterMoving(46, fixedPartly), 1);
+  EXPECT_GT(fixedPartly, 100);
+  EXPECT_EQ(matchedAfterMoving(90, fixedBeside), 0);
+}
+
 // A correction beyond the limits is refused: the tracked pose comes back and the message says why. (The ICP case:
 // feature matches are held to the same limits already, by DynamicR1PPnP's pose.)
 TEST(KeyFrameRefiner, RefusesImplausibleCorrections) {
