@@ -547,37 +547,41 @@ TEST(KeyFrameRefiner, ChoosesEarlierKeyFramesByThePointsInView) {
   const RectifiedGeometry g = testGeometry();
   const SurfaceMeasurement none;
   const FeatureScene scene(1500, 21);
-  const auto matchedAfterMoving = [&](double sidewaysMm, int& fixedPoints) {
+  struct Moved {
+    RefinementResult result;     ///< the second key frame's refinement
+    double meanUPx = 0;          ///< where the first key frame's points' mean (about its sphere's centre) projects
+    double shareInView = 0;      ///< of the first key frame's points
+  };
+  const auto refineAfterMoving = [&](double sidewaysMm) {
     KeyFrameRefiner refiner(g, RefinementParameters{}, TrackingParameters{}, FeatureParameters{}, Device::Cpu);
     const StereoFeatures first = scene.observe(truePose(0), g, 0.3, 0.1, 4, 0, 4);
     refiner.refineKeyFrame(0, first, truePose(0), none, {}, {});
     Eigen::Matrix4d moved = truePose(0);
     moved(0, 3) += sidewaysMm;
-    const RefinementResult r = refiner.refineKeyFrame(1, scene.observe(moved, g, 0.3, 0.1, 4, 0, 5), moved, none, {}, {});
-    fixedPoints = r.fixedPoints;
-    // Where the first key frame's points are now: their mean (about the bounding sphere's centre) and the share in view.
-    const Eigen::Matrix4d T_camera_world = moved.inverse();
+    Moved m;
+    m.result = refiner.refineKeyFrame(1, scene.observe(moved, g, 0.3, 0.1, 4, 0, 5), moved, none, {}, {});
+    const Eigen::Matrix4d T_camera_world = moved.inverse() * truePose(0);  // first key frame's camera -> moved camera
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     int inView = 0;
-    for (std::size_t i = 0; i < first.pointsCameraMm.size(); ++i) {
-      const Eigen::Vector3d c = T_camera_world.block<3, 3>(0, 0) * first.pointsCameraMm[i] + T_camera_world.block<3, 1>(0, 3);
+    for (const Eigen::Vector3d& point : first.pointsCameraMm) {
+      const Eigen::Vector3d c = T_camera_world.block<3, 3>(0, 0) * point + T_camera_world.block<3, 1>(0, 3);
       mean += c / static_cast<double>(first.pointsCameraMm.size());
       const double u = g.focalPx * c.x() / c.z() + g.cxLeftPx;
       inView += u >= 0 && u < g.imageSize.width;
     }
+    m.meanUPx = g.focalPx * mean.x() / mean.z() + g.cxLeftPx;
+    m.shareInView = static_cast<double>(inView) / first.pointsCameraMm.size();
     std::printf("moved %.0f mm: first key frame's points %.0f %% in view, their mean at u = %.0f px; %d key frame "
-                "matched, %d points fixed\n", sidewaysMm, 100.0 * inView / first.pointsCameraMm.size(),
-                g.focalPx * mean.x() / mean.z() + g.cxLeftPx, r.matchedKeyFrames, r.fixedPoints);
-    if (sidewaysMm == 46) {
-      EXPECT_LT(g.focalPx * mean.x() / mean.z() + g.cxLeftPx, 0);  // the centre is out of view
-      EXPECT_GT(inView, 0.3 * first.pointsCameraMm.size());
-    }
-    return r.matchedKeyFrames;
+                "matched, %d points fixed\n", sidewaysMm, 100.0 * m.shareInView, m.meanUPx, m.result.matchedKeyFrames,
+                m.result.fixedPoints);
+    return m;
   };
-  int fixedPartly = 0, fixedBeside = 0;
-  EXPECT_EQ(matchedAfterMoving(46, fixedPartly), 1);
-  EXPECT_GT(fixedPartly, 100);
-  EXPECT_EQ(matchedAfterMoving(90, fixedBeside), 0);
+  const Moved partly = refineAfterMoving(46);
+  EXPECT_LT(partly.meanUPx, 0);  // the centre is out of view
+  EXPECT_GT(partly.shareInView, 0.3);
+  EXPECT_EQ(partly.result.matchedKeyFrames, 1);
+  EXPECT_GT(partly.result.fixedPoints, 100);
+  EXPECT_EQ(refineAfterMoving(90).result.matchedKeyFrames, 0);
 }
 
 // A correction beyond the limits is refused: the tracked pose comes back and the message says why. (The ICP case:
