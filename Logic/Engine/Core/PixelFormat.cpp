@@ -15,4 +15,14 @@ cv::Mat toBgr8(const cv::Mat& image, const std::string& what) {
   return bgr;
 }
 
+cv::Mat toGrey8(const cv::Mat& image, const std::string& what) {
+  require(!image.empty(), what + " is empty");
+  require(image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3 || image.channels() == 4),
+          what + " must be 8-bit grey, BGR or BGRA");
+  if (image.channels() == 1) return image.isContinuous() ? image : image.clone();
+  cv::Mat grey;  // cv::Mat::create allocates continuous memory
+  cv::cvtColor(image, grey, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  return grey;
+}
+
 }  // namespace tissuemosaic

@@ -12,4 +12,8 @@ namespace tissuemosaic {
 /// "<what> must be 8-bit grey, BGR or BGRA" for any other type.
 cv::Mat toBgr8(const cv::Mat& image, const std::string& what);
 
+/// An 8-bit grey, BGR or BGRA image as 8-bit grey in continuous memory (OpenCV's weights; a continuous grey image
+/// is returned as it is, not copied). Throws Error naming `what` when the image is empty or of any other type.
+cv::Mat toGrey8(const cv::Mat& image, const std::string& what);
+
 }  // namespace tissuemosaic

@@ -140,10 +140,12 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   struct TimedDisparity {
     cv::Mat disparityPx;
     double milliseconds = 0;
+    StereoTimingsMs parts;
   };
   PendingResult<TimedDisparity> stereo = s.worker.run([&] {
     const auto stereoStart = Clock::now();
-    TimedDisparity computed{s.matcher.computeDisparity(result.leftRectified, result.rightRectified)};
+    TimedDisparity computed;
+    computed.disparityPx = s.matcher.computeDisparity(result.leftRectified, result.rightRectified, &computed.parts);
     synchronize(s.device);  // nothing of this thread's left in flight when another thread takes over
     computed.milliseconds = millisecondsSince(stereoStart);
     return computed;
@@ -153,6 +155,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
       TimedDisparity computed = stereo.get();
       result.disparityPx = computed.disparityPx;
       result.timesMs.stereo = computed.milliseconds;
+      result.stereoPartsMs = computed.parts;
     }
     return result.disparityPx;
   };
@@ -160,6 +163,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   takeDisparity();  // the tracker has taken it on every path that returns; this only guards that contract
   result.timesMs.orbVoting = track.orbVotingMs;
   result.timesMs.pnp = track.pnpMs;
+  result.trackingPartsMs = {track.extractMs, track.matchMs, track.subPixelMs, track.voteMs};
   result.tracked = track.tracked;
   result.keyFrame = track.tracked && track.keyFrame;
   result.trackingMessage = track.failureReason;

@@ -14,6 +14,7 @@
 #include "Core/StereoRig.h"
 #include "Fusion/PointModel.h"
 #include "Reconstruction/ReconstructionParameters.h"
+#include "Stereo/StereoMatcher.h"
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -46,6 +47,12 @@ struct RefinementPartsMs {
   double matchingCall = 0, surfaceWait = 0, solveCall = 0;
 };
 
+/// The ORB + voting stage's parts (FrameTracker's TrackResult): extraction (grey conversion, ORB, and the lift of
+/// the features, not counting the wait for the disparity before it), Hamming matching, sub-pixel refinement, voting.
+struct TrackingPartsMs {
+  double extract = 0, match = 0, subPixel = 0, vote = 0;
+};
+
 struct FrameResult {
   int frameIndex = 0;
   bool tracked = false;
@@ -63,6 +70,8 @@ struct FrameResult {
   bool pointBudgetReached = false;
   StageTimesMs timesMs;
   RefinementPartsMs refinementPartsMs;  ///< key frames only
+  StereoTimingsMs stereoPartsMs;        ///< the stereo stage's parts (its GPU stages in device time)
+  TrackingPartsMs trackingPartsMs;
   cv::Mat leftRectified, rightRectified;  ///< 8-bit BGR
   cv::Mat disparityPx;                    ///< CV_32F, NaN = none
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW

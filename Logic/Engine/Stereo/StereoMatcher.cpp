@@ -1,10 +1,9 @@
 #include "StereoMatcher.h"
 
 #include "Core/Error.h"
+#include "Core/PixelFormat.h"
 #include "Core/Stopwatch.h"
 #include "StereoPipeline.h"
-
-#include <opencv2/imgproc.hpp>
 
 #include <chrono>
 
@@ -37,20 +36,6 @@ StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int di
 }  // namespace stereo
 
 namespace {
-
-/// 8-bit grey: a quarter of the float image's bytes to upload; the pipeline widens it on the device.
-cv::Mat toGrey8(const cv::Mat& image, const char* which) {
-  require(!image.empty(), std::string("the ") + which + " image is empty");
-  require(image.depth() == CV_8U, std::string("the ") + which + " image must have 8 bits per channel");
-  cv::Mat grey;
-  switch (image.channels()) {
-    case 1: grey = image; break;
-    case 3: cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY); break;
-    case 4: cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY); break;
-    default: throw Error(std::string("the ") + which + " image must be grey, BGR or BGRA");
-  }
-  return grey.isContinuous() ? grey : grey.clone();
-}
 
 cv::Mat downloadDiscrete(const Image<int16_t>& image) {
   const std::vector<int16_t> values = image.buffer().toHost();
@@ -86,15 +71,18 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
           "the left and right images differ in size (" + std::to_string(leftRectified.cols) + "x" +
               std::to_string(leftRectified.rows) + " vs " + std::to_string(rightRectified.cols) + "x" +
               std::to_string(rightRectified.rows) + ")");
-  const cv::Mat left = toGrey8(leftRectified, "left");
-  const cv::Mat right = toGrey8(rightRectified, "right");
+  StereoTimingsMs local;
+  StereoTimingsMs& t = timings ? *timings : local;
+  auto start = std::chrono::steady_clock::now();
+  // 8-bit grey: a quarter of the float image's bytes to upload; the pipeline widens it on the device.
+  const cv::Mat left = toGrey8(leftRectified, "the left image");
+  const cv::Mat right = toGrey8(rightRectified, "the right image");
+  t.grey = millisecondsSince(start);
   const int minimumSide = p.znccWindowPx;
   require(left.cols >= minimumSide && left.rows >= minimumSide,
           "the images are smaller than the ZNCC window (" + std::to_string(minimumSide) + " px)");
 
-  StereoTimingsMs local;
-  StereoTimingsMs& t = timings ? *timings : local;
-  auto start = std::chrono::steady_clock::now();
+  start = std::chrono::steady_clock::now();
   auto& workspace = impl_->workspace;
   if (!workspace || workspace->width != left.cols || workspace->height != left.rows ||
       workspace->disparityCount != p.disparityCount()) {

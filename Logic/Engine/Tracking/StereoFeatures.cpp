@@ -3,8 +3,7 @@
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
 #include "Core/ParameterChecks.h"
-
-#include <opencv2/imgproc.hpp>
+#include "Core/PixelFormat.h"
 
 #include <cmath>
 #include <limits>
@@ -85,15 +84,13 @@ FeatureParameters FeatureParameters::read(const cv::FileNode& node) {
 }
 
 StereoFeatures detectFeatures(const FeatureDetector& detect, const cv::Mat& leftRectified) {
-  require(!leftRectified.empty(), "tracking: the left image is empty");
-  require(leftRectified.depth() == CV_8U && (leftRectified.channels() == 1 || leftRectified.channels() == 3),
-          "tracking: the left image must be 8-bit grey or BGR");
   StereoFeatures features;
   cv::Mat& grey = features.grey;
   {
     profiling::ScopedTimer timer("host: features grey");
-    if (leftRectified.channels() == 3) cv::cvtColor(leftRectified, grey, cv::COLOR_BGR2GRAY);
-    else grey = leftRectified.clone();
+    grey = toGrey8(leftRectified, "tracking: the left image");
+    // The features keep their image (the sub-pixel reference of the next frames): never the caller's buffer.
+    if (grey.data == leftRectified.data) grey = grey.clone();
   }
   profiling::ScopedTimer timer("host: features detect");
   detect(grey, features.keypoints, features.descriptors);

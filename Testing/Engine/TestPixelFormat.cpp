@@ -1,0 +1,76 @@
+// The engine's grey conversion (one helper for stereo and tracking, which each had their own) against OpenCV's.
+#include "Core/Error.h"
+#include "Core/PixelFormat.h"
+#include "Tracking/StereoFeatures.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <functional>
+#include <string>
+
+namespace tissuemosaic {
+namespace {
+
+cv::Mat randomImage(int type, uint64_t seed) {
+  cv::Mat image(37, 53, type);
+  cv::RNG rng(seed);
+  rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+  return image;
+}
+
+int differingPixels(const cv::Mat& a, const cv::Mat& b) {
+  EXPECT_EQ(a.size(), b.size());
+  EXPECT_EQ(a.type(), b.type());
+  return cv::countNonZero(a != b);
+}
+
+std::string errorOf(const std::function<void()>& call) {
+  try {
+    call();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PixelFormat, GreyIsOpenCvsConversionOfEveryLayout) {
+  const cv::Mat bgr = randomImage(CV_8UC3, 1), bgra = randomImage(CV_8UC4, 2);
+  cv::Mat expectedFromBgr, expectedFromBgra;
+  cv::cvtColor(bgr, expectedFromBgr, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(bgra, expectedFromBgra, cv::COLOR_BGRA2GRAY);
+  EXPECT_EQ(differingPixels(toGrey8(bgr, "image"), expectedFromBgr), 0);
+  EXPECT_EQ(differingPixels(toGrey8(bgra, "image"), expectedFromBgra), 0);
+
+  // A continuous grey image is passed through; a grey view into a larger image comes back continuous and equal.
+  const cv::Mat grey = randomImage(CV_8UC1, 3);
+  EXPECT_EQ(toGrey8(grey, "image").data, grey.data);
+  const cv::Mat view = grey(cv::Rect(5, 4, 30, 20));
+  ASSERT_FALSE(view.isContinuous());
+  const cv::Mat fromView = toGrey8(view, "image");
+  EXPECT_TRUE(fromView.isContinuous());
+  EXPECT_EQ(differingPixels(fromView, view), 0);
+}
+
+TEST(PixelFormat, GreyRefusesOtherImagesAndNamesThem) {
+  EXPECT_EQ(errorOf([] { toGrey8(cv::Mat(), "the left image"); }), "the left image is empty");
+  EXPECT_EQ(errorOf([] { toGrey8(cv::Mat(4, 4, CV_32FC1, cv::Scalar(0)), "the left image"); }),
+            "the left image must be 8-bit grey, BGR or BGRA");
+  EXPECT_EQ(errorOf([] { toGrey8(cv::Mat(4, 4, CV_8UC2, cv::Scalar(0)), "the left image"); }),
+            "the left image must be 8-bit grey, BGR or BGRA");
+}
+
+TEST(PixelFormat, FeaturesKeepTheirOwnGreyImage) {
+  // The tracker keeps each frame's grey image as the sub-pixel reference of the next frames: a grey image handed
+  // in must be copied, or a caller reusing its buffer would change the reference under the tracker.
+  cv::Mat grey = randomImage(CV_8UC1, 7);
+  const cv::Mat before = grey.clone();
+  const FeatureDetector noFeatures = [](const cv::Mat&, std::vector<cv::KeyPoint>&, cv::Mat&) {};
+  const StereoFeatures features = detectFeatures(noFeatures, grey);
+  EXPECT_NE(features.grey.data, grey.data);
+  grey.setTo(0);
+  EXPECT_EQ(differingPixels(features.grey, before), 0);
+}
+
+}  // namespace
+}  // namespace tissuemosaic
