@@ -31,7 +31,8 @@ namespace tissuemosaic::cli {
 namespace {
 
 const char* const help = R"(usage: tissuemosaic bench reconstruct [--width 960] [--height 540] [--frames 60] [--device cpu|cuda|auto]
-                                    [--seed S] [--params p.yml] [--out DIR] [--stream] [--supersampling N]
+                                    [--seed S] [--params p.yml] [--out DIR] [--stream [--chunk N]]
+                                    [--supersampling N]
 
 Renders a synthetic scan (before timing), then runs the whole reconstruction on it (stereo, tracking, key-frame
 refinement, TSDF fusion) starting from the true first pose, and prints one JSON object: the median and mean
@@ -39,10 +40,15 @@ milliseconds per stage for key frames and for the other frames (the paper's runt
 the frames are in memory), the key-frame position error against the ground truth (no alignment), the model's distances to the true
 surface (RMSE, 95th percentile, shares beyond 1, 5 and 50 mm), the share of the key frames' stereo estimates
 that are gross errors (> 3 px from the truth, or where the truth has no surface), the model size
-and the peak host and device memory.
+and the peak host and device memory. "stereo_parts_median_ms" and "tracking_parts_median_ms" split the stereo
+and ORB + voting stages over all frames (host grey conversion and copies beside the GPU's stages; extraction,
+matching, sub-pixel refinement, voting).
 
 --stream renders each frame just before it is processed (outside the timed stages) instead of all of them first,
 so that the peak host memory is the pipeline's own: for long runs (a 5-minute scan at 30 fps is --frames 9000).
+--chunk N (with --stream, default 1) renders N frames at a time, then processes them one after another: the
+renderer's threads then do not run between every two frames (in 300-frame runs on the GPU machine that made the
+key frames 10-25 % slower), while the host memory holds only N frames (about 7 MB each at 960x540, with the ground truth).
 "memory" lists the resident host memory, the peak device memory and the model size at each quarter of the run:
 bounded memory shows as a plateau. --supersampling (default 2) sets the renderer's anti-aliasing; 1 renders about
 4x faster.
@@ -78,7 +84,7 @@ int runBenchReconstruct(const Words& words) {
     return 0;
   }
   const Arguments arguments(words);
-  arguments.allowOnly({"width", "height", "frames", "device", "seed", "params", "out", "stream", "supersampling"});
+  arguments.allowOnly({"width", "height", "frames", "device", "seed", "params", "out", "stream", "chunk", "supersampling"});
   synthetic::SyntheticScanOptions options;
   options.width = arguments.integer("width", 960);
   options.height = arguments.integer("height", 540);
@@ -87,6 +93,9 @@ int runBenchReconstruct(const Words& words) {
   options.supersampling = arguments.integer("supersampling", options.supersampling);
   require(options.frames >= 3, "--frames must be at least 3");
   const bool stream = arguments.has("stream");
+  const int chunk = arguments.integer("chunk", 1);
+  require(chunk >= 1, "--chunk must be at least 1");
+  require(stream || !arguments.has("chunk"), "--chunk needs --stream");
   const Device device = parseDevice(arguments.text("device", "auto"));
   ReconstructionParameters parameters;
   if (arguments.has("params")) parameters = ReconstructionParameters::readFile(arguments.required("params"));
@@ -117,6 +126,16 @@ int runBenchReconstruct(const Words& words) {
       {"surface_wait", &RefinementPartsMs::surfaceWait},
       {"solve_call", &RefinementPartsMs::solveCall}};
   std::vector<std::vector<double>> partsMs(partFields.size());
+  // The stereo stage's parts over all frames: the host's share (grey, copies) beside the GPU's stages.
+  const std::vector<std::pair<const char*, double StereoTimingsMs::*>> stereoFields = {
+      {"grey", &StereoTimingsMs::grey},         {"upload", &StereoTimingsMs::upload},
+      {"zncc", &StereoTimingsMs::zncc},         {"outliers_holes", &StereoTimingsMs::outliersHoles},
+      {"refinement", &StereoTimingsMs::refinement}, {"download", &StereoTimingsMs::download}};
+  std::vector<std::vector<double>> stereoMs(stereoFields.size());
+  const std::vector<std::pair<const char*, double TrackingPartsMs::*>> trackingFields = {
+      {"extract_and_lift", &TrackingPartsMs::extract}, {"match", &TrackingPartsMs::match},
+      {"subpixel", &TrackingPartsMs::subPixel}, {"vote", &TrackingPartsMs::vote}};
+  std::vector<std::vector<double>> trackingMs(trackingFields.size());
   // Each key frame's total and main parts: what the median and the mean of the timing table are made of.
   std::string keyFramesJson;
   // How the refinement matched (RefinementParameters::guidedSearchRadiusPx), summed over the key frames.
@@ -125,7 +144,11 @@ int runBenchReconstruct(const Words& words) {
   double worstKeyFrameGross = 0, keyFrameGrossSum = 0;
   int worstKeyFrame = -1, keyFramesScored = 0;
   for (int k = 0; k < scan.frameCount(); ++k) {
-    const synthetic::SyntheticScanFrame frame = stream ? scan.renderFrame(k) : rendered[static_cast<std::size_t>(k)];
+    if (stream && k % chunk == 0) {  // the next chunk, rendered before any of it is processed
+      rendered.clear();
+      for (int j = k; j < std::min(k + chunk, scan.frameCount()); ++j) rendered.push_back(scan.renderFrame(j));
+    }
+    const synthetic::SyntheticScanFrame frame = rendered[static_cast<std::size_t>(stream ? k % chunk : k)];
     std::fprintf(stderr, "\rbench reconstruct: frame %d/%d", frame.index + 1, scan.frameCount());
     const FrameResult result = pipeline.process(frame.leftRectified, frame.rightRectified, frame.timeS);
     const int quarter = scan.frameCount() / 4;
@@ -133,6 +156,12 @@ int runBenchReconstruct(const Words& words) {
       memory.push_back({k + 1, residentHostMib(), pipeline.peakDeviceBytes() / (1024.0 * 1024.0), pipeline.modelPointCount()});
     }
     lost += !result.tracked;
+    if (frame.index > 0) {
+      for (std::size_t i = 0; i < stereoFields.size(); ++i) stereoMs[i].push_back(result.stereoPartsMs.*stereoFields[i].second);
+      for (std::size_t i = 0; i < trackingFields.size(); ++i) {
+        trackingMs[i].push_back(result.trackingPartsMs.*trackingFields[i].second);
+      }
+    }
     if (result.keyFrame && frame.index > 0) {
       for (std::size_t i = 0; i < partFields.size(); ++i) partsMs[i].push_back(result.refinementPartsMs.*partFields[i].second);
       const RefinementPartsMs& parts = result.refinementPartsMs;
@@ -224,27 +253,30 @@ int runBenchReconstruct(const Words& words) {
                              memory[i].modelPoints);
   }
   memoryJson += "]";
-  const auto partsJson = [&](auto statistic) {
+  const auto fieldsJson = [](const auto& fields, const std::vector<std::vector<double>>& values, auto statistic) {
     std::string json = "{";
-    for (std::size_t i = 0; i < partFields.size(); ++i) {
-      json += cv::format("%s\"%s\": %.4f", i ? ", " : "", partFields[i].first, statistic(partsMs[i]));
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      json += cv::format("%s\"%s\": %.4f", i ? ", " : "", fields[i].first, statistic(values[i]));
     }
     return json + "}";
   };
+  const auto partsJson = [&](auto statistic) { return fieldsJson(partFields, partsMs, statistic); };
   std::printf("{\"command\": \"bench reconstruct\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d, \"key_frames\": %zu, "
               "\"model_points\": %zu, \"key_frame_position_rmse_mm\": %.4f, \"model_rmse_mm\": %.4f, \"model_p95_mm\": %.4f, \"peak_host_mib\": %.1f, "
               "\"peak_device_mib\": %.1f,\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
               "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
               "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": %s,\n "
-              "\"refinement_parts_max_ms\": %s,\n \"refinement_matching\": {\"key_frames_matched\": %d, "
+              "\"refinement_parts_max_ms\": %s,\n \"stereo_parts_median_ms\": %s,\n \"tracking_parts_median_ms\": %s,\n \"refinement_matching\": {\"key_frames_matched\": %d, "
               "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
-              memoryJson.c_str(), partsJson(median).c_str(), partsJson(largest).c_str(), keyFramesMatched, keyFramesGuided, intermediateFrames,
+              memoryJson.c_str(), partsJson(median).c_str(), partsJson(largest).c_str(),
+              fieldsJson(stereoFields, stereoMs, median).c_str(), fieldsJson(trackingFields, trackingMs, median).c_str(),
+              keyFramesMatched, keyFramesGuided, intermediateFrames,
               intermediateFramesGuided, keyFramesJson.c_str(), timing.toJson().c_str());
   return 0;
 }
