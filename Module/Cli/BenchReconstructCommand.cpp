@@ -59,6 +59,26 @@ DIR/groundtruth/surface.ply (the surface both eyes saw) and DIR/groundtruth/traj
 )";
 
 
+/// Named fields of a timing struct (RefinementPartsMs, StereoTimingsMs, ...) and each field's values over the frames
+/// added, printed as one JSON object of a statistic per field.
+template <class Parts>
+struct PartSeries {
+  std::vector<std::pair<const char*, double Parts::*>> fields;
+  std::vector<std::vector<double>> values = std::vector<std::vector<double>>(fields.size());
+
+  void add(const Parts& parts) {
+    for (std::size_t i = 0; i < fields.size(); ++i) values[i].push_back(parts.*fields[i].second);
+  }
+  template <class Statistic>
+  std::string json(Statistic statistic) const {
+    std::string json = "{";
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      json += cv::format("%s\"%s\": %.4f", i ? ", " : "", fields[i].first, statistic(values[i]));
+    }
+    return json + "}";
+  }
+};
+
 /// Host and device memory and the model size after `frame` frames.
 struct MemorySample {
   int frame;
@@ -115,27 +135,26 @@ int runBenchReconstruct(const Words& words) {
   TimingTable timing;
   int lost = 0;
   // The refinement's parts per key frame, by their JSON names (RefinementPartsMs).
-  const std::vector<std::pair<const char*, double RefinementPartsMs::*>> partFields = {
-      {"surface", &RefinementPartsMs::surface},
-      {"model_sample", &RefinementPartsMs::modelSample},
-      {"icp_selection", &RefinementPartsMs::icpSelection},
-      {"key_frame_matching", &RefinementPartsMs::keyFrameMatching},
-      {"intermediate_matching", &RefinementPartsMs::intermediateMatching},
-      {"solve", &RefinementPartsMs::solve},
-      {"matching_call", &RefinementPartsMs::matchingCall},
-      {"surface_wait", &RefinementPartsMs::surfaceWait},
-      {"solve_call", &RefinementPartsMs::solveCall}};
-  std::vector<std::vector<double>> partsMs(partFields.size());
-  // The stereo stage's parts over all frames: the host's share (grey, copies) beside the GPU's stages.
-  const std::vector<std::pair<const char*, double StereoTimingsMs::*>> stereoFields = {
-      {"grey", &StereoTimingsMs::grey},         {"upload", &StereoTimingsMs::upload},
-      {"zncc", &StereoTimingsMs::zncc},         {"outliers_holes", &StereoTimingsMs::outliersHoles},
-      {"refinement", &StereoTimingsMs::refinement}, {"download", &StereoTimingsMs::download}};
-  std::vector<std::vector<double>> stereoMs(stereoFields.size());
-  const std::vector<std::pair<const char*, double TrackingPartsMs::*>> trackingFields = {
-      {"extract_and_lift", &TrackingPartsMs::extract}, {"match", &TrackingPartsMs::match},
-      {"subpixel", &TrackingPartsMs::subPixel}, {"vote", &TrackingPartsMs::vote}};
-  std::vector<std::vector<double>> trackingMs(trackingFields.size());
+  PartSeries<RefinementPartsMs> refinementParts{{{"surface", &RefinementPartsMs::surface},
+                                                 {"model_sample", &RefinementPartsMs::modelSample},
+                                                 {"icp_selection", &RefinementPartsMs::icpSelection},
+                                                 {"key_frame_matching", &RefinementPartsMs::keyFrameMatching},
+                                                 {"intermediate_matching", &RefinementPartsMs::intermediateMatching},
+                                                 {"solve", &RefinementPartsMs::solve},
+                                                 {"matching_call", &RefinementPartsMs::matchingCall},
+                                                 {"surface_wait", &RefinementPartsMs::surfaceWait},
+                                                 {"solve_call", &RefinementPartsMs::solveCall}}};
+  // The stereo and ORB + voting stages' parts over all frames: the host's share (grey, copies) beside the GPU's.
+  PartSeries<StereoTimingsMs> stereoParts{{{"grey", &StereoTimingsMs::grey},
+                                           {"upload", &StereoTimingsMs::upload},
+                                           {"zncc", &StereoTimingsMs::zncc},
+                                           {"outliers_holes", &StereoTimingsMs::outliersHoles},
+                                           {"refinement", &StereoTimingsMs::refinement},
+                                           {"download", &StereoTimingsMs::download}}};
+  PartSeries<TrackingPartsMs> trackingParts{{{"extract_and_lift", &TrackingPartsMs::extract},
+                                             {"match", &TrackingPartsMs::match},
+                                             {"subpixel", &TrackingPartsMs::subPixel},
+                                             {"vote", &TrackingPartsMs::vote}}};
   // Each key frame's total and main parts: what the median and the mean of the timing table are made of.
   std::string keyFramesJson;
   // How the refinement matched (RefinementParameters::guidedSearchRadiusPx), summed over the key frames.
@@ -157,13 +176,11 @@ int runBenchReconstruct(const Words& words) {
     }
     lost += !result.tracked;
     if (frame.index > 0) {
-      for (std::size_t i = 0; i < stereoFields.size(); ++i) stereoMs[i].push_back(result.stereoPartsMs.*stereoFields[i].second);
-      for (std::size_t i = 0; i < trackingFields.size(); ++i) {
-        trackingMs[i].push_back(result.trackingPartsMs.*trackingFields[i].second);
-      }
+      stereoParts.add(result.stereoPartsMs);
+      trackingParts.add(result.trackingPartsMs);
     }
     if (result.keyFrame && frame.index > 0) {
-      for (std::size_t i = 0; i < partFields.size(); ++i) partsMs[i].push_back(result.refinementPartsMs.*partFields[i].second);
+      refinementParts.add(result.refinementPartsMs);
       const RefinementPartsMs& parts = result.refinementPartsMs;
       keyFramesJson += cv::format(
           "%s{\"frame\": %d, \"total_ms\": %.3f, \"matching_call_ms\": %.3f, \"key_frame_matching_ms\": %.3f, "
@@ -253,14 +270,6 @@ int runBenchReconstruct(const Words& words) {
                              memory[i].modelPoints);
   }
   memoryJson += "]";
-  const auto fieldsJson = [](const auto& fields, const std::vector<std::vector<double>>& values, auto statistic) {
-    std::string json = "{";
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-      json += cv::format("%s\"%s\": %.4f", i ? ", " : "", fields[i].first, statistic(values[i]));
-    }
-    return json + "}";
-  };
-  const auto partsJson = [&](auto statistic) { return fieldsJson(partFields, partsMs, statistic); };
   std::printf("{\"command\": \"bench reconstruct\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d, \"key_frames\": %zu, "
               "\"model_points\": %zu, \"key_frame_position_rmse_mm\": %.4f, \"model_rmse_mm\": %.4f, \"model_p95_mm\": %.4f, \"peak_host_mib\": %.1f, "
@@ -274,8 +283,8 @@ int runBenchReconstruct(const Words& words) {
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
-              memoryJson.c_str(), partsJson(median).c_str(), partsJson(largest).c_str(),
-              fieldsJson(stereoFields, stereoMs, median).c_str(), fieldsJson(trackingFields, trackingMs, median).c_str(),
+              memoryJson.c_str(), refinementParts.json(median).c_str(), refinementParts.json(largest).c_str(),
+              stereoParts.json(median).c_str(), trackingParts.json(median).c_str(),
               keyFramesMatched, keyFramesGuided, intermediateFrames,
               intermediateFramesGuided, keyFramesJson.c_str(), timing.toJson().c_str());
   return 0;

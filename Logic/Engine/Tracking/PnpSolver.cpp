@@ -248,8 +248,8 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
   // hypothesesAtOnce, each solved against the best pose before the wave and merged in order as the sequential loop
   // would take them (a control point that an earlier hypothesis of the wave explained is dropped).
   const int wave = std::min(hypothesesAtOnce, static_cast<int>(order.size()));
+  // Made when a wave first needs them: most solves settle at the first hypothesis and need one.
   std::vector<std::unique_ptr<detail::HypothesisSolver>> solvers;
-  for (int i = 0; i < wave; ++i) solvers.push_back(std::make_unique<detail::HypothesisSolver>(problem, params));
   struct Tried {
     bool skipped = false;  ///< its control point was explained before the wave
     Hypothesis polished;
@@ -301,6 +301,9 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
   const int orderSize = static_cast<int>(order.size());
   for (int h = 0; h < orderSize && h < needed;) {
     const int count = h == 0 ? 1 : std::min({wave, orderSize - h, needed - h});
+    while (static_cast<int>(solvers.size()) < count) {
+      solvers.push_back(std::make_unique<detail::HypothesisSolver>(problem, params));
+    }
     if (count == 1) {
       tryHypothesis(h, *solvers[0], tried[0]);
     } else {
