@@ -8,12 +8,13 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace tissuemosaic {
 namespace {
 
-cv::Mat randomImage(int type, uint64_t seed) {
-  cv::Mat image(37, 53, type);
+cv::Mat randomImage(int type, uint64_t seed, cv::Size size = {53, 37}) {
+  cv::Mat image(size, type);
   cv::RNG rng(seed);
   rng.fill(image, cv::RNG::UNIFORM, 0, 256);
   return image;
@@ -41,6 +42,13 @@ TEST(PixelFormat, GreyIsOpenCvsConversionOfEveryLayout) {
   cv::cvtColor(bgra, expectedFromBgra, cv::COLOR_BGRA2GRAY);
   EXPECT_EQ(differingPixels(toGrey8(bgr, "image"), expectedFromBgr), 0);
   EXPECT_EQ(differingPixels(toGrey8(bgra, "image"), expectedFromBgra), 0);
+  // A full frame, and a view whose rows are not contiguous.
+  const cv::Mat frame = randomImage(CV_8UC3, 8, {960, 540});
+  cv::Mat expectedFrame;
+  cv::cvtColor(frame, expectedFrame, cv::COLOR_BGR2GRAY);
+  EXPECT_EQ(differingPixels(toGrey8(frame, "image"), expectedFrame), 0);
+  const cv::Rect inner(3, 5, 701, 433);
+  EXPECT_EQ(differingPixels(toGrey8(frame(inner), "image"), expectedFrame(inner)), 0);
 
   // A continuous grey image is passed through; a grey view into a larger image comes back continuous and equal.
   const cv::Mat grey = randomImage(CV_8UC1, 3);
@@ -50,6 +58,25 @@ TEST(PixelFormat, GreyIsOpenCvsConversionOfEveryLayout) {
   const cv::Mat fromView = toGrey8(view, "image");
   EXPECT_TRUE(fromView.isContinuous());
   EXPECT_EQ(differingPixels(fromView, view), 0);
+}
+
+TEST(PixelFormat, GreyIntoStagingMemoryWritesThatMemory) {
+  // The stereo matcher converts straight into its upload staging buffer: the conversion must write the memory it
+  // is given, not reallocate, and give OpenCV's pixels for every layout.
+  const cv::Mat bgr = randomImage(CV_8UC3, 4), bgra = randomImage(CV_8UC4, 5), grey = randomImage(CV_8UC1, 6);
+  std::vector<uint8_t> staging(static_cast<std::size_t>(bgr.total()), 0);
+  for (const cv::Mat& image : {bgr, bgra, grey}) {
+    cv::Mat view(image.rows, image.cols, CV_8UC1, staging.data());
+    convertToGrey8(image, view, "image");
+    EXPECT_EQ(view.data, staging.data());
+    EXPECT_EQ(differingPixels(cv::Mat(image.rows, image.cols, CV_8UC1, staging.data()), toGrey8(image, "image")), 0);
+  }
+  // A destination of another size is reallocated, as cv::Mat::create does.
+  cv::Mat small(3, 3, CV_8UC1, staging.data());
+  convertToGrey8(bgr, small, "image");
+  EXPECT_NE(small.data, staging.data());
+  EXPECT_EQ(small.size(), bgr.size());
+  EXPECT_EQ(errorOf([&] { convertToGrey8(cv::Mat(), small, "the right image"); }), "the right image is empty");
 }
 
 TEST(PixelFormat, GreyRefusesOtherImagesAndNamesThem) {

@@ -8,6 +8,7 @@
 #include "SyntheticStereoScene.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
 
@@ -93,6 +94,41 @@ TEST(StereoCuda, MatchesCpuOnRandomTexturesAndOddSizes) {
     parameters.maxDisparityPx = 20 + static_cast<int>(seed);
     compareBackends(left, right, parameters, ("random texture seed " + std::to_string(seed)).c_str());
   }
+}
+
+TEST(StereoCuda, MatchesCpuFrameAfterFrameOnOneMatcher) {
+  // One matcher over a sequence, as the reconstruct pipeline calls it: on CUDA each frame's grey pair is staged in
+  // page-locked memory and uploaded while the host goes on, so a frame must never see the previous frame's pixels.
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  synthetic::SyntheticStereoOptions options;
+  options.width = 320;
+  options.height = 180;
+  options.seed = 3;
+  const auto first = synthetic::renderSyntheticStereoPair(options);
+  options.seed = 4;
+  const auto second = synthetic::renderSyntheticStereoPair(options);
+  cv::Mat secondGreyLeft, secondGreyRight;
+  cv::cvtColor(second.leftRectified, secondGreyLeft, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(second.rightRectified, secondGreyRight, cv::COLOR_BGR2GRAY);
+  ASSERT_EQ(first.leftRectified.type(), CV_8UC3);
+  StereoMatcher cpu(Device::Cpu, StereoParameters{});
+  StereoMatcher gpu(Device::Cuda, StereoParameters{});
+  const std::vector<std::pair<cv::Mat, cv::Mat>> frames = {{first.leftRectified, first.rightRectified},
+                                                           {second.leftRectified, second.rightRectified},
+                                                           {first.leftRectified, first.rightRectified},
+                                                           {secondGreyLeft, secondGreyRight}};
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const cv::Mat expected = cpu.computeDisparity(frames[i].first, frames[i].second);
+    const cv::Mat computed = gpu.computeDisparity(frames[i].first, frames[i].second);
+    std::printf("frame %zu: within 0.5 px %.6f, bit-different %ld\n", i, shareWithin(expected, computed, 0.5f),
+                countDifferent(expected, computed));
+    EXPECT_EQ(countDifferent(cpu.lastZnccDisparity(), gpu.lastZnccDisparity()), 0) << "frame " << i;
+    EXPECT_GE(shareWithin(expected, computed, 0.5f), 0.995) << "frame " << i;
+  }
+  // The two scenes differ, so a frame computed from the other frame's pixels would have failed above.
+  EXPECT_LT(shareWithin(cpu.computeDisparity(first.leftRectified, first.rightRectified),
+                        cpu.computeDisparity(second.leftRectified, second.rightRectified), 0.5f),
+            0.9);
 }
 
 TEST(StereoDeviceChoice, GpuRequestRefusedWithoutGpu) {

@@ -48,6 +48,12 @@ public:
     if (device_ == Device::Cuda) cuda::copyHostToDeviceQueued(data_, host, count_ * sizeof(T));
     else if (count_) std::memcpy(data_, host, count_ * sizeof(T));
   }
+  /// As uploadQueued, from page-locked memory (a PinnedHostBuffer's on CUDA): the copy runs while the caller goes on,
+  /// so `host` must not change until the calling thread's work has finished.
+  void uploadPinnedQueued(const T* host) {
+    if (device_ == Device::Cuda) cuda::copyPinnedHostToDeviceQueued(data_, host, count_ * sizeof(T));
+    else if (count_) std::memcpy(data_, host, count_ * sizeof(T));
+  }
   /// Copies this buffer's elements into host memory.
   void download(T* host) const {
     if (device_ == Device::Cuda) cuda::copyDeviceToHost(host, data_, count_ * sizeof(T));

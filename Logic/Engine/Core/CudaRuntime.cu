@@ -97,6 +97,20 @@ void copyHostToDeviceQueued(void* device, const void* host, std::size_t bytes) {
 void copyDeviceToHost(void* host, const void* device, std::size_t bytes) {
   if (bytes) check(cudaMemcpy(host, device, bytes, cudaMemcpyDeviceToHost), "cudaMemcpy device to host");
 }
+void* allocatePinnedHost(std::size_t bytes) {
+  void* pointer = nullptr;
+  if (bytes) check(cudaHostAlloc(&pointer, bytes, cudaHostAllocDefault), "cudaHostAlloc");
+  return pointer;
+}
+void releasePinnedHost(void* pointer) noexcept {
+  if (pointer) cudaFreeHost(pointer);
+}
+void copyPinnedHostToDeviceQueued(void* device, const void* pinnedHost, std::size_t bytes) {
+  if (bytes) {
+    check(cudaMemcpyAsync(device, pinnedHost, bytes, cudaMemcpyHostToDevice, cudaStreamPerThread),
+          "cudaMemcpyAsync pinned host to device");
+  }
+}
 void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes) {
   if (bytes) check(cudaMemcpy(destination, source, bytes, cudaMemcpyDeviceToDevice), "cudaMemcpy device to device");
 }

@@ -18,6 +18,9 @@ void release(void*) noexcept {}
 void copyHostToDevice(void*, const void*, std::size_t) { absent(); }
 void copyHostToDeviceQueued(void*, const void*, std::size_t) { absent(); }
 void copyDeviceToHost(void*, const void*, std::size_t) { absent(); }
+void* allocatePinnedHost(std::size_t) { absent(); }
+void releasePinnedHost(void*) noexcept {}
+void copyPinnedHostToDeviceQueued(void*, const void*, std::size_t) { absent(); }
 void copyDeviceToDevice(void*, const void*, std::size_t) { absent(); }
 void setZero(void*, std::size_t) { absent(); }
 void synchronize() { absent(); }

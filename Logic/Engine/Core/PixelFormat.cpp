@@ -15,14 +15,24 @@ cv::Mat toBgr8(const cv::Mat& image, const std::string& what) {
   return bgr;
 }
 
-cv::Mat toGrey8(const cv::Mat& image, const std::string& what) {
+void requireGrey8Convertible(const cv::Mat& image, const std::string& what) {
   require(!image.empty(), what + " is empty");
   require(image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3 || image.channels() == 4),
           what + " must be 8-bit grey, BGR or BGRA");
-  if (image.channels() == 1) return image.isContinuous() ? image : image.clone();
+}
+
+cv::Mat toGrey8(const cv::Mat& image, const std::string& what) {
+  requireGrey8Convertible(image, what);
+  if (image.channels() == 1 && image.isContinuous()) return image;
   cv::Mat grey;  // cv::Mat::create allocates continuous memory
-  cv::cvtColor(image, grey, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  convertToGrey8(image, grey, what);
   return grey;
+}
+
+void convertToGrey8(const cv::Mat& image, cv::Mat& grey, const std::string& what) {
+  requireGrey8Convertible(image, what);
+  if (image.channels() == 1) image.copyTo(grey);
+  else cv::cvtColor(image, grey, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
 }
 
 }  // namespace tissuemosaic

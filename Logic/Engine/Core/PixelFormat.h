@@ -16,4 +16,11 @@ cv::Mat toBgr8(const cv::Mat& image, const std::string& what);
 /// is returned as it is, not copied). Throws Error naming `what` when the image is empty or of any other type.
 cv::Mat toGrey8(const cv::Mat& image, const std::string& what);
 
+/// Throws Error "<what> is empty" or "<what> must be 8-bit grey, BGR or BGRA" unless toGrey8 can convert `image`.
+void requireGrey8Convertible(const cv::Mat& image, const std::string& what);
+
+/// The same conversion into `grey`: when it already has the image's size and type CV_8UC1 (say, a view of a staging
+/// buffer) its memory is written, otherwise it is reallocated. Throws as toGrey8.
+void convertToGrey8(const cv::Mat& image, cv::Mat& grey, const std::string& what);
+
 }  // namespace tissuemosaic

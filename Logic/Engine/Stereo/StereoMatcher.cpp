@@ -13,6 +13,8 @@ namespace stereo {
 
 StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int disparityCount_)
     : device(device_), width(width_), height(height_), disparityCount(disparityCount_),
+      leftGreyStaging(device, device == Device::Cuda ? static_cast<std::size_t>(width) * height : 0),
+      rightGreyStaging(device, device == Device::Cuda ? static_cast<std::size_t>(width) * height : 0),
       leftGrey(device, width, height), rightGrey(device, width, height),
       left(device, width, height), right(device, width, height),
       columnEven(device, width, height), columnOdd(device, width, height),
@@ -73,31 +75,41 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
               std::to_string(rightRectified.rows) + ")");
   StereoTimingsMs local;
   StereoTimingsMs& t = timings ? *timings : local;
-  auto start = std::chrono::steady_clock::now();
-  // 8-bit grey: a quarter of the float image's bytes to upload; the pipeline widens it on the device.
-  const cv::Mat left = toGrey8(leftRectified, "the left image");
-  const cv::Mat right = toGrey8(rightRectified, "the right image");
-  t.grey = millisecondsSince(start);
+  requireGrey8Convertible(leftRectified, "the left image");
+  requireGrey8Convertible(rightRectified, "the right image");
   const int minimumSide = p.znccWindowPx;
-  require(left.cols >= minimumSide && left.rows >= minimumSide,
+  require(leftRectified.cols >= minimumSide && leftRectified.rows >= minimumSide,
           "the images are smaller than the ZNCC window (" + std::to_string(minimumSide) + " px)");
-
-  start = std::chrono::steady_clock::now();
   auto& workspace = impl_->workspace;
-  if (!workspace || workspace->width != left.cols || workspace->height != left.rows ||
+  if (!workspace || workspace->width != leftRectified.cols || workspace->height != leftRectified.rows ||
       workspace->disparityCount != p.disparityCount()) {
-    workspace = std::make_unique<stereo::StereoWorkspace>(impl_->device, left.cols, left.rows, p.disparityCount());
+    workspace = std::make_unique<stereo::StereoWorkspace>(impl_->device, leftRectified.cols, leftRectified.rows,
+                                                          p.disparityCount());
   }
-  workspace->leftGrey.buffer().upload(left.ptr<uint8_t>());
-  workspace->rightGrey.buffer().upload(right.ptr<uint8_t>());
-  synchronize(impl_->device);
-  t.upload = millisecondsSince(start);
+  // 8-bit grey: a quarter of the float image's bytes to upload; the pipeline widens it on the device. On CUDA each
+  // image is converted into page-locked memory and its upload queued at once, so the left image travels while the
+  // right one is converted, and the kernels queue behind both without the host waiting. The staging memory is
+  // written again only at the next call, after this one's blocking download.
+  const bool cuda = impl_->device == Device::Cuda;
+  const auto convertAndUpload = [&](const cv::Mat& image, Image<uint8_t>& grey, PinnedHostBuffer<uint8_t>& staging,
+                                    const char* what) {
+    auto start = std::chrono::steady_clock::now();
+    cv::Mat hostGrey(image.rows, image.cols, CV_8UC1, cuda ? staging.data() : grey.buffer().data());
+    convertToGrey8(image, hostGrey, what);
+    t.grey += millisecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    if (cuda) grey.buffer().uploadPinnedQueued(staging.data());
+    t.upload += millisecondsSince(start);
+  };
+  t.grey = t.upload = 0;
+  convertAndUpload(leftRectified, workspace->leftGrey, workspace->leftGreyStaging, "the left image");
+  convertAndUpload(rightRectified, workspace->rightGrey, workspace->rightGreyStaging, "the right image");
 
   if (impl_->device == Device::Cuda) stereo::runStereoPipelineCuda(*workspace, p, t);
   else stereo::runStereoPipelineCpu(*workspace, p, t);
 
-  start = std::chrono::steady_clock::now();
-  cv::Mat disparity(left.rows, left.cols, CV_32F);
+  const auto start = std::chrono::steady_clock::now();
+  cv::Mat disparity(leftRectified.rows, leftRectified.cols, CV_32F);
   workspace->smoothed.buffer().download(disparity.ptr<float>());
   t.download = millisecondsSince(start);
   return disparity;

@@ -14,7 +14,7 @@ namespace tissuemosaic {
 /// Milliseconds spent in each stage of one computeDisparity call (device work waited for at each stage end).
 struct StereoTimingsMs {
   double grey = 0;           ///< host: colour to 8-bit grey of both images
-  double upload = 0;         ///< host to device copy of the grey pair
+  double upload = 0;         ///< host to device copy of the grey pair (CUDA: queuing it; it runs beside the conversion)
   double zncc = 0;           ///< window statistics, cost volume, best ZNCC disparity
   double outliersHoles = 0;  ///< outlier removal alternating with both hole fillings
   double refinement = 0;     ///< improved Laplacian smoothing with o_i re-selection

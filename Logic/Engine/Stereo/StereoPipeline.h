@@ -6,6 +6,7 @@
 /// the GPU), built from the same per-pixel functions.
 #include "Core/Buffer.h"
 #include "Core/Image.h"
+#include "Core/PinnedHostBuffer.h"
 #include "StereoKernels.h"
 #include "StereoMatcher.h"
 #include "StereoParameters.h"
@@ -20,6 +21,9 @@ struct StereoWorkspace {
 
   Device device;
   int width, height, disparityCount;
+  /// CUDA: the host side of leftGrey and rightGrey, page-locked, where the grey conversion writes and the upload
+  /// reads while the host converts the other image (empty on the CPU, where the conversion writes leftGrey itself).
+  PinnedHostBuffer<uint8_t> leftGreyStaging, rightGreyStaging;
   Image<uint8_t> leftGrey, rightGrey;              ///< the rectified pair as uploaded: 8-bit grey
   Image<float> left, right;                        ///< the same grey levels 0..255 as floats (exact integers)
   Image<float> columnEven, columnOdd, columnEvenSq, columnOddSq;
