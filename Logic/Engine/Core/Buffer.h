@@ -43,15 +43,11 @@ public:
     else if (count_) std::memcpy(data_, host, count_ * sizeof(T));
   }
   /// As upload, but on CUDA queued on the calling thread's stream without waiting for the device: only the calling
-  /// thread's later work is sure to see the data. `host` must be pageable (cuda::copyHostToDeviceQueued).
+  /// thread's later work is sure to see the data. Pageable `host` may be reused at once; page-locked `host` (a
+  /// PinnedHostBuffer's) is read after the call returns and must not change until the thread's work has finished
+  /// (cuda::copyHostToDeviceQueued).
   void uploadQueued(const T* host) {
     if (device_ == Device::Cuda) cuda::copyHostToDeviceQueued(data_, host, count_ * sizeof(T));
-    else if (count_) std::memcpy(data_, host, count_ * sizeof(T));
-  }
-  /// As uploadQueued, from page-locked memory (a PinnedHostBuffer's on CUDA): the copy runs while the caller goes on,
-  /// so `host` must not change until the calling thread's work has finished.
-  void uploadPinnedQueued(const T* host) {
-    if (device_ == Device::Cuda) cuda::copyPinnedHostToDeviceQueued(data_, host, count_ * sizeof(T));
     else if (count_) std::memcpy(data_, host, count_ * sizeof(T));
   }
   /// Copies this buffer's elements into host memory.

@@ -105,12 +105,6 @@ void* allocatePinnedHost(std::size_t bytes) {
 void releasePinnedHost(void* pointer) noexcept {
   if (pointer) cudaFreeHost(pointer);
 }
-void copyPinnedHostToDeviceQueued(void* device, const void* pinnedHost, std::size_t bytes) {
-  if (bytes) {
-    check(cudaMemcpyAsync(device, pinnedHost, bytes, cudaMemcpyHostToDevice, cudaStreamPerThread),
-          "cudaMemcpyAsync pinned host to device");
-  }
-}
 void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes) {
   if (bytes) check(cudaMemcpy(destination, source, bytes, cudaMemcpyDeviceToDevice), "cudaMemcpy device to device");
 }

@@ -20,16 +20,15 @@ void* allocate(std::size_t bytes);
 void release(void* pointer) noexcept;
 void copyHostToDevice(void* device, const void* host, std::size_t bytes);
 /// Queues the copy on the calling thread's stream and returns without waiting for the device (copyHostToDevice first
-/// waits for the work queued before it). `host` must be pageable memory (not pinned), which is staged before the
-/// call returns, so it may be reused at once.
+/// waits for the work queued before it). Pageable `host` memory is staged before the call returns, so it may be
+/// reused at once. Page-locked memory (allocatePinnedHost) is copied from after the call returns, while the host goes
+/// on: it must not change until the calling thread's work has finished (synchronize(), or any blocking copy on the
+/// same thread).
 void copyHostToDeviceQueued(void* device, const void* host, std::size_t bytes);
 void copyDeviceToHost(void* host, const void* device, std::size_t bytes);
 /// Page-locked host memory (cudaHostAlloc): copies from it need no staging and run while the host goes on.
 void* allocatePinnedHost(std::size_t bytes);
 void releasePinnedHost(void* pointer) noexcept;
-/// Queues the copy from page-locked memory on the calling thread's stream and returns at once: `pinnedHost` must not
-/// change until the calling thread's work has finished (synchronize(), or any blocking copy on the same thread).
-void copyPinnedHostToDeviceQueued(void* device, const void* pinnedHost, std::size_t bytes);
 void copyDeviceToDevice(void* destination, const void* source, std::size_t bytes);
 void setZero(void* device, std::size_t bytes);
 /// Blocks until the work the calling thread queued has finished. The engine is built with per-thread default

@@ -20,7 +20,6 @@ void copyHostToDeviceQueued(void*, const void*, std::size_t) { absent(); }
 void copyDeviceToHost(void*, const void*, std::size_t) { absent(); }
 void* allocatePinnedHost(std::size_t) { absent(); }
 void releasePinnedHost(void*) noexcept {}
-void copyPinnedHostToDeviceQueued(void*, const void*, std::size_t) { absent(); }
 void copyDeviceToDevice(void*, const void*, std::size_t) { absent(); }
 void setZero(void*, std::size_t) { absent(); }
 void synchronize() { absent(); }

@@ -1,6 +1,6 @@
 #pragma once
 /// @file PinnedHostBuffer.h
-/// @brief Host memory to stage uploads in: page-locked for Device::Cuda, so that Buffer::uploadPinnedQueued copies
+/// @brief Host memory to stage uploads in: page-locked for Device::Cuda, so that Buffer::uploadQueued copies
 /// from it while the host goes on (a copy from ordinary memory is staged by the driver first); ordinary for the CPU.
 /// Move-only, like Buffer; a buffer moved from is only to be destroyed or assigned.
 #include "CudaRuntime.h"

@@ -98,7 +98,7 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
     convertToGrey8(image, hostGrey, what);
     t.grey += millisecondsSince(start);
     start = std::chrono::steady_clock::now();
-    if (cuda) grey.buffer().uploadPinnedQueued(staging.data());
+    if (cuda) grey.buffer().uploadQueued(staging.data());  // page-locked: the copy runs while the host goes on
     t.upload += millisecondsSince(start);
   };
   t.grey = t.upload = 0;
