@@ -81,7 +81,7 @@ int runBenchOrb(const Words& words) {
   std::vector<std::vector<cv::DMatch>> matches;
   const double matchMs = medianMs(repeats, [&] { matches = matcher.match(a.descriptors, b.descriptors, 3); });
   if (profiling::enabled()) {
-    std::fprintf(stderr, "kernel profile (TM_PROFILE_KERNELS; each launch synchronised):\n%s", profiling::report().c_str());
+    std::fprintf(stderr, "%s:\n%s", profiling::reportKind().c_str(), profiling::report().c_str());
   }
 
   std::printf("{\"command\": \"bench orb\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, \"height\": %d, "

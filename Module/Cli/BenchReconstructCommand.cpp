@@ -19,11 +19,14 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <tbb/global_control.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <vector>
 
 namespace tissuemosaic::cli {
@@ -32,7 +35,7 @@ namespace {
 
 const char* const help = R"(usage: tissuemosaic bench reconstruct [--width 960] [--height 540] [--frames 60] [--device cpu|cuda|auto]
                                     [--seed S] [--params p.yml] [--out DIR] [--stream [--chunk N]]
-                                    [--supersampling N]
+                                    [--supersampling N] [--threads N]
 
 Renders a synthetic scan (before timing), then runs the whole reconstruction on it (stereo, tracking, key-frame
 refinement, TSDF fusion) starting from the true first pose, and prints one JSON object: the median and mean
@@ -51,7 +54,8 @@ renderer's threads then do not run between every two frames (in 300-frame runs o
 key frames 10-25 % slower), while the host memory holds only N frames (about 7 MB each at 960x540, with the ground truth).
 "memory" lists the resident host memory, the peak device memory and the model size at each quarter of the run:
 bounded memory shows as a plateau. --supersampling (default 2) sets the renderer's anti-aliasing; 1 renders about
-4x faster.
+4x faster. --threads N caps the engine's CPU threads (the oneTBB loops: guided matching, DynamicR1PPnP solves, ...;
+default all cores); "cpu_threads" reports the cap.
 
 --out DIR also writes DIR/model.ply (the fused model), DIR/keyframes.txt (TUM) and the scan's ground truth
 DIR/groundtruth/surface.ply (the surface both eyes saw) and DIR/groundtruth/trajectory.txt, for
@@ -104,7 +108,8 @@ int runBenchReconstruct(const Words& words) {
     return 0;
   }
   const Arguments arguments(words);
-  arguments.allowOnly({"width", "height", "frames", "device", "seed", "params", "out", "stream", "chunk", "supersampling"});
+  arguments.allowOnly(
+      {"width", "height", "frames", "device", "seed", "params", "out", "stream", "chunk", "supersampling", "threads"});
   synthetic::SyntheticScanOptions options;
   options.width = arguments.integer("width", 960);
   options.height = arguments.integer("height", 540);
@@ -117,6 +122,12 @@ int runBenchReconstruct(const Words& words) {
   require(chunk >= 1, "--chunk must be at least 1");
   require(stream || !arguments.has("chunk"), "--chunk needs --stream");
   const Device device = parseDevice(arguments.text("device", "auto"));
+  std::optional<tbb::global_control> threadCap;
+  if (arguments.has("threads")) {
+    const int threads = arguments.integer("threads", 0);
+    require(threads >= 1, "--threads must be at least 1");
+    threadCap.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  }
   ReconstructionParameters parameters;
   if (arguments.has("params")) parameters = ReconstructionParameters::readFile(arguments.required("params"));
 
@@ -259,7 +270,7 @@ int runBenchReconstruct(const Words& words) {
                  "the true surface seen by both eyes, world frame, mm");
   }
   if (profiling::enabled()) {
-    std::fprintf(stderr, "kernel profile (TM_PROFILE_KERNELS; each launch synchronised):\n%s", profiling::report().c_str());
+    std::fprintf(stderr, "%s:\n%s", profiling::reportKind().c_str(), profiling::report().c_str());
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);

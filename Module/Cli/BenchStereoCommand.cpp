@@ -81,7 +81,7 @@ int runBenchStereo(const Words& words) {
   }
   std::fprintf(stderr, "\n");
   if (profiling::enabled()) {
-    std::fprintf(stderr, "kernel profile over %d runs (TM_PROFILE_KERNELS; each launch synchronised):\n%s", repeats + 2,
+    std::fprintf(stderr, "%s, over %d runs:\n%s", profiling::reportKind().c_str(), repeats + 2,
                  profiling::report().c_str());
   }
   const DisparityScore ours = scoreDisparity(disparity, pair.disparityPx);

@@ -86,7 +86,7 @@ int runBenchTrack(const Words& words) {
   }
   std::fprintf(stderr, "\n");
   if (profiling::enabled()) {
-    std::fprintf(stderr, "kernel profile (TM_PROFILE_KERNELS; each launch synchronised):\n%s", profiling::report().c_str());
+    std::fprintf(stderr, "%s:\n%s", profiling::reportKind().c_str(), profiling::report().c_str());
   }
   std::printf("{\"command\": \"bench track\", \"device\": \"%s\", \"device_name\": \"%s\", \"features\": \"%s\", "
               "\"width\": %d, \"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d,\n"

@@ -21,11 +21,20 @@ std::map<std::string, Entry>& entries() {
 }
 }  // namespace
 
+namespace {
+const char* setting() {
+  static const char* value = std::getenv("TM_PROFILE_KERNELS");
+  return value;
+}
+}  // namespace
+
 bool enabled() {
-  static const bool on = [] {
-    const char* value = std::getenv("TM_PROFILE_KERNELS");
-    return value && *value && std::string(value) != "0";
-  }();
+  static const bool on = setting() && *setting() && std::string(setting()) != "0";
+  return on;
+}
+
+bool synchronisingLaunches() {
+  static const bool on = enabled() && std::string(setting()) != "host";
   return on;
 }
 
@@ -47,6 +56,11 @@ std::string report() {
     text += line;
   }
   return text;
+}
+
+std::string reportKind() {
+  return synchronisingLaunches() ? "kernel profile (TM_PROFILE_KERNELS; each launch synchronised)"
+                                 : "host sections and CPU loops (TM_PROFILE_KERNELS=host; nothing synchronised)";
 }
 
 void reset() {

@@ -8,6 +8,7 @@
 #include "HostDevice.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -75,7 +76,11 @@ struct ParallelFor<CudaBackend> {
 
 /// Threads the CPU backend's loops run on (oneTBB's pool): what the engine sizes its CPU work by and reports. Not
 /// cv::getNumThreads(): OpenCV's own setting (e.g. OPENCV_FOR_THREADS_NUM) does not limit these loops.
-inline int cpuThreadCount() { return tbb::this_task_arena::max_concurrency(); }
+/// The threads parallelFor<CpuBackend> can use: the arena's, or fewer under a tbb::global_control cap.
+inline int cpuThreadCount() {
+  const auto cap = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  return static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()), cap));
+}
 
 template <class Backend, class Functor>
 void parallelFor(int64_t count, const Functor& functor, int64_t grain = 4096) {

@@ -23,6 +23,7 @@
 #include <deque>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 namespace tissuemosaic {
 
@@ -552,7 +553,10 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
   // 1. Earlier key frames that overlap: their matched points are fixed. The frames are matched and solved in
   // parallel (independent), then merged in order: the same result as one after the other.
   const auto partStart = std::chrono::steady_clock::now();
-  const std::vector<int> overlapping = s.overlappingKeyFrames(T_world_camera);
+  const std::vector<int> overlapping = [&] {
+    profiling::ScopedTimer timer("host: refinement, key-frame overlap test");
+    return s.overlappingKeyFrames(T_world_camera);
+  }();
   struct KeyFrameMatch {
     Points3d world;
     MatchSet set;
@@ -566,6 +570,8 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
   std::vector<uint8_t> keyFrameGuided(overlapping.size(), 0);
   ProjectionGuidedMatchParameters keyFrameGuide = s.guidedMatchParameters();
   keyFrameGuide.minConsistentShare = kKeyFrameGuidedMinConsistentShare;
+  std::optional<profiling::ScopedTimer> guidedTimer(std::in_place,
+                                                    "host: refinement, key-frame matching (guided by the tracked pose)");
   parallelFor<CpuBackend>(
       static_cast<int64_t>(overlapping.size()),
       [&](int64_t c) {
@@ -581,6 +587,7 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
         keyFrameGuided[static_cast<std::size_t>(c)] = 1;
       },
       1);
+  guidedTimer.reset();
   // The others (tracking drifted, e.g. at a return after a long way): all descriptors.
   std::vector<int> keyFramesUnguided;
   std::vector<std::pair<cv::Mat, cv::Mat>> keyFramePairs;
@@ -622,7 +629,10 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
   result.keyFrameMatchingMs = millisecondsSince(partStart);
 
   // 2. The intermediate frames, matched beside step 1; kept only when an earlier key frame anchors the solve.
-  IntermediateMatches intermediate = intermediateTask.get();
+  IntermediateMatches intermediate = [&] {
+    profiling::ScopedTimer timer("host: refinement, wait for the intermediate frames");
+    return intermediateTask.get();
+  }();
   if (result.matchedKeyFrames > 0) {
     m.observations = std::move(intermediate.observations);
     m.frameOfSlot = std::move(intermediate.frameOfSlot);
@@ -698,6 +708,7 @@ RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches,
   const std::vector<int>& frameOfSlot = m.frameOfSlot;
   RefinementResult& result = m.result;
   const auto finish = [&](const std::string& message) {
+    profiling::ScopedTimer timer("host: refinement, key frame stored");
     result.message = message;
     s.store(frameIndex, features, result.T_world_camera);
     s.intermediates.clear();
@@ -707,6 +718,7 @@ RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches,
   };
 
   // The bundle adjustment's points: fixed tracks (seen by an earlier key frame) and free tracks seen again.
+  std::optional<profiling::ScopedTimer> problemTimer(std::in_place, "host: refinement, problem set-up");
   std::vector<int> seenElsewhere(n, 0);
   for (const Observation& o : observations) ++seenElsewhere[o.point];
   refinement::RefinementProblem problem;
@@ -758,6 +770,7 @@ RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches,
   problem.poses.push_back(toPose(T_camera_world));
   for (int f : frameOfSlot) problem.poses.push_back(toPose(inverseRigid(s.intermediates[f].T_world_camera)));
 
+  problemTimer.reset();
   const auto partStart = std::chrono::steady_clock::now();
   const refinement::RefinementSolution solution = [&] {
     profiling::ScopedTimer timer("host: refinement, LM solve");

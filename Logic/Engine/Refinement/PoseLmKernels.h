@@ -6,10 +6,10 @@
 /// plain IEEE (no transcendental function, no fused multiply-add), so the CPU and CUDA poses agree bit for bit.
 ///
 /// One iteration: ProposePoseSteps (a damped 6x6 step per frame), the residual terms at the candidates
-/// (RefinementKernels.h), ReduceTerms, SumFrameTerms, AcceptPoseSteps (each frame keeps its step when its own cost
-/// falls), FinishPoseIteration. PoseLmControl::stop, once set, turns the rest of the queued iterations into no-ops.
-/// The per-frame steps are light, so RefinementPipeline.inl chains them (Core/ParallelChain.h): three launches per
-/// iteration on the GPU.
+/// (RefinementKernels.h) summed per chunk (Core/ParallelChunkSums.h), SumFrameTerms, AcceptPoseSteps (each frame keeps
+/// its step when its own cost falls), FinishPoseIteration. PoseLmControl::stop, once set, turns the rest of the queued
+/// iterations into no-ops. The per-frame steps are light, so RefinementPipeline.inl chains them
+/// (Core/ParallelChain.h): two launches per iteration on the GPU.
 #include "RefinementKernels.h"
 
 namespace tissuemosaic::refinement {
@@ -130,7 +130,7 @@ struct ProposePoseSteps {
   }
 };
 
-/// Per (frame, term): the frame's sum of ReduceTerms' chunk partials, in chunk order (frameChunks lists the chunks
+/// Per (frame, term): the frame's sum of the residuals' chunk sums, in chunk order (frameChunks lists the chunks
 /// of frame f at frameChunkBegin[f] .. frameChunkBegin[f + 1]).
 struct SumFrameTerms {
   const double* partials;  ///< chunks x kTerms

@@ -5,9 +5,9 @@
 ///
 /// Poses are camera-from-world (X_c = R X_w + t) and are perturbed on the left: R <- exp([w]x) R,
 /// t <- exp([w]x) t + d, so that dX_c/dd = I and dX_c/dw = -[X_c]x. The pose parameters are ordered (d, w).
-/// Each pose residual writes its normal-equation terms (upper triangle of w J^T J, w J^T r, and its robust cost) into
-/// a structure-of-arrays buffer; ReduceTerms sums them over fixed chunks in a fixed order, so both backends add the
-/// same numbers in the same order.
+/// Each pose residual adds its normal-equation terms (upper triangle of w J^T J, w J^T r, and its robust cost) to the
+/// array it is given; parallelChunkSums (Core/ParallelChunkSums.h) sums them over fixed chunks in one fixed order on
+/// both backends, so that they add the same numbers in the same order.
 #include "Core/Float3.h"
 #include "Core/HostDevice.h"
 #include "Core/Image.h"
@@ -94,9 +94,9 @@ TM_HOST_DEVICE inline void poseRow(const double c[3], const double a[3], double 
   J[5] = c[0] * a[1] - c[1] * a[0];
 }
 
-/// The reprojection residual of one observation: normal-equation terms of its frame's pose (points fixed).
-/// terms[k * stride + i] is term k of residual i. Where fixedOnly[frame] is set, observations of free points count
-/// nothing (the first pose step, which starts every pose from the fixed points alone); fixedOnly null: no frame.
+/// The reprojection residual of one observation: normal-equation terms of its frame's pose (points fixed), added to
+/// terms (kTerms; parallelChunkSums sums them per chunk). Where fixedOnly[frame] is set, observations of free points
+/// count nothing (the first pose step, which starts every pose from the fixed points alone); fixedOnly null: no frame.
 struct BaPoseTerms {
   const Observation* observations;
   const Pose* poses;
@@ -105,19 +105,10 @@ struct BaPoseTerms {
   const uint8_t* fixedOnly;     ///< per frame, or null
   Camera camera;
   RobustConstants robust;
-  double* terms;
-  int64_t stride;
-  const int* stop;  ///< when set (PoseLmKernels.h), the LM has ended: nothing to do
 
-  TM_HOST_DEVICE void operator()(int64_t i) const {
-    if (*stop) return;
-    double acc[kTerms];
-    for (int k = 0; k < kTerms; ++k) acc[k] = 0.0;
+  TM_HOST_DEVICE void operator()(int64_t i, double acc[kTerms]) const {
     const Observation o = observations[i];
-    if (fixedOnly && fixedOnly[o.frame] && !pointFixed[o.point]) {
-      for (int k = 0; k < kTerms; ++k) terms[k * stride + i] = 0.0;
-      return;
-    }
+    if (fixedOnly && fixedOnly[o.frame] && !pointFixed[o.point]) return;
     const double* X = pointsWorldMm + 3 * static_cast<int64_t>(o.point);
     double c[3];
     transformPoint(poses[o.frame], X[0], X[1], X[2], c);
@@ -138,7 +129,6 @@ struct BaPoseTerms {
       poseRow(c, av, J);
       addRow(acc, J, ev, w);
     }
-    for (int k = 0; k < kTerms; ++k) terms[k * stride + i] = acc[k];
   }
 };
 
@@ -146,7 +136,7 @@ struct BaPoseTerms {
 /// r = n_i . (R p_i + t - q_i), q_i and n_i read from the measurement at the pixel nearest to where R p_i + t
 /// projects (re-found at every evaluation). Weighted by beta and Tukey's penalty; a model point without a valid q_i
 /// (rho = 0 in the paper) is charged Tukey's constant cost, as an outlier, so that sliding off the measurement is no
-/// gain. Writes residual `offset + i`.
+/// gain. Adds model point i's terms to acc.
 struct IcpPoseTerms {
   const Float3* modelPointsWorldMm;
   const Pose* poses;  ///< poses[0] is the key frame's
@@ -154,16 +144,9 @@ struct IcpPoseTerms {
   ImageView<const Float3> measuredNormalsCamera;
   Camera camera;
   RobustConstants robust;
-  double* terms;
-  int64_t stride;
-  int64_t offset;
-  const int* stop;  ///< as BaPoseTerms::stop
 
-  TM_HOST_DEVICE void operator()(int64_t i) const {
-    if (*stop) return;
+  TM_HOST_DEVICE void operator()(int64_t i, double acc[kTerms]) const {
     const Pose pose = poses[0];
-    double acc[kTerms];
-    for (int k = 0; k < kTerms; ++k) acc[k] = 0.0;
     const double beta = robust.beta, tukey = robust.icpTukeyMm;
     acc[kCostOffset] = beta * tukeyCost(2.0 * tukey, tukey);
     const Float3 p = modelPointsWorldMm[i];
@@ -188,28 +171,6 @@ struct IcpPoseTerms {
         }
       }
     }
-    for (int k = 0; k < kTerms; ++k) terms[k * stride + offset + i] = acc[k];
-  }
-};
-
-/// Sums the terms over chunks: thread (chunk, k) adds term k of residuals [chunkBegin[chunk], chunkBegin[chunk+1])
-/// in index order into partials[chunk * kTerms + k]. Chunks never span two frames.
-struct ReduceTerms {
-  const double* terms;
-  int64_t stride;
-  const int* chunkBegin;
-  double* partials;
-  const int* stop;  ///< as BaPoseTerms::stop
-
-  TM_HOST_DEVICE void operator()(int64_t i) const {
-    if (*stop) return;
-    const int64_t chunk = i / kTerms;
-    const int k = static_cast<int>(i % kTerms);
-    const double* column = terms + k * stride;
-    double sum = 0.0;
-    TM_UNROLL_BY(16)
-    for (int j = chunkBegin[chunk]; j < chunkBegin[chunk + 1]; ++j) sum += column[j];
-    partials[i] = sum;
   }
 };
 

@@ -30,7 +30,6 @@ struct RefinementWorkspace {
   Buffer<Float3> modelPointsWorldMm; ///< icpCount
   Image<Float3> measuredPointsCopy, measuredNormalsCopy;  ///< the maps, when they had to be copied to this device
   ImageView<const Float3> measuredPointsCameraMm, measuredNormalsCamera;  ///< what the ICP term reads
-  Buffer<double> terms;              ///< kTerms x (observationCount + icpCount), structure of arrays
   Buffer<int> chunkBegin;            ///< chunkCount + 1
   Buffer<double> partials;           ///< chunkCount x kTerms
   Buffer<int> frameChunkBegin;       ///< frameCount + 1: frame f's chunks are frameChunks[begin[f] .. begin[f + 1])

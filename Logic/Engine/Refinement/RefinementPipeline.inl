@@ -1,6 +1,7 @@
 // The refinement steps, written once and instantiated per backend (included by RefinementBackendCpu.cpp and
 // RefinementBackendCuda.cu only).
 #include "Core/ParallelChain.h"
+#include "Core/ParallelChunkSums.h"
 #include "Core/ParallelFor.h"
 #include "RefinementPipeline.h"
 
@@ -8,39 +9,33 @@ namespace tissuemosaic::refinement {
 
 namespace {
 
-/// Every residual's terms: the observations' (BaPoseTerms), then the model points' (IcpPoseTerms), in one loop.
+/// Every residual's terms: the observations' (BaPoseTerms), then the model points' (IcpPoseTerms).
 struct PoseTerms {
   BaPoseTerms observations;
   IcpPoseTerms modelPoints;
   int64_t observationCount;
 
-  TM_HOST_DEVICE void operator()(int64_t i) const {
-    if (i < observationCount) observations(i);
-    else modelPoints(i - observationCount);
+  TM_HOST_DEVICE void operator()(int64_t i, double terms[kTerms]) const {
+    if (i < observationCount) observations(i, terms);
+    else modelPoints(i - observationCount, terms);
   }
 };
 
-/// Writes every residual's terms at `poses` and sums them per chunk (ReduceTerms); the per-frame sums follow in the
-/// caller's chain (SumFrameTerms).
+/// Sums every residual's terms at `poses` per chunk into partials; the per-frame sums follow in the caller's chain
+/// (SumFrameTerms). Nothing once the LM has stopped (PoseLmControl::stop).
 template <class Backend>
 void evaluateChunkTerms(RefinementWorkspace& w, const Pose* poses, const uint8_t* fixedOnly) {
-  const int64_t stride = static_cast<int64_t>(w.observationCount) + w.icpCount;
-  if (stride == 0) return;
-  const int* stop = &w.control.data()->stop;
-  parallelFor<Backend>(stride,
-                       PoseTerms{BaPoseTerms{w.observations.data(), poses, w.pointsWorldMm.data(),
-                                             w.pointFixed.data(), fixedOnly, w.camera, w.robust, w.terms.data(),
-                                             stride, stop},
-                                 IcpPoseTerms{w.modelPointsWorldMm.data(), poses, w.measuredPointsCameraMm,
-                                              w.measuredNormalsCamera, w.camera, w.robust, w.terms.data(), stride,
-                                              w.observationCount, stop},
-                                 w.observationCount},
-                       256);
-  parallelFor<Backend>(static_cast<int64_t>(w.chunkCount) * kTerms,
-                       ReduceTerms{w.terms.data(), stride, w.chunkBegin.data(), w.partials.data(), stop}, 8);
+  parallelChunkSums<Backend, kTerms>(
+      w.chunkCount, w.chunkBegin.data(),
+      PoseTerms{BaPoseTerms{w.observations.data(), poses, w.pointsWorldMm.data(), w.pointFixed.data(), fixedOnly,
+                            w.camera, w.robust},
+                IcpPoseTerms{w.modelPointsWorldMm.data(), poses, w.measuredPointsCameraMm, w.measuredNormalsCamera,
+                             w.camera, w.robust},
+                w.observationCount},
+      w.partials.data(), &w.control.data()->stop);
 }
 
-/// Per iteration three launches on the GPU: the terms, their chunk sums, and one chain of the per-frame steps that
+/// Per iteration two launches on the GPU: the terms' chunk sums, and one chain of the per-frame steps that
 /// ends with the next iteration's proposal (ProposePoseSteps after the last iteration is never read).
 template <class Backend>
 void runPoseSteps(RefinementWorkspace& w, const PoseRun& run) {

@@ -3,16 +3,19 @@
 #include "Core/CountingSort.h"
 #include "Core/Device.h"
 #include "Core/Error.h"
+#include "Core/KernelProfiler.h"
 #include "RefinementPipeline.h"
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 namespace tissuemosaic::refinement {
 
 namespace {
 
-constexpr int kChunkResiduals = 256;  ///< residuals summed per reduction thread (64: no faster on the H100)
+/// Residuals summed per chunk (parallelChunkSums: one CUDA block of 256 threads a chunk, one residual each).
+constexpr int kChunkResiduals = 256;
 constexpr int kMinFixedForStart = 10;  ///< fixed-point observations a frame needs to start from them alone
 
 struct Layout {
@@ -101,6 +104,7 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
             "refinement: the ICP term needs CV_32FC3 measured points and normals of one size");
   }
 
+  std::optional<profiling::ScopedTimer> setupTimer(std::in_place, "host: refinement solve, layout and uploads");
   const Layout layout = makeLayout(problem);
   RefinementWorkspace w;
   w.device = device;
@@ -146,7 +150,6 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
       w.measuredNormalsCamera = w.measuredNormalsCopy.view();
     }
   }
-  w.terms = Buffer<double>(device, static_cast<std::size_t>(kTerms) * (w.observationCount + w.icpCount));
   w.chunkBegin = upload(device, layout.chunkBegin);
   w.partials = Buffer<double>(device, static_cast<std::size_t>(w.chunkCount) * kTerms);
   w.frameChunkBegin = upload(device, layout.frameChunkBegin);
@@ -170,6 +173,8 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
     return cost;
   };
 
+  setupTimer.reset();
+  std::optional<profiling::ScopedTimer> iterationTimer(std::in_place, "host: refinement solve, iterations");
   // The initial cost is read at the end: no wait for the device before the iterations are queued.
   runPoseSteps(w, PoseRun{});
   Buffer<double> initialTerms(device, w.currentTerms.size());
@@ -192,6 +197,8 @@ RefinementSolution solveRefinement(const RefinementProblem& problem, const Refin
     if (a > 0 && previousCost - cost <= kConvergedGain * previousCost) break;
     previousCost = cost;
   }
+  iterationTimer.reset();
+  profiling::ScopedTimer downloadTimer("host: refinement solve, downloads");
   RefinementSolution solution;
   solution.initialCost = totalCost(initialTerms);
   solution.finalCost = cost;
