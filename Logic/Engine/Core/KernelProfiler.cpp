@@ -19,9 +19,7 @@ std::map<std::string, Entry>& entries() {
   static std::map<std::string, Entry> table;
   return table;
 }
-}  // namespace
-
-namespace {
+/// TM_PROFILE_KERNELS, read once.
 const char* setting() {
   static const char* value = std::getenv("TM_PROFILE_KERNELS");
   return value;

@@ -21,6 +21,7 @@ namespace tissuemosaic {
 
 constexpr int kChunkSumThreads = 256;  ///< threads (CUDA) or thread sums (CPU) per chunk
 constexpr int kChunkSumWarpSize = 32;
+constexpr int kChunkSumWarps = kChunkSumThreads / kChunkSumWarpSize;
 
 template <class Backend, int N>
 struct ParallelChunkSums;
@@ -33,7 +34,6 @@ struct ParallelChunkSums<CpuBackend, N> {
     parallelFor<CpuBackend>(
         chunks,
         [&](int64_t c) {
-          constexpr int kWarps = kChunkSumThreads / kChunkSumWarpSize;
           double threadSums[kChunkSumThreads][N] = {};
           for (int t = 0; t < kChunkSumThreads; ++t) {
             for (int64_t i = chunkBegin[c] + t; i < chunkBegin[c + 1]; i += kChunkSumThreads) {
@@ -43,7 +43,7 @@ struct ParallelChunkSums<CpuBackend, N> {
             }
           }
           double total[N] = {};
-          for (int w = 0; w < kWarps; ++w) {
+          for (int w = 0; w < kChunkSumWarps; ++w) {
             double(*lanes)[N] = threadSums + w * kChunkSumWarpSize;
             for (int half = kChunkSumWarpSize / 2; half > 0; half /= 2) {
               for (int l = 0; l < half; ++l) {
@@ -63,8 +63,7 @@ template <int N, class Values>
 __global__ void __launch_bounds__(kChunkSumThreads) chunkSumsKernel(const int* chunkBegin, Values values, double* sums,
                                                                      const int* skip) {
   if (skip && *skip) return;
-  constexpr int kWarps = kChunkSumThreads / kChunkSumWarpSize;
-  __shared__ double warpSums[kWarps][N];
+  __shared__ double warpSums[kChunkSumWarps][N];
   const int c = blockIdx.x;
   double sum[N];
   TM_UNROLL
@@ -87,7 +86,7 @@ __global__ void __launch_bounds__(kChunkSumThreads) chunkSumsKernel(const int* c
   __syncthreads();
   for (int k = threadIdx.x; k < N; k += kChunkSumThreads) {
     double total = 0.0;
-    for (int w = 0; w < kWarps; ++w) total += warpSums[w][k];
+    for (int w = 0; w < kChunkSumWarps; ++w) total += warpSums[w][k];
     sums[static_cast<int64_t>(c) * N + k] = total;
   }
 }

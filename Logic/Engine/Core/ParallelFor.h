@@ -74,9 +74,9 @@ struct ParallelFor<CudaBackend> {
 };
 #endif
 
-/// Threads the CPU backend's loops run on (oneTBB's pool): what the engine sizes its CPU work by and reports. Not
-/// cv::getNumThreads(): OpenCV's own setting (e.g. OPENCV_FOR_THREADS_NUM) does not limit these loops.
-/// The threads parallelFor<CpuBackend> can use: the arena's, or fewer under a tbb::global_control cap.
+/// Threads the CPU backend's loops run on (oneTBB's pool, or fewer under a tbb::global_control cap): what the engine
+/// sizes its CPU work by and reports. Not cv::getNumThreads(): OpenCV's own setting (e.g. OPENCV_FOR_THREADS_NUM)
+/// does not limit these loops.
 inline int cpuThreadCount() {
   const auto cap = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
   return static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()), cap));

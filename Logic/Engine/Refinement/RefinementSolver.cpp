@@ -4,6 +4,7 @@
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
+#include "Core/ParallelChunkSums.h"
 #include "RefinementPipeline.h"
 
 #include <algorithm>
@@ -14,8 +15,8 @@ namespace tissuemosaic::refinement {
 
 namespace {
 
-/// Residuals summed per chunk (parallelChunkSums: one CUDA block of 256 threads a chunk, one residual each).
-constexpr int kChunkResiduals = 256;
+/// Residuals summed per chunk: one per thread of parallelChunkSums' CUDA block.
+constexpr int kChunkResiduals = kChunkSumThreads;
 constexpr int kMinFixedForStart = 10;  ///< fixed-point observations a frame needs to start from them alone
 
 struct Layout {

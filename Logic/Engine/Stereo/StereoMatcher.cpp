@@ -105,7 +105,7 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
   convertAndUpload(leftRectified, workspace->leftGrey, workspace->leftGreyStaging, "the left image");
   convertAndUpload(rightRectified, workspace->rightGrey, workspace->rightGreyStaging, "the right image");
 
-  if (impl_->device == Device::Cuda) stereo::runStereoPipelineCuda(*workspace, p, t);
+  if (cuda) stereo::runStereoPipelineCuda(*workspace, p, t);
   else stereo::runStereoPipelineCpu(*workspace, p, t);
 
   const auto start = std::chrono::steady_clock::now();
