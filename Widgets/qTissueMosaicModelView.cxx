@@ -17,6 +17,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkWindowToImageFilter.h>
 
+#include <QCoreApplication>
 #include <QElapsedTimer>
 #include <QTimer>
 #include <QVBoxLayout>
@@ -33,14 +34,21 @@ public:
   bool renderPending = false;
   QElapsedTimer sinceRender;  ///< since the last render ended
   qint64 lastRenderMs = 0;
+  QElapsedTimer sinceRenderRequest;  ///< since requestRender() scheduled the pending render
+  qint64 renderWaitMs = 0;           ///< the pending render's timer interval
+  bool renderDeferred = false;       ///< the pending render has already given way once
+  unsigned renderRequest = 0;        ///< numbers the requests: a timer of an earlier one (rendered since) does nothing
   bool userMovedCamera = false;  ///< until the user turns the view, it follows the growing model
-  double interactiveFrameTimeMs = 40;
+  double interactiveFrameTimeMs = 25;
   double msPerPoint = 0;    ///< of the last full render of a large model
   bool live = false;        ///< a scan is running: reduce renders that would be slow
   vtkNew<vtkCallbackCommand> interaction;
 
   /// The smallest level of detail; also what is drawn while the speed of this view is still unknown.
   static constexpr vtkIdType kSmallestSubsample = 20000;
+  /// A render timer that fires this late found the event loop busy with something else that long (most often the
+  /// window's composition, 25-50 ms on software OpenGL). Rendering straight after it would make one stall of both.
+  static constexpr qint64 kLateRenderMs = 8;
 
   /// The level-of-detail budget for the next reduced render, from the speed of the last render of a large
   /// model (0: every point). Until that speed is known, the smallest subsample: a first live render of a large
@@ -126,7 +134,25 @@ void qTissueMosaicModelView::requestRender() {
   // At least 1 ms: a zero-time single shot is a posted event, and posted events run in the same pass as the window
   // repaint that the caller's other updates queued (at low priority, after them): render and repaint back to back.
   const qint64 waitMs = std::max<qint64>(1, std::max<qint64>(33, 2 * d->lastRenderMs) - sinceLastMs);
-  QTimer::singleShot(static_cast<int>(waitMs), this, &qTissueMosaicModelView::render);
+  d->sinceRenderRequest.start();
+  d->renderWaitMs = waitMs;
+  d->renderDeferred = false;
+  const unsigned request = ++d->renderRequest;
+  QTimer::singleShot(static_cast<int>(waitMs), this, [this, request] { this->renderWhenLoopIsFree(request); });
+}
+
+void qTissueMosaicModelView::renderWhenLoopIsFree(unsigned request) {
+  if (!d->renderPending || request != d->renderRequest) return;  // rendered meanwhile
+  // Late: a long event ran just before this timer in the same pass of the event loop. Give way once, to the next
+  // timer pass, so that input and other timers are handled between that event and this render. A timer started
+  // now never fires in the pass that is running.
+  const qint64 lateMs = d->sinceRenderRequest.elapsed() - d->renderWaitMs;
+  if (lateMs > Private::kLateRenderMs && !d->renderDeferred) {
+    d->renderDeferred = true;
+    QTimer::singleShot(1, this, [this, request] { this->renderWhenLoopIsFree(request); });
+    return;
+  }
+  this->render();
 }
 
 void qTissueMosaicModelView::render() {
@@ -202,7 +228,7 @@ bool qTissueMosaicModelView::saveScreenshot(const QString& path) {
   return writer->GetErrorCode() == 0;
 }
 
-double qTissueMosaicModelView::measureFrameRate(int frames, bool interacting) {
+double qTissueMosaicModelView::measureFrameRate(int frames, bool interacting, bool shown) {
   vtkCamera* camera = d->renderer->GetActiveCamera();
   vtkNew<vtkCamera> saved;
   saved->DeepCopy(camera);
@@ -217,6 +243,11 @@ double qTissueMosaicModelView::measureFrameRate(int frames, bool interacting) {
   for (int i = 0; i < frames; ++i) {
     camera->Azimuth(1.0);
     d->widget->renderWindow()->Render();
+    if (shown) {
+      d->window->WaitForCompletion();
+      // The render asked Qt to repaint the window (a posted request); composing it draws the frame on screen.
+      QCoreApplication::processEvents();
+    }
   }
   d->window->WaitForCompletion();  // count the drawing, not only its submission
   const double seconds = timer.nsecsElapsed() * 1e-9;

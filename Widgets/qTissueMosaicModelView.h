@@ -38,14 +38,17 @@ public:
   QVTKOpenGLNativeWidget* vtkWidget() const;
 
   /// Renders `frames` frames, turning the camera a little each time, and returns the frames per second (the
-  /// camera is put back). interacting: as while the user turns the view (level of detail, see below). For
-  /// measuring interactivity with large models.
-  double measureFrameRate(int frames, bool interacting = false);
+  /// camera is put back). interacting: as while the user turns the view (level of detail, see below).
+  /// shown: each frame also waits for Qt to compose it into the window, as when the user turns the view (with
+  /// software OpenGL the composition of the whole window costs about as much as a render); otherwise only VTK's
+  /// drawing is counted. For measuring interactivity with large models.
+  double measureFrameRate(int frames, bool interacting = false, bool shown = false);
 
   /// While the user turns the view, the model is drawn with at most as many points as fit in this time per frame
   /// (estimated from the last full render; vtkTissueMosaicModelScene's level of detail). 0: always every point.
-  /// Default 40 ms (25 frames per second). On a GPU a model of millions of points draws faster than that and is
-  /// never reduced; software OpenGL reduces it.
+  /// Default 25 ms: with Qt's composition of the window (as long again on software OpenGL) a frame stays under
+  /// 50 ms. On a GPU a model of millions of points draws faster than that and is never reduced; software OpenGL
+  /// reduces it.
   void setInteractiveFrameTimeMs(double milliseconds);
   double interactiveFrameTimeMs() const;
   /// While the model changes live (a scan is running), renders use the same level of detail when the full model
@@ -54,7 +57,8 @@ public:
   void setLiveUpdates(bool live);
 
 public slots:
-  /// Redraws soon (once, however often it is called before the redraw).
+  /// Redraws soon (once, however often it is called before the redraw). A redraw that falls due while another
+  /// long event holds the event loop waits one more timer pass, so that the two never make one stall.
   void requestRender();
   /// Redraws now.
   void render();
@@ -66,6 +70,9 @@ public slots:
   bool saveScreenshot(const QString& path);
 
 private:
+  /// The timer end of requestRender(): renders, unless the event loop has just been busy (see the .cxx).
+  void renderWhenLoopIsFree(unsigned request);
+
   class Private;
   Private* d;
 };

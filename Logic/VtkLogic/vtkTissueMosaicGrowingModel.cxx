@@ -21,10 +21,13 @@ namespace tissuemosaic {
 
 namespace {
 
-/// Resizes (growing, VTK allocates at least twice the old size) and copies n packed tuples in.
+/// Resizes and copies n packed tuples in. SetNumberOfValues grows the buffer to more than twice its old capacity
+/// (realloc: kept memory is not copied again), so a model growing by a key frame's points at a time reallocates a
+/// few times per scan; SetNumberOfTuples would allocate exactly n afresh at every growth, and fault in every page
+/// of the whole model again on the GUI thread.
 template <class Array>
 void copyInto(Array* array, const void* data, vtkIdType n) {
-  array->SetNumberOfTuples(n);
+  array->SetNumberOfValues(n * array->GetNumberOfComponents());
   const std::size_t bytes = static_cast<std::size_t>(n) * static_cast<std::size_t>(array->GetNumberOfComponents()) *
                             sizeof(typename Array::ValueType);
   if (n > 0) std::memcpy(array->GetPointer(0), data, bytes);

@@ -15,6 +15,7 @@
 #include <QSurfaceFormat>
 #include <QTimer>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
@@ -153,6 +154,15 @@ int main(int argc, char** argv) {
   window.show();
 
   qTissueMosaicStallProbe stalls;
+  if (options.slowEventMs > 0) {
+    // On the slow-event log's clock, so that each stall can be matched with the events that made it.
+    QObject::connect(&stalls, &qTissueMosaicStallProbe::stalled, &application, [&](double stallMs) {
+      if (stallMs > options.slowEventMs) {
+        std::fprintf(stderr, "tissuemosaic-app: stall of %.1f ms ending at %.1f ms\n", stallMs,
+                     application.elapsedMs());
+      }
+    });
+  }
   int exitCode = 0;
   bool finished = false;
   const auto finish = [&](bool scanEnded) {

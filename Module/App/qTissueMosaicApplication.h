@@ -17,6 +17,9 @@ public:
 
   bool notify(QObject* receiver, QEvent* event) override;
 
+  /// Milliseconds since the application started: the clock of the slow-event log.
+  double elapsedMs() const { return this->Clock.nsecsElapsed() * 1e-6; }
+
 private:
   QElapsedTimer Clock;
   double ThresholdMs = 0;

@@ -24,5 +24,7 @@ void qTissueMosaicStallProbe::tick() {
   const double gapMs = (now - this->LastNs) * 1e-6;
   this->LastNs = now;
   ++this->Ticks;
-  this->LongestMs = std::max(this->LongestMs, gapMs - this->IntervalMs);
+  const double stallMs = gapMs - this->IntervalMs;
+  this->LongestMs = std::max(this->LongestMs, stallMs);
+  if (stallMs > this->IntervalMs) emit stalled(stallMs);
 }

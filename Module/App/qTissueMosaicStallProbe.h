@@ -19,6 +19,10 @@ public:
   /// Firings since start().
   long long ticks() const { return this->Ticks; }
 
+signals:
+  /// Emitted at the end of every stall longer than the interval (how long it was, in milliseconds).
+  void stalled(double stallMs);
+
 private:
   void tick();
 

@@ -145,11 +145,31 @@ TEST(ReconstructionGrowingModel, AppendsInPlaceAndRefreshesEarlierPoints) {
   ASSERT_EQ(size, 1);
   EXPECT_EQ(ids[0], 1234);
 
+  // The buffers grow geometrically: the next key frame's points fit without a new allocation (a whole-model
+  // allocation at every key frame faults in every page of the model again on the GUI thread).
+  const void* pointBuffer = pointArray->GetVoidPointer(0);
+  const void* colorBuffer = colors->GetVoidPointer(0);
+  const void* normalBuffer = model->GetPointData()->GetNormals()->GetVoidPointer(0);
+  EXPECT_GE(pointArray->GetSize(), 2 * 3 * 1000);
+  for (int i = 1500; i < 1600; ++i) {
+    cloud.pointsMm.emplace_back(float(i), 0.f, 70.f);
+    cloud.colorsRgb.emplace_back(10, 20, 30);
+    cloud.normals.emplace_back(1.f, 0.f, 0.f);
+  }
+  update = tissuemosaic::updateGrowingModel(model, cloud);
+  EXPECT_EQ(update.appendedPoints, 100u);
+  EXPECT_EQ(pointArray->GetVoidPointer(0), pointBuffer) << "points reallocated for 100 more";
+  EXPECT_EQ(colors->GetVoidPointer(0), colorBuffer) << "colours reallocated for 100 more";
+  EXPECT_EQ(model->GetPointData()->GetNormals()->GetVoidPointer(0), normalBuffer) << "normals reallocated";
+  EXPECT_EQ(pointOf(model, 1599).x(), 1599.0);
+  EXPECT_EQ(pointOf(model, 1499).x(), 1499.0);
+  EXPECT_EQ(colors->GetValue(3 * 1550 + 2), 30);
+
   cloud.pointsMm.resize(10);
   cloud.colorsRgb.resize(10);
   cloud.normals.resize(10);
   update = tissuemosaic::updateGrowingModel(model, cloud);
-  EXPECT_EQ(update.removedPoints, 1490u);
+  EXPECT_EQ(update.removedPoints, 1590u);
   EXPECT_EQ(model->GetNumberOfPoints(), 10);
   EXPECT_EQ(model->GetNumberOfVerts(), 10);
 }

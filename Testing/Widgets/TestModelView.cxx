@@ -11,7 +11,11 @@
 
 #include <QCoreApplication>
 #include <QElapsedTimer>
+#include <QTimer>
 #include <vtkActor.h>
+#include <vtkCallbackCommand.h>
+#include <vtkCommand.h>
+#include <vtkNew.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkRenderWindow.h>
@@ -88,4 +92,54 @@ TEST(ModelView, RenderLeavesTheWindowRepaintToALaterEventLoopPass) {
 
   view.renderFullModel();  // a picture follows at once: no deferral
   EXPECT_TRUE(view.vtkWidget()->updatesEnabled());
+}
+
+// A render timer that falls due while another long event runs (on software OpenGL, the window's composition: tens of
+// milliseconds) gives way once, so that the timers and input waiting behind that event run before the render does:
+// otherwise the two long events make one stall.
+TEST(ModelView, RenderDueDuringALongEventLetsTheWaitingTimersRunFirst) {
+  vtkSmartPointer<vtkPolyData> model = tissuemosaic::pointCloudToPolyData(sheet(40, 30));
+  qTissueMosaicModelView view;
+  view.resize(320, 240);
+  view.show();
+  view.setSceneData(model, nullptr, nullptr, nullptr);
+  QCoreApplication::processEvents();
+
+  QElapsedTimer clock;
+  clock.start();
+  view.render();  // the next requested render waits max(33 ms, twice this render) from now
+  const qint64 renderMs = clock.elapsed();
+  if (renderMs > 40) GTEST_SKIP() << "a 1200-point render took " << renderMs << " ms: too slow to time the test";
+
+  struct RenderStart {
+    const QElapsedTimer* clock;
+    qint64 atMs = -1;  ///< on the test's clock, when the first render began
+  } renderStart{&clock};
+  vtkNew<vtkCallbackCommand> onRender;
+  onRender->SetClientData(&renderStart);
+  onRender->SetCallback([](vtkObject*, unsigned long, void* data, void*) {
+    auto* start = static_cast<RenderStart*>(data);
+    if (start->atMs < 0) start->atMs = start->clock->elapsed();
+  });
+  const unsigned long observer = view.renderWindow()->AddObserver(vtkCommand::StartEvent, onRender);
+
+  clock.restart();
+  view.requestRender();  // due within 80 ms
+  qint64 waitingTimerAtMs = -1;
+  QTimer::singleShot(0, [] {  // the long event, over the render's due time and the waiting timer's
+    QElapsedTimer busy;
+    busy.start();
+    while (busy.elapsed() < 200) {
+    }
+  });
+  QTimer::singleShot(120, [&] { waitingTimerAtMs = clock.elapsed(); });
+  while ((renderStart.atMs < 0 || waitingTimerAtMs < 0) && clock.elapsed() < 3000) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 5);
+  }
+  view.renderWindow()->RemoveObserver(observer);
+  ASSERT_GE(renderStart.atMs, 0) << "the requested render never came";
+  ASSERT_GE(waitingTimerAtMs, 0) << "the waiting timer never fired";
+  EXPECT_GE(waitingTimerAtMs, 200) << "the long event did not hold the loop";
+  EXPECT_LE(waitingTimerAtMs, renderStart.atMs)
+      << "the render ran straight after the long event, before the timer that had waited behind it";
 }
