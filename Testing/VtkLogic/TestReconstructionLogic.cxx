@@ -65,6 +65,16 @@ Eigen::Matrix4d pose(double angleRad, const Eigen::Vector3d& axis, const Eigen::
   return T;
 }
 
+/// Appends points (i, 0, depthMm) for i in [from, to), all of one colour and normal.
+void appendRow(ColoredPointCloud& cloud, int from, int to, float depthMm, const cv::Vec3b& colour,
+               const cv::Point3f& normal) {
+  for (int i = from; i < to; ++i) {
+    cloud.pointsMm.emplace_back(float(i), 0.f, depthMm);
+    cloud.colorsRgb.push_back(colour);
+    cloud.normals.push_back(normal);
+  }
+}
+
 }  // namespace
 
 TEST(ReconstructionFrusta, PointsAndLinesOfEachCameraAreAtItsPose) {
@@ -117,11 +127,7 @@ TEST(ReconstructionGrowingModel, AppendsInPlaceAndRefreshesEarlierPoints) {
   // Fusion moved point 3 and added 500 more: the same arrays grow, earlier values are refreshed.
   cloud.pointsMm[3].z = 51.f;
   cloud.colorsRgb[3] = cv::Vec3b(1, 2, 3);
-  for (int i = 1000; i < 1500; ++i) {
-    cloud.pointsMm.emplace_back(float(i), 0.f, 60.f);
-    cloud.colorsRgb.emplace_back(200, 100, 50);
-    cloud.normals.emplace_back(0.f, 1.f, 0.f);
-  }
+  appendRow(cloud, 1000, 1500, 60.f, cv::Vec3b(200, 100, 50), cv::Point3f(0.f, 1.f, 0.f));
   update = tissuemosaic::updateGrowingModel(model, cloud);
   EXPECT_EQ(update.keptPoints, 1000u);
   EXPECT_EQ(update.appendedPoints, 500u);
@@ -151,11 +157,7 @@ TEST(ReconstructionGrowingModel, AppendsInPlaceAndRefreshesEarlierPoints) {
   const void* colorBuffer = colors->GetVoidPointer(0);
   const void* normalBuffer = model->GetPointData()->GetNormals()->GetVoidPointer(0);
   EXPECT_GE(pointArray->GetSize(), 2 * 3 * 1000);
-  for (int i = 1500; i < 1600; ++i) {
-    cloud.pointsMm.emplace_back(float(i), 0.f, 70.f);
-    cloud.colorsRgb.emplace_back(10, 20, 30);
-    cloud.normals.emplace_back(1.f, 0.f, 0.f);
-  }
+  appendRow(cloud, 1500, 1600, 70.f, cv::Vec3b(10, 20, 30), cv::Point3f(1.f, 0.f, 0.f));
   update = tissuemosaic::updateGrowingModel(model, cloud);
   EXPECT_EQ(update.appendedPoints, 100u);
   EXPECT_EQ(pointArray->GetVoidPointer(0), pointBuffer) << "points reallocated for 100 more";

@@ -35,6 +35,19 @@ tissuemosaic::ColoredPointCloud sheet(int columns, int rows) {
   return cloud;
 }
 
+/// A small model (1200 points) shown in a 320x240 view, its first events handled.
+class SmallModelView : public ::testing::Test {
+protected:
+  void SetUp() override {
+    view.resize(320, 240);
+    view.show();
+    view.setSceneData(model, nullptr, nullptr, nullptr);
+    QCoreApplication::processEvents();
+  }
+  vtkSmartPointer<vtkPolyData> model = tissuemosaic::pointCloudToPolyData(sheet(40, 30));
+  qTissueMosaicModelView view;
+};
+
 }  // namespace
 
 TEST(ModelView, LiveRendersOfALargeModelStayReducedUntilTheScanEnds) {
@@ -73,14 +86,7 @@ TEST(ModelView, LiveRendersOfALargeModelStayReducedUntilTheScanEnds) {
 
 // A render and the repaint of the window that shows it run in separate passes of the event loop (on software
 // OpenGL each costs tens of milliseconds; back to back they made one stall twice as long).
-TEST(ModelView, RenderLeavesTheWindowRepaintToALaterEventLoopPass) {
-  vtkSmartPointer<vtkPolyData> model = tissuemosaic::pointCloudToPolyData(sheet(40, 30));
-  qTissueMosaicModelView view;
-  view.resize(320, 240);
-  view.show();
-  view.setSceneData(model, nullptr, nullptr, nullptr);
-  QCoreApplication::processEvents();
-
+TEST_F(SmallModelView, RenderLeavesTheWindowRepaintToALaterEventLoopPass) {
   view.render();
   EXPECT_FALSE(view.vtkWidget()->updatesEnabled()) << "the repaint would run straight after the render";
   QElapsedTimer waited;
@@ -97,14 +103,7 @@ TEST(ModelView, RenderLeavesTheWindowRepaintToALaterEventLoopPass) {
 // A render timer that falls due while another long event runs (on software OpenGL, the window's composition: tens of
 // milliseconds) gives way once, so that the timers and input waiting behind that event run before the render does:
 // otherwise the two long events make one stall.
-TEST(ModelView, RenderDueDuringALongEventLetsTheWaitingTimersRunFirst) {
-  vtkSmartPointer<vtkPolyData> model = tissuemosaic::pointCloudToPolyData(sheet(40, 30));
-  qTissueMosaicModelView view;
-  view.resize(320, 240);
-  view.show();
-  view.setSceneData(model, nullptr, nullptr, nullptr);
-  QCoreApplication::processEvents();
-
+TEST_F(SmallModelView, RenderDueDuringALongEventLetsTheWaitingTimersRunFirst) {
   QElapsedTimer clock;
   clock.start();
   view.render();  // the next requested render waits max(33 ms, twice this render) from now
