@@ -36,7 +36,6 @@ public:
   qint64 lastRenderMs = 0;
   QElapsedTimer sinceRenderRequest;  ///< since requestRender() scheduled the pending render
   qint64 renderWaitMs = 0;           ///< the pending render's timer interval
-  bool renderDeferred = false;       ///< the pending render has already given way once
   unsigned renderRequest = 0;        ///< numbers the requests: a timer of an earlier one (rendered since) does nothing
   bool userMovedCamera = false;  ///< until the user turns the view, it follows the growing model
   double interactiveFrameTimeMs = 25;
@@ -136,20 +135,18 @@ void qTissueMosaicModelView::requestRender() {
   const qint64 waitMs = std::max<qint64>(1, std::max<qint64>(33, 2 * d->lastRenderMs) - sinceLastMs);
   d->sinceRenderRequest.start();
   d->renderWaitMs = waitMs;
-  d->renderDeferred = false;
   const unsigned request = ++d->renderRequest;
-  QTimer::singleShot(static_cast<int>(waitMs), this, [this, request] { this->renderWhenLoopIsFree(request); });
+  QTimer::singleShot(static_cast<int>(waitMs), this, [this, request] { this->renderWhenLoopIsFree(request, true); });
 }
 
-void qTissueMosaicModelView::renderWhenLoopIsFree(unsigned request) {
+void qTissueMosaicModelView::renderWhenLoopIsFree(unsigned request, bool mayGiveWay) {
   if (!d->renderPending || request != d->renderRequest) return;  // rendered meanwhile
   // Late: a long event ran just before this timer in the same pass of the event loop. Give way once, to the next
   // timer pass, so that input and other timers are handled between that event and this render. A timer started
   // now never fires in the pass that is running.
   const qint64 lateMs = d->sinceRenderRequest.elapsed() - d->renderWaitMs;
-  if (lateMs > Private::kLateRenderMs && !d->renderDeferred) {
-    d->renderDeferred = true;
-    QTimer::singleShot(1, this, [this, request] { this->renderWhenLoopIsFree(request); });
+  if (mayGiveWay && lateMs > Private::kLateRenderMs) {
+    QTimer::singleShot(1, this, [this, request] { this->renderWhenLoopIsFree(request, false); });
     return;
   }
   this->render();

@@ -70,8 +70,9 @@ public slots:
   bool saveScreenshot(const QString& path);
 
 private:
-  /// The timer end of requestRender(): renders, unless the event loop has just been busy (see the .cxx).
-  void renderWhenLoopIsFree(unsigned request);
+  /// The timer end of requestRender(): renders, unless the event loop has just been busy and the render may still
+  /// give way (once: its second timer passes false; see the .cxx).
+  void renderWhenLoopIsFree(unsigned request, bool mayGiveWay);
 
   class Private;
   Private* d;
