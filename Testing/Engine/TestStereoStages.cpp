@@ -227,6 +227,99 @@ TEST(StereoStages, CpuRadialSweepsEqualTheRayWalks) {
   }
 }
 
+TEST(StereoStages, CpuOutlierSweepsEqualTheRayWalks) {
+  // Ramps with random jumps and holes: rays that stay smooth, break early, break just beyond the radius, or see too
+  // few estimates; image borders; every band split of the sweeps.
+  for (int density : {1, 4, 7}) {
+    const int w = 91, h = 64;
+    Image<int16_t> input(Device::Cpu, w, h);
+    std::mt19937 random(100 + density);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const bool hole = static_cast<int>(random() % 10) < density;
+        const int jump = random() % 8 == 0 ? static_cast<int>(random() % 12) - 6 : 0;
+        input.view().at(x, y) = hole ? kNoDisparity : static_cast<int16_t>(x / 3 - y / 4 + jump);
+      }
+    }
+    for (int radius : {1, 4, 10, 30}) {
+      for (float maxStep : {0.0f, 2.5f, 6.0f}) {
+        Image<int16_t> walked(Device::Cpu, w, h);
+        parallelFor<CpuBackend>(w * h, RemoveOutliers{input.view(), walked.view(), radius, maxStep});
+        int kept = 0, removed = 0;
+        for (int64_t i = 0; i < w * h; ++i) {
+          kept += walked.view()[i] != kNoDisparity;
+          removed += input.view()[i] != kNoDisparity && walked.view()[i] == kNoDisparity;
+        }
+        for (int rowBands : {1, 3, 7}) {
+          Image<int16_t> swept(Device::Cpu, w, h);
+          Buffer<uint8_t> passes(Device::Cpu, 8 * w * h);
+          removeOutliersCpu(input.view(), swept.view(), radius, maxStep, passes.data(), rowBands);
+          for (int64_t i = 0; i < w * h; ++i) {
+            ASSERT_EQ(swept.view()[i], walked.view()[i]) << "density " << density << " radius " << radius << " step "
+                                                         << maxStep << " bands " << rowBands << " pixel " << i;
+          }
+        }
+        if (radius == 10 && maxStep == 2.5f) {  // the paper's test: the comparison covers both answers
+          EXPECT_GT(kept, w * h / 10) << "density " << density;
+          EXPECT_GT(removed, w * h / 100) << "density " << density;
+        }
+      }
+    }
+  }
+}
+
+TEST(StereoStages, CpuReselectionRowsEqualThePerPixelRule) {
+  // Random cost volume (with kNoZncc and non-positive scores), discrete map with holes, smoothed map and correction
+  // sums; candidates clipped at both ends of the range; segments of every length up to the CPU block.
+  const int w = 150, h = 7, disparities = 30, minDisparity = -4, search = 5;
+  std::mt19937 random(11);
+  Buffer<int16_t> volume(Device::Cpu, static_cast<std::size_t>(w) * h * disparities);
+  for (std::size_t i = 0; i < volume.size(); ++i) {
+    const int pick = static_cast<int>(random() % 10);
+    volume.data()[i] = pick == 0 ? kNoZncc : (pick == 1 ? static_cast<int16_t>(-static_cast<int>(random() % 500))
+                                                        : static_cast<int16_t>(1 + random() % kZnccMax));
+  }
+  const VolumeLayout layout = VolumeLayout::rowMajor(w, disparities);
+  Image<int16_t> discrete(Device::Cpu, w, h);
+  Image<float> current(Device::Cpu, w, h);
+  std::vector<int64_t> sums(w * h);
+  std::vector<int> counts(w * h);
+  std::uniform_real_distribution<float> disparity(minDisparity - 8.0f, minDisparity + disparities + 8.0f);
+  for (int64_t i = 0; i < w * h; ++i) {
+    discrete.view()[i] = random() % 6 == 0 ? kNoDisparity : static_cast<int16_t>(minDisparity + random() % disparities);
+    current.view()[i] = disparity(random);
+    counts[i] = random() % 7 == 0 ? 0 : static_cast<int>(1 + random() % 900);
+    sums[i] = static_cast<int64_t>(random() % 2000000) - 1000000;
+  }
+  Image<int16_t> expectedDiscrete(Device::Cpu, w, h), rowsDiscrete(Device::Cpu, w, h);
+  Image<float> expectedCurrent(Device::Cpu, w, h), rowsCurrent(Device::Cpu, w, h);
+  expectedDiscrete.buffer().copyFrom(discrete.buffer());
+  rowsDiscrete.buffer().copyFrom(discrete.buffer());
+  expectedCurrent.buffer().copyFrom(current.buffer());
+  rowsCurrent.buffer().copyFrom(current.buffer());
+  const ReselectDiscrete perPixel{volume.data(), layout, minDisparity, disparities, search, 0.01f,
+                                  expectedCurrent.view(), expectedDiscrete.view()};
+  for (int64_t i = 0; i < w * h; ++i) perPixel(i, sums[i], counts[i]);
+  const ReselectDiscreteRows rows{
+      {volume.data(), layout, minDisparity, disparities, search, 0.01f, rowsCurrent.view(), rowsDiscrete.view()}};
+  int changed = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x0 = 0, length = 1 + y * 9; x0 < w; x0 += length) {
+      const int columns = std::min({length, w - x0, 64});
+      const int64_t first = static_cast<int64_t>(y) * w + x0;
+      rows.consumeRow(first, sums.data() + first, counts.data() + first, columns);
+      length = columns;
+    }
+  }
+  for (int64_t i = 0; i < w * h; ++i) {
+    ASSERT_EQ(rowsDiscrete.view()[i], expectedDiscrete.view()[i]) << "pixel " << i;
+    const float a = rowsCurrent.view()[i], b = expectedCurrent.view()[i];
+    ASSERT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << "pixel " << i << ": " << a << " vs " << b;
+    changed += expectedDiscrete.view()[i] != discrete.view()[i];
+  }
+  EXPECT_GT(changed, w * h / 4);  // the rule re-selected many pixels
+}
+
 TEST(StereoStages, BoxSumsMatchBruteForce) {
   const int w = 37, h = 23, r = 4;
   Image<int16_t> input(Device::Cpu, w, h);

@@ -4,9 +4,11 @@
 #include "CudaRuntime.h"
 #include "Device.h"
 #include "Error.h"
+#include "HostMemory.h"
 
 #include <cstddef>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -18,7 +20,9 @@ public:
   Buffer() = default;
   Buffer(Device device, std::size_t count) : device_(device), count_(count) {
     if (count == 0) return;
-    data_ = device == Device::Cuda ? static_cast<T*>(cuda::allocate(count * sizeof(T))) : new T[count];
+    if (device == Device::Cuda) data_ = static_cast<T*>(cuda::allocate(count * sizeof(T)));
+    else if constexpr (kPlainData) data_ = static_cast<T*>(allocateHostMemory(count * sizeof(T)));
+    else data_ = new T[count];
   }
   ~Buffer() { reset(); }
   Buffer(const Buffer&) = delete;
@@ -87,8 +91,13 @@ public:
   }
 
 private:
+  /// Element types that need no construction or destruction live in allocateHostMemory's memory on the CPU (left
+  /// uninitialised, as new T[] leaves them).
+  static constexpr bool kPlainData = std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>;
+
   void reset() {
     if (device_ == Device::Cuda) cuda::release(data_);
+    else if constexpr (kPlainData) releaseHostMemory(data_);
     else delete[] data_;
     data_ = nullptr;
     count_ = 0;

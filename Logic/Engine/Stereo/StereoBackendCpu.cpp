@@ -4,6 +4,9 @@
 #include "Core/ParallelFor.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cassert>
+#include <climits>
 #include <vector>
 
 namespace tissuemosaic::stereo {
@@ -219,6 +222,19 @@ struct WindowStatisticsBand {
   }
 };
 
+/// Band `band` of `bands` of a sweep over the image's rows along a direction with row step dy: sweep step s is row
+/// height - 1 - s when dy > 0 (the neighbour's row comes first), else row s. The band's own steps are [begin, end);
+/// a sweep that crosses rows (dy != 0) starts `overlap` steps early, knowing nothing before that, so that answers
+/// which look at most `overlap` steps back come out exactly as from one sweep over the whole image.
+struct SweepBand {
+  int begin, end, first, height, dy;
+  SweepBand(int height_, int band, int bands, int overlap, int dy_)
+      : begin(static_cast<int>(static_cast<int64_t>(height_) * band / bands)),
+        end(static_cast<int>(static_cast<int64_t>(height_) * (band + 1) / bands)),
+        first(dy_ == 0 ? begin : std::max(0, begin - overlap)), height(height_), dy(dy_) {}
+  int row(int step) const { return dy > 0 ? height - 1 - step : step; }
+};
+
 /// Nearest estimate along ray direction k for every pixel, within radius steps and inside the image: the hit at p
 /// is p + delta itself when that carries an estimate, else the hit at p + delta one step further. One sweep in the
 /// order that visits p + delta before p gives every ray walk's answer at O(1) per pixel.
@@ -241,40 +257,38 @@ struct NearestAlongRay {
     const int64_t offset = static_cast<int64_t>(k) * input.pixelCount();
     int16_t* __restrict distance = hitDistance + offset;
     int16_t* __restrict value = hitValue + offset;
-    // The band's rows as steps of the sweep (step s is row height - 1 - s when dy > 0, else row s).
-    const int bandBegin = static_cast<int>(static_cast<int64_t>(height) * band / rowBands);
-    const int bandEnd = static_cast<int>(static_cast<int64_t>(height) * (band + 1) / rowBands);
-    const int firstStep = dy == 0 ? bandBegin : std::max(0, bandBegin - radius);
+    const SweepBand sweep(height, band, rowBands, radius, dy);
     std::vector<int16_t> rows(4 * static_cast<std::size_t>(width));
     int16_t* previousDistance = rows.data();  // the row swept before (the neighbours' row when dy != 0)
     int16_t* previousValue = previousDistance + width;
     int16_t* rowDistance = previousValue + width;
     int16_t* rowValue = rowDistance + width;
     std::fill(previousDistance, previousDistance + width, int16_t{0});  // nothing known before the first step
-    for (int step = firstStep; step < bandEnd; ++step) {
-      const int y = dy > 0 ? height - 1 - step : step;  // rows: the neighbour's row first
-      for (int i = 0; i < width; ++i) {
-        const int x = dx > 0 ? width - 1 - i : i;  // within a row, for dy == 0: the neighbour first
-        const int nx = x + dx, ny = y + dy;
-        if (nx < 0 || ny < 0 || nx >= width || ny >= height) {
-          rowDistance[x] = 0;
-          continue;
+    for (int step = sweep.first; step < sweep.end; ++step) {
+      const int y = sweep.row(step);
+      const int16_t* row = &input.at(0, y);
+      if (dy == 0) {
+        // Within the row, from its far end: the neighbour's (x + dx) value and hit are carried in registers, and
+        // chosen by bit masks, not branches (holes and estimates alternate unpredictably; GCC turns plain selects
+        // here into branches).
+        int neighbour = kNoDisparity, carriedDistance = 0, carriedValue = 0;
+        for (int i = 0; i < width; ++i) {
+          const int x = dx > 0 ? width - 1 - i : i;
+          const int hit = -static_cast<int>(neighbour != kNoDisparity);  // all bits set, or none
+          const int carries = -static_cast<int>((carriedDistance > 0) & (carriedDistance < radius)) & ~hit;
+          carriedValue = (neighbour & hit) | (carriedValue & carries);
+          carriedDistance = (1 & hit) | ((carriedDistance + 1) & carries);
+          rowDistance[x] = static_cast<int16_t>(carriedDistance);
+          rowValue[x] = static_cast<int16_t>(carriedValue);
+          neighbour = row[x];
         }
-        const int16_t neighbour = input[static_cast<int64_t>(ny) * width + nx];
-        // The neighbour's own hit: in this row (dy == 0, swept already) or in the row swept before.
-        const int16_t* neighbourDistance = dy == 0 ? rowDistance : previousDistance;
-        const int16_t* neighbourValue = dy == 0 ? rowValue : previousValue;
-        if (neighbour != kNoDisparity) {
-          rowDistance[x] = 1;
-          rowValue[x] = neighbour;
-        } else if (neighbourDistance[nx] > 0 && neighbourDistance[nx] < radius) {
-          rowDistance[x] = static_cast<int16_t>(neighbourDistance[nx] + 1);
-          rowValue[x] = neighbourValue[nx];
-        } else {
-          rowDistance[x] = 0;
-        }
+      } else if (step == 0) {  // the neighbours' row is outside the image
+        std::fill(rowDistance, rowDistance + width, int16_t{0});
+      } else {
+        nearestRowAcross(&input.at(0, y + dy), previousDistance, previousValue, rowDistance, rowValue, width, dx,
+                         radius);
       }
-      if (step >= bandBegin) {
+      if (step >= sweep.begin) {
         const int64_t rowStart = static_cast<int64_t>(y) * width;
         std::copy(rowDistance, rowDistance + width, distance + rowStart);
         std::copy(rowValue, rowValue + width, value + rowStart);
@@ -283,9 +297,223 @@ struct NearestAlongRay {
       std::swap(previousValue, rowValue);
     }
   }
+
+  /// One row of a sweep across rows: each pixel's hit from its neighbour in the row swept before (neighbourRow, at
+  /// column x + dx) and that neighbour's own hit. No pixel depends on another of its row, so this vectorises.
+  static void nearestRowAcross(const int16_t* __restrict neighbourRow, const int16_t* __restrict previousDistance,
+                               const int16_t* __restrict previousValue, int16_t* __restrict rowDistance,
+                               int16_t* __restrict rowValue, int width, int dx, int radius) {
+    const int xBegin = dx < 0 ? 1 : 0, xEnd = dx > 0 ? width - 1 : width;  // the neighbour inside the image
+    if (dx < 0) rowDistance[0] = 0;
+    if (dx > 0) rowDistance[width - 1] = 0;
+    for (int x = xBegin; x < xEnd; ++x) {
+      // Bit masks instead of selects: GCC sees no control flow, so it vectorises.
+      const int neighbour = neighbourRow[x + dx], carried = previousDistance[x + dx], carriedValue = previousValue[x + dx];
+      const int hit = -static_cast<int>(neighbour != kNoDisparity);
+      const int carries = -static_cast<int>((carried > 0) & (carried < radius)) & ~hit;
+      rowDistance[x] = static_cast<int16_t>((1 & hit) | ((carried + 1) & carries));
+      rowValue[x] = static_cast<int16_t>((neighbour & hit) | (carriedValue & carries));
+    }
+  }
+};
+
+/// II.B's outlier test along ray direction k for every pixel, from one sweep in the order that visits p + delta
+/// before p (the same answers as RemoveOutliers' ray walks, at O(1) per pixel). Per pixel the sweep carries the
+/// nearest estimate at or beyond it (steps, value) and that estimate's break distance: the steps to the first
+/// estimate beyond it that differs by more than maxStep from the estimate before it. For an estimate p with next
+/// estimate n at a steps, break(p) = a when they differ by more, else a + break(n). Steps are capped at radius + 1
+/// (none within the radius), and a running count of estimates gives the estimates over any stretch of the ray.
+/// The ray from p passes when break(p) exceeds its in-image steps and the estimates over them are at least half.
+/// Tasks as in NearestAlongRay: one direction and one band of rows; bands start radius + 1 rows early.
+struct SmoothRaySweep {
+  ImageView<const int16_t> input;
+  int radius;
+  float maxStepPx;
+  int rowBands;
+  uint8_t* passes;  ///< [8][pixels]: 1 where the ray of direction k passes
+
+  void operator()(int64_t task) const {
+    const int k = static_cast<int>(task % 8), band = static_cast<int>(task / 8);
+    int dx, dy;
+    radialDirection(k, dx, dy);
+    const int width = input.width, height = input.height, cap = radius + 1;
+    // Steps are integers: "differs by more than maxStepPx" is "more than its floor".
+    const int maxStep = static_cast<int>(std::floor(std::min(maxStepPx, 1e6f)));
+    uint8_t* pass = passes + static_cast<int64_t>(k) * input.pixelCount();
+    const SweepBand sweep(height, band, rowBands, cap, dy);
+    if (dy == 0) {
+      sweepRows(sweep, dx, cap, maxStep, pass);
+      return;
+    }
+    // Row state of the step before (the neighbours' row) and of this step, with one column of "none" on each side.
+    const int padded = width + 2;
+    std::vector<int> state(6 * static_cast<std::size_t>(padded));
+    int* previousNear = state.data() + 1;
+    int* previousValue = previousNear + padded;
+    int* previousBreak = previousValue + padded;
+    int* near = previousBreak + padded;
+    int* value = near + padded;
+    int* breakSteps = value + padded;
+    std::fill(state.begin(), state.end(), cap);
+    // Running counts of the last cap + 1 steps (the far end of a ray is cap steps back), padded by cap columns of 0.
+    const int countColumns = width + 2 * cap;
+    std::vector<int> counts(static_cast<std::size_t>(cap + 2) * countColumns, 0);
+    const int* noCounts = counts.data() + static_cast<std::size_t>(cap + 1) * countColumns + cap;  // stays 0
+    const auto countRow = [&](int step) { return counts.data() + static_cast<std::size_t>(step % (cap + 1)) * countColumns + cap; };
+    std::vector<uint8_t> overlapPasses(width);  // answers of the rows before the band: not kept
+    for (int step = sweep.first; step < sweep.end; ++step) {
+      const int y = sweep.row(step);
+      const int16_t* row = &input.at(0, y);
+      int* count = countRow(step);
+      const int* previousCount = step > sweep.first ? countRow(step - 1) : noCounts;
+      const int* farCount = step - cap >= sweep.first ? countRow(step - cap) + cap * dx : noCounts;
+      sweepRowAcross(row, previousNear + dx, previousValue + dx, previousBreak + dx, previousCount + dx, farCount, near,
+                     value, breakSteps, count, step >= sweep.begin ? pass + static_cast<int64_t>(y) * width : overlapPasses.data(),
+                     width, dx, cap, maxStep, std::min(radius, step));
+      std::swap(previousNear, near);
+      std::swap(previousValue, value);
+      std::swap(previousBreak, breakSteps);
+    }
+  }
+
+  /// One row of a sweep across rows: the row state from the neighbours' (the "Ahead" arrays, already shifted by dx)
+  /// and each pixel's answer. rowLimit: steps to the image's top or bottom. A function of its own so that the
+  /// compiler knows the arrays apart (restrict parameters) and vectorises it.
+  static void sweepRowAcross(const int16_t* __restrict row, const int* __restrict nearAhead,
+                             const int* __restrict valueAhead, const int* __restrict breakAhead,
+                             const int* __restrict countAhead, const int* __restrict farCount, int* __restrict near,
+                             int* __restrict value, int* __restrict breakSteps, int* __restrict count,
+                             uint8_t* __restrict pass, int width, int dx, int cap, int maxStep, int rowLimit) {
+    for (int x = 0; x < width; ++x) {
+      const int v = row[x];
+      const int valid = v != kNoDisparity;
+      const int ahead = std::min(cap, nearAhead[x] + 1);
+      const int difference = std::abs(valueAhead[x] - v);
+      const int breakHere = ahead >= cap ? cap : (difference > maxStep ? ahead : std::min(cap, ahead + breakAhead[x]));
+      near[x] = valid ? 0 : ahead;
+      value[x] = valid ? v : valueAhead[x];
+      breakSteps[x] = valid ? breakHere : breakAhead[x];
+      count[x] = countAhead[x] + valid;
+      const int columnLimit = dx > 0 ? width - 1 - x : (dx < 0 ? x : cap);
+      const int inImage = std::min(rowLimit, columnLimit);
+      const int estimates = countAhead[x] - farCount[x];
+      pass[x] = static_cast<uint8_t>(valid & (inImage > 0) & (breakHere > inImage) & (2 * estimates >= inImage));
+    }
+  }
+
+  /// The same for a direction along the rows: each row is its own sweep, from its far end.
+  void sweepRows(const SweepBand& sweep, int dx, int cap, int maxStep, uint8_t* pass) const {
+    const int width = input.width;
+    std::vector<int> countStore(width + 2 * static_cast<std::size_t>(cap), 0);
+    int* count = countStore.data() + cap;  // running counts, 0 beyond the row
+    for (int y = sweep.begin; y < sweep.end; ++y) {
+      const int16_t* row = &input.at(0, y);
+      int nearAhead = cap, valueAhead = 0, breakAhead = cap, countAhead = 0;
+      for (int i = 0; i < width; ++i) {
+        const int x = dx > 0 ? width - 1 - i : i;
+        const int v = row[x];
+        const bool valid = v != kNoDisparity;
+        const int ahead = std::min(cap, nearAhead + 1);
+        const int breakHere = ahead >= cap ? cap
+                              : (std::abs(valueAhead - v) > maxStep ? ahead : std::min(cap, ahead + breakAhead));
+        const int inImage = std::min(radius, i);  // steps to the row's end
+        const int estimates = countAhead - count[x + cap * dx];
+        pass[static_cast<int64_t>(y) * width + x] =
+            static_cast<uint8_t>(valid & (inImage > 0) & (breakHere > inImage) & (2 * estimates >= inImage));
+        // Bit masks, not branches (as in NearestAlongRay's rows).
+        const int validMask = -static_cast<int>(valid);
+        nearAhead = ahead & ~validMask;
+        valueAhead = (v & validMask) | (valueAhead & ~validMask);
+        breakAhead = (breakHere & validMask) | (breakAhead & ~validMask);
+        countAhead += valid;
+        count[x] = countAhead;
+      }
+    }
+  }
+};
+
+/// Keeps the estimates with at least one passing ray.
+struct KeepWithPassingRay {
+  ImageView<const int16_t> input;
+  ImageView<int16_t> output;
+  const uint8_t* passes;
+
+  void operator()(int64_t row) const {
+    const int64_t pixels = input.pixelCount(), first = row * input.width;
+    keepRow(&input[first], &output[first], passes + first, pixels, input.width);
+  }
+  static void keepRow(const int16_t* __restrict in, int16_t* __restrict out, const uint8_t* __restrict p,
+                      int64_t pixels, int width) {
+    for (int x = 0; x < width; ++x) {
+      const uint8_t any = p[x] | p[pixels + x] | p[2 * pixels + x] | p[3 * pixels + x] | p[4 * pixels + x] |
+                          p[5 * pixels + x] | p[6 * pixels + x] | p[7 * pixels + x];
+      out[x] = any ? in[x] : kNoDisparity;
+    }
+  }
 };
 
 }  // namespace
+
+void removeOutliersCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, float maxStepPx,
+                       uint8_t* rayPasses, int rowBands) {
+  if (rowBands <= 0) rowBands = std::max(1, (cpuThreadCount() + 7) / 8);
+  rowBands = std::min(rowBands, std::max(1, input.height));
+  parallelFor<CpuBackend>(8 * static_cast<int64_t>(rowBands), SmoothRaySweep{input, radius, maxStepPx, rowBands, rayPasses}, 1);
+  parallelFor<CpuBackend>(input.height, KeepWithPassingRay{input, output, rayPasses}, 8);
+}
+
+void ReselectDiscreteRows::consumeRow(int64_t firstIndex, const int64_t* boxSums, const int* boxCounts,
+                                      int columns) const {
+  constexpr int kMaxColumns = 64;  // BoxColumnSums' block on the CPU
+  constexpr int kGroup = 16;       // pixels that share one loop over candidates: few, so that their ranges overlap
+  constexpr int kNotActive = INT32_MIN / 2;  // a centre no candidate is within search of (and no overflow)
+  const ReselectDiscrete& r = rule;
+  assert(columns <= kMaxColumns);
+  int x0, y;
+  pixelCoordinates(firstIndex, r.current.width, x0, y);
+  float d[kMaxColumns];
+  int centre[kMaxColumns];
+  for (int c = 0; c < columns; ++c) {
+    const int64_t index = firstIndex + c;
+    centre[c] = kNotActive;
+    d[c] = 0.0f;
+    if (r.discrete[index] == kNoDisparity || boxCounts[c] == 0) continue;
+    d[c] = correctedDisparity(r.current[index], boxSums[c], boxCounts[c]);
+    r.current[index] = d[c];
+    if (isFiniteValue(d[c])) centre[c] = static_cast<int>(floorf(d[c] + 0.5f)) - r.minDisparity;
+  }
+  for (int g0 = 0; g0 < columns; g0 += kGroup) {
+    const int n = std::min(kGroup, columns - g0);
+    const float* __restrict groupD = d + g0;
+    const int* __restrict groupCentre = centre + g0;
+    int lo = r.disparityCount, hi = -1;
+    for (int c = 0; c < n; ++c) {
+      if (groupCentre[c] == kNotActive) continue;
+      lo = std::min(lo, groupCentre[c] - r.search);
+      hi = std::max(hi, groupCentre[c] + r.search);
+    }
+    lo = std::max(lo, 0);
+    hi = std::min(hi, r.disparityCount - 1);
+    float bestCost[kGroup];
+    int best[kGroup];
+    std::fill(bestCost, bestCost + kGroup, INFINITY);
+    std::fill(best, best + kGroup, -1);
+    // Candidates in increasing order with a strict comparison: the lowest disparity wins ties, as in the rule.
+    for (int i = lo; i <= hi; ++i) {
+      const int16_t* __restrict q = r.volume + r.layout.index(x0 + g0, y, i);
+      for (int c = 0; c < n; ++c) {
+        const int offset = i - groupCentre[c];
+        const float cost = reselectionCost(q[c], i + r.minDisparity, groupD[c], r.eta);
+        const bool better = (offset >= -r.search) & (offset <= r.search) & (q[c] > 0) & (cost < bestCost[c]);
+        bestCost[c] = better ? cost : bestCost[c];
+        best[c] = better ? i : best[c];
+      }
+    }
+    for (int c = 0; c < n; ++c) {
+      if (best[c] >= 0) r.discrete[firstIndex + g0 + c] = static_cast<int16_t>(best[c] + r.minDisparity);
+    }
+  }
+}
 
 void fillHolesRadialCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, int minLines,
                         float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue, int rowBands) {

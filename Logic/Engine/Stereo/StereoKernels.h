@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 
 namespace tissuemosaic::stereo {
 
@@ -406,8 +408,18 @@ struct BoxRowSumsDirect {
   }
 };
 
+/// True for box-sum consumers that take a whole row segment at once (consumeRow(firstIndex, sums, counts, n)): the
+/// CPU's vectorised forms of a per-pixel consumer.
+template <class Consumer, class = void>
+struct ConsumesRows : std::false_type {};
+template <class Consumer>
+struct ConsumesRows<Consumer, std::void_t<decltype(std::declval<const Consumer&>().consumeRow(
+                                  int64_t{}, static_cast<const int64_t*>(nullptr), static_cast<const int*>(nullptr), 0))>>
+    : std::true_type {};
+
 /// Box sums, pass 2 on the CPU (one block of kColumnsPerTask columns per call, row-contiguous): running sums over y,
-/// handed to consumer(pixelIndex, sum, count) as soon as each is complete (no box-sum image is stored).
+/// handed to consumer(pixelIndex, sum, count), or a row segment at a time to consumer.consumeRow, as soon as each is
+/// complete (no box-sum image is stored).
 template <int kColumnsPerTask, class Consumer>
 struct BoxColumnSums {
   const int64_t* rowSum;
@@ -434,16 +446,23 @@ struct BoxColumnSums {
     }
     for (int y = 0; y < height; ++y) {
       const int enter = y + radius, leave = y - radius - 1;
-      for (int c = 0; c < columns; ++c) {
-        if (enter < height) {
+      if (enter < height) {
+        for (int c = 0; c < columns; ++c) {
           sum[c] += rowSum[static_cast<int64_t>(enter) * width + x0 + c];
           count[c] += rowCount[static_cast<int64_t>(enter) * width + x0 + c];
         }
-        if (leave >= 0) {
+      }
+      if (leave >= 0) {
+        for (int c = 0; c < columns; ++c) {
           sum[c] -= rowSum[static_cast<int64_t>(leave) * width + x0 + c];
           count[c] -= rowCount[static_cast<int64_t>(leave) * width + x0 + c];
         }
-        consumer(static_cast<int64_t>(y) * width + x0 + c, sum[c], count[c]);
+      }
+      const int64_t firstIndex = static_cast<int64_t>(y) * width + x0;
+      if constexpr (ConsumesRows<Consumer>::value) {
+        consumer.consumeRow(firstIndex, sum, count, columns);
+      } else {
+        for (int c = 0; c < columns; ++c) consumer(firstIndex + c, sum[c], count[c]);
       }
     }
   }
@@ -630,14 +649,23 @@ struct LaplacianStep {
   }
 };
 
+/// II.C eq. (3): d^(k) -= average(b_j), from the fixed-point box sum of the corrections b.
+TM_HOST_DEVICE TM_FORCE_INLINE float correctedDisparity(float current, int64_t correctionBoxSum, int boxCount) {
+  return current - static_cast<float>(static_cast<double>(correctionBoxSum) / (FloatValue::kScale * boxCount));
+}
+
+/// The re-selection cost of candidate disparity o* with positive quantised ZNCC q at smoothed disparity d:
+/// 1/ZNCC + eta (o* - d)^2.
+TM_HOST_DEVICE TM_FORCE_INLINE float reselectionCost(int16_t q, int candidateDisparity, float d, float eta) {
+  const float offset = static_cast<float>(candidateDisparity) - d;
+  return kZnccScale / static_cast<float>(q) + eta * offset * offset;
+}
+
 /// II.C eq. (3) and the re-selection of o_i: d^(k) -= average(b_j); then o_i := the candidate in d^(k) +- search
-/// minimising 1/ZNCC + eta (o* - d)^2 (candidates without a positive ZNCC are skipped). A box-sum consumer of
-/// FloatValue (fixed point) over the corrections b.
+/// with the lowest reselectionCost, the lowest disparity on ties (candidates without a positive ZNCC are skipped).
+/// A box-sum consumer of FloatValue (fixed point) over the corrections b. The CPU runs the same rule a row segment
+/// at a time (ReselectDiscreteRows, vectorised).
 struct ReselectDiscrete {
-  /// [kZnccMax + 1]: fillZnccCostTable's 1/ZNCC per quantised score, or null to divide. The table holds exactly
-  /// the quotients, so both give the same floats: the CPU saves 11 divisions per pixel, while on the GPU a
-  /// division is cheaper than a table load.
-  const float* znccCost;
   const int16_t* volume;
   VolumeLayout layout;
   int minDisparity, disparityCount, search;
@@ -649,9 +677,9 @@ struct ReselectDiscrete {
     if (discrete[index] == kNoDisparity || boxCount == 0) return;
     int x, y;
     pixelCoordinates(index, current.width, x, y);
-    const float d =
-        current[index] - static_cast<float>(static_cast<double>(boxSum) / (FloatValue::kScale * boxCount));
+    const float d = correctedDisparity(current[index], boxSum, boxCount);
     current[index] = d;
+    if (!isFiniteValue(d)) return;
     const int centre = static_cast<int>(floorf(d + 0.5f)) - minDisparity;
     float bestCost = INFINITY;
     int best = -1;
@@ -659,9 +687,7 @@ struct ReselectDiscrete {
       if (i < 0 || i >= disparityCount) continue;
       const int16_t q = volume[layout.index(x, y, i)];
       if (q <= 0) continue;  // kNoZncc or non-positive correlation: 1/ZNCC is not a cost
-      const float offset = static_cast<float>(i + minDisparity) - d;
-      const float inverseZncc = znccCost ? znccCost[q] : kZnccScale / static_cast<float>(q);
-      const float cost = inverseZncc + eta * offset * offset;
+      const float cost = reselectionCost(q, i + minDisparity, d, eta);
       if (cost < bestCost) {
         bestCost = cost;
         best = i;
@@ -670,12 +696,6 @@ struct ReselectDiscrete {
     if (best >= 0) discrete[index] = static_cast<int16_t>(best + minDisparity);
   }
 };
-
-/// The matching cost 1/ZNCC of each positive quantised score q (entry 0 unused): kZnccScale / q, computed once.
-inline void fillZnccCostTable(float* table) {
-  table[0] = INFINITY;
-  for (int q = 1; q <= kZnccMax; ++q) table[q] = kZnccScale / static_cast<float>(q);
-}
 
 /// Discrete map to float disparity (NaN where none), e.g. for inspecting intermediate stages.
 struct DiscreteToFloat {

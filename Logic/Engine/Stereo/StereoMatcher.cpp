@@ -29,10 +29,9 @@ StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int di
       leftSpecularMask(device, width, height), rightSpecularMask(device, width, height),
       radialHitDistance(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
       radialHitValue(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
-      znccCostTable(device, device == Device::Cpu ? kZnccMax + 1 : 0),
+      rayPasses(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
       rowSum(device, static_cast<std::size_t>(width) * height), rowCount(device, static_cast<std::size_t>(width) * height) {
   rightWinnerKeys.setZero();  // the GPU launcher leaves them zero after each frame
-  if (device == Device::Cpu) fillZnccCostTable(znccCostTable.data());
 }
 
 }  // namespace stereo

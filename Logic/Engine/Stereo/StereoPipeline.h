@@ -37,7 +37,7 @@ struct StereoWorkspace {
   Image<float> smoothed, smoothedPrevious, correction;
   Image<uint8_t> leftSpecularMask, rightSpecularMask;  ///< 1 near a specular highlight (see DropSpecularDiscrete)
   Buffer<int16_t> radialHitDistance, radialHitValue;  ///< CPU radial filling: nearest estimate per ray [8][pixels]
-  Buffer<float> znccCostTable;  ///< fillZnccCostTable (CPU only: the GPU divides)
+  Buffer<uint8_t> rayPasses;  ///< CPU outlier test: 1 where a pixel's ray of direction k passes [8][pixels]
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)
   Buffer<int> rowCount;
 };
@@ -47,6 +47,14 @@ void runStereoPipelineCpu(StereoWorkspace& workspace, const StereoParameters& pa
 /// The same on the GPU; throws Error in a build without CUDA.
 void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings);
 
+/// The CPU's form of ReselectDiscrete: the same rule for a row segment of pixels at once, candidates looped outside
+/// the pixels so that the volume is read contiguously and the costs vectorise (the per-pixel form is latency-bound:
+/// eleven dependent loads and branches per pixel). Same results as ReselectDiscrete, pixel for pixel.
+struct ReselectDiscreteRows {
+  ReselectDiscrete rule;
+  void consumeRow(int64_t firstIndex, const int64_t* boxSums, const int* boxCounts, int columns) const;
+};
+
 /// Backend-specific ZNCC cost volume + winner (argmax, lowest disparity on ties) from the window statistics. The
 /// right-view winners are found in the same pass (rightBestDisparity).
 void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs);
@@ -55,6 +63,11 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);
 /// WindowStatistics, which the GPU runs).
 void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,
                                 int radius, float minStdDev);
+/// The CPU launcher of II.B's outlier test: one sweep per direction gives every pixel's ray answers (the same
+/// answers as the ray walks of RemoveOutliers, which the GPU runs). rayPasses: [8][pixels] scratch; rowBands as in
+/// fillHolesRadialCpu.
+void removeOutliersCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, float maxStepPx,
+                       uint8_t* rayPasses, int rowBands = 0);
 /// The CPU launcher of radial hole filling: per-direction sweeps for the nearest estimates (same answers as the
 /// ray walks of FillHolesRadial, which the GPU runs), then radialFillValue per hole. rowBands: bands of rows per
 /// direction (tasks = 8 x bands; 0: from the thread count; any count gives the same answers).

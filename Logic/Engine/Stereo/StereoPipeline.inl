@@ -81,7 +81,12 @@ struct PipelineSteps {
     }
     for (int iteration = 0; iteration < p.outlierIterations; ++iteration) {
       const int radius = p.outlierRadiusStartPx + iteration * p.outlierRadiusStepPx;
-      discreteStep(RemoveOutliers{w.discrete.view(), w.discreteScratch.view(), radius, p.outlierSmoothnessPx});
+      if constexpr (std::is_same_v<Backend, CpuBackend>) {
+        removeOutliersCpu(w.discrete.view(), w.discreteScratch.view(), radius, p.outlierSmoothnessPx, w.rayPasses.data());
+        std::swap(w.discrete, w.discreteScratch);
+      } else {
+        discreteStep(RemoveOutliers{w.discrete.view(), w.discreteScratch.view(), radius, p.outlierSmoothnessPx});
+      }
       const float gate = p.holeMaxEdgeDifferencePx < 0 ? 1e9f : p.holeMaxEdgeDifferencePx;
       if (p.holeRadialRadiusPx > 0) {
         if constexpr (std::is_same_v<Backend, CpuBackend>) {
@@ -109,10 +114,13 @@ struct PipelineSteps {
       boxSums(DiscreteDisparityValue{w.discrete.view()}, p.refineRadiusPx,
               LaplacianStep{w.discrete.view(), w.smoothedPrevious.view(), w.smoothed.view(), w.correction.view(),
                             p.refineAlpha});
-      boxSums(FloatValue{w.correction.view()}, p.refineRadiusPx,
-              ReselectDiscrete{std::is_same_v<Backend, CpuBackend> ? w.znccCostTable.data() : nullptr, w.volume.data(),
-                               w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
-                               p.refineSearchPx, p.refineEta, w.smoothed.view(), w.discrete.view()});
+      const ReselectDiscrete reselect{w.volume.data(), w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
+                                      p.refineSearchPx,  p.refineEta,       w.smoothed.view(), w.discrete.view()};
+      if constexpr (std::is_same_v<Backend, CpuBackend>) {
+        boxSums(FloatValue{w.correction.view()}, p.refineRadiusPx, ReselectDiscreteRows{reselect});
+      } else {
+        boxSums(FloatValue{w.correction.view()}, p.refineRadiusPx, reselect);
+      }
     }
     if (p.refineMaxDeviationPx >= 0) {
       parallelFor<Backend>(pixels(), FinalDisparity{w.discrete.view(), w.smoothed.view(), p.refineMaxDeviationPx});
