@@ -18,10 +18,12 @@ template <class T>
 class Buffer {
 public:
   Buffer() = default;
-  Buffer(Device device, std::size_t count) : device_(device), count_(count) {
+  /// `pages` applies on the CPU and to plain-data element types (HostPages).
+  Buffer(Device device, std::size_t count, HostPages pages = HostPages::Normal)
+      : device_(device), count_(count), hugePages_(pages == HostPages::Huge && kPlainData && device == Device::Cpu) {
     if (count == 0) return;
     if (device == Device::Cuda) data_ = static_cast<T*>(cuda::allocate(count * sizeof(T)));
-    else if constexpr (kPlainData) data_ = static_cast<T*>(allocateHostMemory(count * sizeof(T)));
+    else if (hugePages_) data_ = static_cast<T*>(allocateHugePageMemory(count * sizeof(T)));
     else data_ = new T[count];
   }
   ~Buffer() { reset(); }
@@ -91,26 +93,29 @@ public:
   }
 
 private:
-  /// Element types that need no construction or destruction live in allocateHostMemory's memory on the CPU (left
-  /// uninitialised, as new T[] leaves them).
+  /// Element types that need no construction or destruction may live in a huge-page mapping (left uninitialised,
+  /// as new T[] leaves them).
   static constexpr bool kPlainData = std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>;
 
   void reset() {
     if (device_ == Device::Cuda) cuda::release(data_);
-    else if constexpr (kPlainData) releaseHostMemory(data_);
+    else if (hugePages_) releaseHugePageMemory(data_, count_ * sizeof(T));
     else delete[] data_;
     data_ = nullptr;
     count_ = 0;
+    hugePages_ = false;
   }
   void swap(Buffer& other) noexcept {
     std::swap(device_, other.device_);
     std::swap(data_, other.data_);
     std::swap(count_, other.count_);
+    std::swap(hugePages_, other.hugePages_);
   }
 
   Device device_ = Device::Cpu;
   T* data_ = nullptr;
   std::size_t count_ = 0;
+  bool hugePages_ = false;
 };
 
 /// Grows `buffer` to hold at least `count` elements on `device`, with a quarter to spare; never shrinks, so that

@@ -1,17 +1,21 @@
 #pragma once
 /// @file HostMemory.h
-/// @brief Host allocations for the CPU backend's buffers: large ones on transparent huge pages.
+/// @brief Host memory on transparent huge pages, for the few large CPU buffers that are read scattered.
 #include <cstddef>
 
 namespace tissuemosaic {
 
-/// Allocates `bytes` aligned to a cache line; allocations of kHugePageThresholdBytes and more are aligned to 2 MiB
-/// and advised onto huge pages (Linux's madvise mode). The stereo cost volume is about 100 MB that the re-selection
-/// reads a few hundred bytes at a time across whole rows: with 4 KiB pages nearly every read misses the TLB.
-/// Throws std::bad_alloc when the memory is not there. Release with releaseHostMemory.
-void* allocateHostMemory(std::size_t bytes);
-void releaseHostMemory(void* memory);
+/// Where a CPU Buffer's memory comes from.
+enum class HostPages {
+  Normal,  ///< new[]: the heap, 4 KiB pages
+  Huge,    ///< its own mapping, advised onto 2 MiB huge pages (Linux's madvise mode); for large buffers read a few
+           ///< hundred bytes at a time all over (the stereo cost volume: with 4 KiB pages nearly every read there
+           ///< misses the TLB). A mapping of its own, so that freed huge pages never back other allocations.
+};
 
-constexpr std::size_t kHugePageThresholdBytes = std::size_t{4} << 20;
+/// Maps `bytes` (rounded up to 2 MiB) with the huge-page advice; where huge pages are off, the mapping simply stays
+/// on normal pages. Throws std::bad_alloc when the memory is not there. Release with releaseHugePageMemory.
+void* allocateHugePageMemory(std::size_t bytes);
+void releaseHugePageMemory(void* memory, std::size_t bytes);
 
 }  // namespace tissuemosaic

@@ -21,7 +21,7 @@ StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int di
       columnEvenSq(device, width, height), columnOddSq(device, width, height),
       sumLeft(device, width, height), inverseNormLeft(device, width, height),
       sumRight(device, width, height), inverseNormRight(device, width, height),
-      volume(device, static_cast<std::size_t>(disparityCount) * width * height),
+      volume(device, static_cast<std::size_t>(disparityCount) * width * height, HostPages::Huge),
       znccDisparity(device, width, height), rightZnccDisparity(device, width, height),
       rightWinnerKeys(device, device == Device::Cuda ? static_cast<std::size_t>(width) * height : 0), discrete(device, width, height), discreteScratch(device, width, height),
       filledDisparity(device, width, height),
