@@ -1,12 +1,14 @@
 // The CPU instantiation of the section II pipeline, and the CPU launcher of the ZNCC cost volume.
 #include "StereoPipeline.inl"
 
+#include "Core/Error.h"
 #include "Core/ParallelFor.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cassert>
 #include <climits>
+#include <string>
 #include <vector>
 
 namespace tissuemosaic::stereo {
@@ -32,13 +34,13 @@ struct PaddedRows {
   const float* row(int y) const { return values.data() + static_cast<std::size_t>(y - firstRow) * stride + margin; }
 };
 
-/// Chessboard window sums of one row for x in [xBegin, xEnd) from column sums (even/odd indexed by column c in
-/// [xBegin - r, xEnd + r)): S(x) = sum over dx of (dx even ? even : odd)[x + dx]. Grouped for fewer additions: with
-/// f the array of offset -r's parity and g the other, G(j) = f(j) + g(j + 1) pairs neighbouring offsets, H(j) =
-/// G(j) + G(j + 2) pairs those, and S(x) = H(x - r) + H(x - r + 4) + ... (+ G for odd r) + f(x + r). All values are
-/// integers below 2^24, so the grouping changes nothing.
-void chessboardWindowSumsRow(const float* even, const float* odd, int r, int xBegin, int xEnd, float* pairs,
-                             float* quads, float* sums) {
+/// Chessboard window sums of one row from column sums (even/odd indexed by column c in [xBegin - r, xEnd + r)):
+/// S(x) = sum over dx of (dx even ? even : odd)[x + dx]. Grouped for fewer additions: with f the array of offset
+/// -r's parity and g the other, G(j) = f(j) + g(j + 1) pairs neighbouring offsets, H(j) = G(j) + G(j + 2) pairs
+/// those, and S(x) = f(x + r) + H(x - r) + H(x - r + 4) + ... (+ G for odd r). All values are integers below 2^24,
+/// so the grouping changes nothing. This builds G and H; ChessboardScoreRow adds the terms up per pixel.
+void chessboardPairsAndQuads(const float* even, const float* odd, int r, int xBegin, int xEnd, float* pairs,
+                             float* quads) {
   const float* __restrict f = (r & 1) ? odd : even;
   const float* __restrict g = (r & 1) ? even : odd;
   float* __restrict G = pairs;
@@ -46,15 +48,49 @@ void chessboardWindowSumsRow(const float* even, const float* odd, int r, int xBe
   const int cBegin = xBegin - r, cEnd = xEnd + r;
   for (int c = cBegin; c < cEnd - 1; ++c) G[c] = f[c] + g[c + 1];
   for (int c = cBegin; c < cEnd - 3; ++c) H[c] = G[c] + G[c + 2];
-  float* __restrict out = sums;
-  for (int x = xBegin; x < xEnd; ++x) out[x] = f[x + r];
-  for (int m = 0; m + 1 < r; m += 2) {
-    const float* __restrict term = H + (m * 2 - r);
-    for (int x = xBegin; x < xEnd; ++x) out[x] += term[x];
+}
+
+/// One row of one disparity's slice, fused into one pass over x: the chessboard window sum from f, G and H (see
+/// chessboardPairsAndQuads), the quantised ZNCC into the volume, and the running winners, strictly better (the
+/// lowest disparity wins ties), of the left pixel x and of the right pixel x - d (whose arrays come shifted by d).
+/// The radius is a template parameter so that the terms of the sum unroll and the loop vectorises.
+template <int R>
+struct ChessboardScoreRow {
+  static void run(const float* __restrict f, const float* __restrict G, const float* __restrict H,
+                  const float* __restrict sumL, const float* __restrict normL, const float* __restrict sumR,
+                  const float* __restrict normR, int16_t* __restrict scores, int16_t* __restrict bestScore,
+                  int16_t* __restrict bestD, int16_t* __restrict rightScore, int16_t* __restrict rightD,
+                  int16_t disparity, int xBegin, int xEnd) {
+    const int n = chessboardPixelCount(R);
+    for (int x = xBegin; x < xEnd; ++x) {
+      float sum = f[x + R];
+      for (int m = 0; m + 1 < R; m += 2) sum += H[x + m * 2 - R];
+      if constexpr ((R & 1) != 0) sum += G[x + 2 * (R - 1) - R];
+      const int16_t q = quantisedZncc(sum, sumL[x], sumR[x], normL[x], normR[x], n);
+      scores[x] = q;
+      const bool leftBetter = q > bestScore[x], rightBetter = q > rightScore[x];
+      bestD[x] = leftBetter ? disparity : bestD[x];
+      bestScore[x] = leftBetter ? q : bestScore[x];
+      rightD[x] = rightBetter ? disparity : rightD[x];
+      rightScore[x] = rightBetter ? q : rightScore[x];
+    }
   }
-  if (r & 1) {
-    const float* __restrict term = G + (2 * (r - 1) - r);
-    for (int x = xBegin; x < xEnd; ++x) out[x] += term[x];
+};
+
+/// ChessboardScoreRow<R>::run for the runtime radius (windows 3x3 to 19x19).
+template <class... Arguments>
+void scoreChessboardRow(int r, Arguments... arguments) {
+  switch (r) {
+    case 1: return ChessboardScoreRow<1>::run(arguments...);
+    case 2: return ChessboardScoreRow<2>::run(arguments...);
+    case 3: return ChessboardScoreRow<3>::run(arguments...);
+    case 4: return ChessboardScoreRow<4>::run(arguments...);
+    case 5: return ChessboardScoreRow<5>::run(arguments...);
+    case 6: return ChessboardScoreRow<6>::run(arguments...);
+    case 7: return ChessboardScoreRow<7>::run(arguments...);
+    case 8: return ChessboardScoreRow<8>::run(arguments...);
+    case 9: return ChessboardScoreRow<9>::run(arguments...);
+    default: throw Error("ZNCC window radius " + std::to_string(r) + " is outside 1..9");
   }
 }
 
@@ -75,8 +111,7 @@ struct ZnccVolumeBand {
     const int maxShift = std::max(std::abs(in.minDisparity), std::abs(in.minDisparity + in.disparityCount - 1));
     const PaddedRows left(in.left, y0 - r, rows + 2 * r, r);
     const PaddedRows right(in.right, y0 - r, rows + 2 * r, r + maxShift);
-    const int n = chessboardPixelCount(r);
-    std::vector<float> evenStore(width + 2 * r), oddStore(width + 2 * r), windowSum(width);
+    std::vector<float> evenStore(width + 2 * r), oddStore(width + 2 * r);
     std::vector<float> pairs(width + 2 * r), quads(width + 2 * r);
     float* __restrict even = evenStore.data() + r;  // even[c] for c in [-r, width + r)
     float* __restrict odd = oddStore.data() + r;
@@ -120,33 +155,17 @@ struct ZnccVolumeBand {
             odd[c] = oddRadius ? e + entering : e - leaving;
           }
         }
-        chessboardWindowSumsRow(even, odd, r, xBegin, xEnd, pairs.data() + r, quads.data() + r, windowSum.data());
-        float* __restrict sums = windowSum.data();
-        int16_t* __restrict scores = in.volume + in.volumeIndex(i, 0, y);  // row y's slice for d
+        chessboardPairsAndQuads(even, odd, r, xBegin, xEnd, pairs.data() + r, quads.data() + r);
+        int16_t* scores = in.volume + in.volumeIndex(i, 0, y);  // row y's slice for d
         std::fill(scores, scores + xBegin, kNoZncc);
         std::fill(scores + xEnd, scores + width, kNoZncc);
-        const float* __restrict sumL = &in.sumLeft.at(0, y);
-        const float* __restrict normL = &in.inverseNormLeft.at(0, y);
-        const float* __restrict sumR = &in.sumRight.at(0, y) - d;
-        const float* __restrict normR = &in.inverseNormRight.at(0, y) - d;
-        for (int x = xBegin; x < xEnd; ++x) scores[x] = quantisedZncc(sums[x], sumL[x], sumR[x], normL[x], normR[x], n);
-        // Separate loops so they vectorise: the running winners, strictly better (the lowest disparity wins
-        // ties), for the left pixel x and for the right pixel x - d.
-        int16_t* __restrict bestScore = best.data() + static_cast<std::size_t>(k) * width;
-        int16_t* __restrict bestD = bestDisparity.data() + static_cast<std::size_t>(k) * width;
-        const int16_t disparity = static_cast<int16_t>(d);
-        for (int x = xBegin; x < xEnd; ++x) {
-          const int16_t q = scores[x];
-          bestD[x] = q > bestScore[x] ? disparity : bestD[x];
-          bestScore[x] = q > bestScore[x] ? q : bestScore[x];
-        }
-        int16_t* __restrict rightScore = rightBest.data() + static_cast<std::size_t>(k) * width - d;
-        int16_t* __restrict rightD = rightBestDisparity.data() + static_cast<std::size_t>(k) * width - d;
-        for (int x = xBegin; x < xEnd; ++x) {
-          const int16_t q = scores[x];
-          rightD[x] = q > rightScore[x] ? disparity : rightD[x];
-          rightScore[x] = q > rightScore[x] ? q : rightScore[x];
-        }
+        const std::size_t bandRow = static_cast<std::size_t>(k) * width;
+        scoreChessboardRow(r, static_cast<const float*>((r & 1) ? odd : even), static_cast<const float*>(pairs.data() + r),
+                           static_cast<const float*>(quads.data() + r), &in.sumLeft.at(0, y),
+                           &in.inverseNormLeft.at(0, y), &in.sumRight.at(0, y) - d, &in.inverseNormRight.at(0, y) - d,
+                           scores, best.data() + bandRow, bestDisparity.data() + bandRow,
+                           rightBest.data() + bandRow - d, rightBestDisparity.data() + bandRow - d,
+                           static_cast<int16_t>(d), xBegin, xEnd);
       }
     }
     for (int k = 0; k < rows; ++k) {
