@@ -38,9 +38,9 @@ struct PaddedRows {
 /// S(x) = sum over dx of (dx even ? even : odd)[x + dx]. Grouped for fewer additions: with f the array of offset
 /// -r's parity and g the other, G(j) = f(j) + g(j + 1) pairs neighbouring offsets, H(j) = G(j) + G(j + 2) pairs
 /// those, and S(x) = f(x + r) + H(x - r) + H(x - r + 4) + ... (+ G for odd r). All values are integers below 2^24,
-/// so the grouping changes nothing. This builds G and H; ChessboardScoreRow adds the terms up per pixel.
-void chessboardPairsAndQuads(const float* even, const float* odd, int r, int xBegin, int xEnd, float* pairs,
-                             float* quads) {
+/// so the grouping changes nothing. This builds G and H and returns f; ChessboardScoreRow adds the terms up per pixel.
+const float* chessboardPairsAndQuads(const float* even, const float* odd, int r, int xBegin, int xEnd, float* pairs,
+                                     float* quads) {
   const float* __restrict f = (r & 1) ? odd : even;
   const float* __restrict g = (r & 1) ? even : odd;
   float* __restrict G = pairs;
@@ -48,6 +48,7 @@ void chessboardPairsAndQuads(const float* even, const float* odd, int r, int xBe
   const int cBegin = xBegin - r, cEnd = xEnd + r;
   for (int c = cBegin; c < cEnd - 1; ++c) G[c] = f[c] + g[c + 1];
   for (int c = cBegin; c < cEnd - 3; ++c) H[c] = G[c] + G[c + 2];
+  return f;
 }
 
 /// One row of one disparity's slice, fused into one pass over x: the chessboard window sum from f, G and H (see
@@ -155,14 +156,13 @@ struct ZnccVolumeBand {
             odd[c] = oddRadius ? e + entering : e - leaving;
           }
         }
-        chessboardPairsAndQuads(even, odd, r, xBegin, xEnd, pairs.data() + r, quads.data() + r);
+        const float* f = chessboardPairsAndQuads(even, odd, r, xBegin, xEnd, pairs.data() + r, quads.data() + r);
         int16_t* scores = in.volume + in.volumeIndex(i, 0, y);  // row y's slice for d
         std::fill(scores, scores + xBegin, kNoZncc);
         std::fill(scores + xEnd, scores + width, kNoZncc);
         const std::size_t bandRow = static_cast<std::size_t>(k) * width;
-        scoreChessboardRow(r, static_cast<const float*>((r & 1) ? odd : even), static_cast<const float*>(pairs.data() + r),
-                           static_cast<const float*>(quads.data() + r), &in.sumLeft.at(0, y),
-                           &in.inverseNormLeft.at(0, y), &in.sumRight.at(0, y) - d, &in.inverseNormRight.at(0, y) - d,
+        scoreChessboardRow(r, f, pairs.data() + r, quads.data() + r, &in.sumLeft.at(0, y), &in.inverseNormLeft.at(0, y),
+                           &in.sumRight.at(0, y) - d, &in.inverseNormRight.at(0, y) - d,
                            scores, best.data() + bandRow, bestDisparity.data() + bandRow,
                            rightBest.data() + bandRow - d, rightBestDisparity.data() + bandRow - d,
                            static_cast<int16_t>(d), xBegin, xEnd);
@@ -336,6 +336,18 @@ struct NearestAlongRay {
   }
 };
 
+/// The break distance of an estimate v whose next estimate along the ray is `ahead` steps on (cap: none within the
+/// radius), with value valueAhead and break distance breakAhead: SmoothRaySweep's recurrence.
+inline int breakDistance(int v, int ahead, int valueAhead, int breakAhead, int cap, int maxStep) {
+  return ahead >= cap ? cap : (std::abs(valueAhead - v) > maxStep ? ahead : std::min(cap, ahead + breakAhead));
+}
+
+/// II.B's test of one ray, as RemoveOutliers walks it: an estimate, steps inside the image, no break within them,
+/// and estimates on at least half of them.
+inline uint8_t rayPasses(int valid, int inImage, int breakSteps, int estimates) {
+  return static_cast<uint8_t>(valid & (inImage > 0) & (breakSteps > inImage) & (2 * estimates >= inImage));
+}
+
 /// II.B's outlier test along ray direction k for every pixel, from one sweep in the order that visits p + delta
 /// before p (the same answers as RemoveOutliers' ray walks, at O(1) per pixel). Per pixel the sweep carries the
 /// nearest estimate at or beyond it (steps, value) and that estimate's break distance: the steps to the first
@@ -407,8 +419,7 @@ struct SmoothRaySweep {
       const int v = row[x];
       const int valid = v != kNoDisparity;
       const int ahead = std::min(cap, nearAhead[x] + 1);
-      const int difference = std::abs(valueAhead[x] - v);
-      const int breakHere = ahead >= cap ? cap : (difference > maxStep ? ahead : std::min(cap, ahead + breakAhead[x]));
+      const int breakHere = breakDistance(v, ahead, valueAhead[x], breakAhead[x], cap, maxStep);
       near[x] = valid ? 0 : ahead;
       value[x] = valid ? v : valueAhead[x];
       breakSteps[x] = valid ? breakHere : breakAhead[x];
@@ -416,7 +427,7 @@ struct SmoothRaySweep {
       const int columnLimit = dx > 0 ? width - 1 - x : (dx < 0 ? x : cap);
       const int inImage = std::min(rowLimit, columnLimit);
       const int estimates = countAhead[x] - farCount[x];
-      pass[x] = static_cast<uint8_t>(valid & (inImage > 0) & (breakHere > inImage) & (2 * estimates >= inImage));
+      pass[x] = rayPasses(valid, inImage, breakHere, estimates);
     }
   }
 
@@ -433,12 +444,10 @@ struct SmoothRaySweep {
         const int v = row[x];
         const bool valid = v != kNoDisparity;
         const int ahead = std::min(cap, nearAhead + 1);
-        const int breakHere = ahead >= cap ? cap
-                              : (std::abs(valueAhead - v) > maxStep ? ahead : std::min(cap, ahead + breakAhead));
+        const int breakHere = breakDistance(v, ahead, valueAhead, breakAhead, cap, maxStep);
         const int inImage = std::min(radius, i);  // steps to the row's end
         const int estimates = countAhead - count[x + cap * dx];
-        pass[static_cast<int64_t>(y) * width + x] =
-            static_cast<uint8_t>(valid & (inImage > 0) & (breakHere > inImage) & (2 * estimates >= inImage));
+        pass[static_cast<int64_t>(y) * width + x] = rayPasses(valid, inImage, breakHere, estimates);
         // Bit masks, not branches (as in NearestAlongRay's rows).
         const int validMask = -static_cast<int>(valid);
         nearAhead = ahead & ~validMask;
@@ -471,19 +480,26 @@ struct KeepWithPassingRay {
   }
 };
 
+/// Bands of rows per direction for the per-direction sweeps: `requested`, or from the thread count when 0. 8
+/// directions give 8 tasks; with more threads than that each direction is cut into bands (each band sweeps radius
+/// rows more, so only where threads would otherwise idle).
+int directionRowBands(int requested, int height) {
+  const int bands = requested > 0 ? requested : std::max(1, (cpuThreadCount() + 7) / 8);
+  return std::min(bands, std::max(1, height));
+}
+
 }  // namespace
 
 void removeOutliersCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, float maxStepPx,
                        uint8_t* rayPasses, int rowBands) {
-  if (rowBands <= 0) rowBands = std::max(1, (cpuThreadCount() + 7) / 8);
-  rowBands = std::min(rowBands, std::max(1, input.height));
+  rowBands = directionRowBands(rowBands, input.height);
   parallelFor<CpuBackend>(8 * static_cast<int64_t>(rowBands), SmoothRaySweep{input, radius, maxStepPx, rowBands, rayPasses}, 1);
   parallelFor<CpuBackend>(input.height, KeepWithPassingRay{input, output, rayPasses}, 8);
 }
 
 void ReselectDiscreteRows::consumeRow(int64_t firstIndex, const int64_t* boxSums, const int* boxCounts,
                                       int columns) const {
-  constexpr int kMaxColumns = 64;  // BoxColumnSums' block on the CPU
+  constexpr int kMaxColumns = kCpuBoxColumnBlock;
   constexpr int kGroup = 16;       // pixels that share one loop over candidates: few, so that their ranges overlap
   constexpr int kNotActive = INT32_MIN / 2;  // a centre no candidate is within search of (and no overflow)
   const ReselectDiscrete& r = rule;
@@ -496,10 +512,10 @@ void ReselectDiscreteRows::consumeRow(int64_t firstIndex, const int64_t* boxSums
     const int64_t index = firstIndex + c;
     centre[c] = kNotActive;
     d[c] = 0.0f;
-    if (r.discrete[index] == kNoDisparity || boxCounts[c] == 0) continue;
+    if (!r.reselects(index, boxCounts[c])) continue;
     d[c] = correctedDisparity(r.current[index], boxSums[c], boxCounts[c]);
     r.current[index] = d[c];
-    if (isFiniteValue(d[c])) centre[c] = static_cast<int>(floorf(d[c] + 0.5f)) - r.minDisparity;
+    if (isFiniteValue(d[c])) centre[c] = r.centreIndex(d[c]);
   }
   for (int g0 = 0; g0 < columns; g0 += kGroup) {
     const int n = std::min(kGroup, columns - g0);
@@ -536,10 +552,7 @@ void ReselectDiscreteRows::consumeRow(int64_t firstIndex, const int64_t* boxSums
 
 void fillHolesRadialCpu(ImageView<const int16_t> input, ImageView<int16_t> output, int radius, int minLines,
                         float maxEndDifferencePx, int16_t* hitDistance, int16_t* hitValue, int rowBands) {
-  // 8 directions give 8 tasks: with more threads than that, cut each direction into bands of rows (each band
-  // sweeps radius rows more, so only where threads would otherwise idle).
-  if (rowBands <= 0) rowBands = std::max(1, (cpuThreadCount() + 7) / 8);
-  rowBands = std::min(rowBands, std::max(1, input.height));
+  rowBands = directionRowBands(rowBands, input.height);
   parallelFor<CpuBackend>(8 * static_cast<int64_t>(rowBands),
                           NearestAlongRay{input, radius, rowBands, hitDistance, hitValue}, 1);
   parallelFor<CpuBackend>(input.pixelCount(),

@@ -673,14 +673,21 @@ struct ReselectDiscrete {
   ImageView<float> current;
   ImageView<int16_t> discrete;
 
+  /// Pixels with an estimate and corrections around them take part.
+  TM_HOST_DEVICE bool reselects(int64_t index, int boxCount) const {
+    return discrete[index] != kNoDisparity && boxCount != 0;
+  }
+  /// Index of the candidate nearest to the smoothed disparity d (finite).
+  TM_HOST_DEVICE int centreIndex(float d) const { return static_cast<int>(floorf(d + 0.5f)) - minDisparity; }
+
   TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int boxCount) const {
-    if (discrete[index] == kNoDisparity || boxCount == 0) return;
+    if (!reselects(index, boxCount)) return;
     int x, y;
     pixelCoordinates(index, current.width, x, y);
     const float d = correctedDisparity(current[index], boxSum, boxCount);
     current[index] = d;
     if (!isFiniteValue(d)) return;
-    const int centre = static_cast<int>(floorf(d + 0.5f)) - minDisparity;
+    const int centre = centreIndex(d);
     float bestCost = INFINITY;
     int best = -1;
     for (int i = centre - search; i <= centre + search; ++i) {

@@ -47,6 +47,9 @@ void runStereoPipelineCpu(StereoWorkspace& workspace, const StereoParameters& pa
 /// The same on the GPU; throws Error in a build without CUDA.
 void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings);
 
+/// Columns per task of the CPU's box filters (BoxColumnSums), and so the longest row segment a consumeRow gets.
+constexpr int kCpuBoxColumnBlock = 64;
+
 /// The CPU's form of ReselectDiscrete: the same rule for a row segment of pixels at once, candidates looped outside
 /// the pixels so that the volume is read contiguously and the costs vectorise (the per-pixel form is latency-bound:
 /// eleven dependent loads and branches per pixel). Same results as ReselectDiscrete, pixel for pixel.

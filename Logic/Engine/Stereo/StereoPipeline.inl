@@ -39,7 +39,7 @@ struct PipelineSteps {
   void boxSums(const Value& value, int radius, const Consumer& consumer) {
     if constexpr (std::is_same_v<Backend, CpuBackend>) {
       parallelFor<Backend>(w.height, BoxRowSums<Value>{value, w.width, radius, w.rowSum.data(), w.rowCount.data()}, 1);
-      using ColumnSums = BoxColumnSums<64, Consumer>;
+      using ColumnSums = BoxColumnSums<kCpuBoxColumnBlock, Consumer>;
       parallelFor<Backend>(ColumnSums::taskCount(w.width),
                            ColumnSums{w.rowSum.data(), w.rowCount.data(), w.width, w.height, radius, consumer}, 1);
     } else {
@@ -115,7 +115,7 @@ struct PipelineSteps {
               LaplacianStep{w.discrete.view(), w.smoothedPrevious.view(), w.smoothed.view(), w.correction.view(),
                             p.refineAlpha});
       const ReselectDiscrete reselect{w.volume.data(), w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
-                                      p.refineSearchPx,  p.refineEta,       w.smoothed.view(), w.discrete.view()};
+                                      p.refineSearchPx, p.refineEta, w.smoothed.view(), w.discrete.view()};
       if constexpr (std::is_same_v<Backend, CpuBackend>) {
         boxSums(FloatValue{w.correction.view()}, p.refineRadiusPx, ReselectDiscreteRows{reselect});
       } else {
