@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 
 using namespace tissuemosaic;
@@ -329,14 +330,16 @@ TEST(StereoStages, CpuReselectionRowsEqualThePerPixelRule) {
   EXPECT_GT(changed, w * h / 4);  // the rule re-selected many pixels
 }
 
-TEST(StereoStages, BoxSumsMatchBruteForce) {
-  const int w = 37, h = 23, r = 4;
-  Image<int16_t> input(Device::Cpu, w, h);
-  std::mt19937 random(5);
-  for (int64_t i = 0; i < w * h; ++i) input.view()[i] = random() % 5 == 0 ? kNoDisparity : static_cast<int16_t>(random() % 50);
+namespace {
+
+/// The CPU's box sums (row prefix sums, then column blocks), one column per task, and the GPU's direct per-pixel
+/// sums of `value` over radius r must all equal the brute-force sums of reference(x, y) (nullopt: no value).
+template <class Value, class Reference>
+void expectBoxSumsMatchBruteForce(const Value& value, int w, int h, int r, const Reference& reference) {
+  SCOPED_TRACE("radius " + std::to_string(r) + ", " + std::to_string(w) + "x" + std::to_string(h));
   Buffer<int64_t> rowSum(Device::Cpu, w * h), boxSum(Device::Cpu, w * h);
   Buffer<int> rowCount(Device::Cpu, w * h), boxCount(Device::Cpu, w * h);
-  parallelFor<CpuBackend>(h, BoxRowSums<DiscreteDisparityValue>{{input.view()}, w, r, rowSum.data(), rowCount.data()}, 1);
+  parallelFor<CpuBackend>(h, BoxRowSums<Value>{value, w, r, rowSum.data(), rowCount.data()}, 1);
   parallelFor<CpuBackend>(w, BoxColumnSums<1, StoreBoxSums>{rowSum.data(), rowCount.data(), w, h, r, {boxSum.data(), boxCount.data()}}, 1);
   // Blocks of columns (the CPU's choice) give bit-identical sums to one column per task (the GPU's).
   Buffer<int64_t> blockSum(Device::Cpu, w * h);
@@ -346,7 +349,7 @@ TEST(StereoStages, BoxSumsMatchBruteForce) {
   // And the GPU's direct per-pixel sums give the same again.
   Buffer<int64_t> directRow(Device::Cpu, w * h), directSum(Device::Cpu, w * h);
   Buffer<int> directRowCount(Device::Cpu, w * h), directCount(Device::Cpu, w * h);
-  parallelFor<CpuBackend>(w * h, BoxRowSumsDirect<DiscreteDisparityValue>{{input.view()}, w, r, directRow.data(), directRowCount.data()});
+  parallelFor<CpuBackend>(w * h, BoxRowSumsDirect<Value>{value, w, r, directRow.data(), directRowCount.data()});
   parallelFor<CpuBackend>(w * h, BoxColumnSumsDirect<StoreBoxSums>{directRow.data(), directRowCount.data(), w, h, r, {directSum.data(), directCount.data()}});
   for (int i = 0; i < w * h; ++i) {
     ASSERT_EQ(blockSum.data()[i], boxSum.data()[i]);
@@ -356,14 +359,69 @@ TEST(StereoStages, BoxSumsMatchBruteForce) {
   }
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
-      double sum = 0;
+      int64_t sum = 0;
       int count = 0;
-      for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy)
-        for (int xx = std::max(0, x - r); xx <= std::min(w - 1, x + r); ++xx)
-          if (input.view().at(xx, yy) != kNoDisparity) sum += input.view().at(xx, yy), ++count;
-      ASSERT_EQ(boxCount.data()[y * w + x], count);
-      ASSERT_EQ(boxSum.data()[y * w + x], static_cast<int64_t>(sum));
+      for (int yy = std::max(0, y - r); yy <= std::min(h - 1, y + r); ++yy) {
+        for (int xx = std::max(0, x - r); xx <= std::min(w - 1, x + r); ++xx) {
+          if (const std::optional<int64_t> v = reference(xx, yy)) sum += *v, ++count;
+        }
+      }
+      ASSERT_EQ(boxCount.data()[y * w + x], count) << "at " << x << ", " << y;
+      ASSERT_EQ(boxSum.data()[y * w + x], sum) << "at " << x << ", " << y;
     }
+  }
+}
+
+}  // namespace
+
+TEST(StereoStages, BoxSumsMatchBruteForce) {
+  const int w = 37, h = 23;
+  Image<int16_t> input(Device::Cpu, w, h);
+  std::mt19937 random(5);
+  for (int64_t i = 0; i < w * h; ++i) input.view()[i] = random() % 5 == 0 ? kNoDisparity : static_cast<int16_t>(random() % 50);
+  const auto reference = [&](int x, int y) -> std::optional<int64_t> {
+    const int16_t d = input.view().at(x, y);
+    return d == kNoDisparity ? std::nullopt : std::optional<int64_t>(d);
+  };
+  // Radii with windows inside the rows, windows wider than half a row, and wider than the whole image.
+  for (const int r : {0, 1, 4, 17, 18, 40}) {
+    expectBoxSumsMatchBruteForce(DiscreteDisparityValue{input.view()}, w, h, r, reference);
+  }
+}
+
+TEST(StereoStages, FloatBoxSumsRoundEachValueLikeLlrint) {
+  const int w = 41, h = 19;
+  Image<float> input(Device::Cpu, w, h);
+  std::mt19937 random(8);
+  std::uniform_real_distribution<float> uniform(-60.0f, 60.0f);
+  for (int64_t i = 0; i < w * h; ++i) {
+    switch (random() % 8) {
+      case 0: input.view()[i] = NAN; break;
+      case 1: input.view()[i] = (random() % 2 ? 1 : -1) * INFINITY; break;
+      case 2: input.view()[i] = (random() % 2 ? 1 : -1) * (kMaxFixedPointInput * (1.0f + uniform(random) / 100.0f)); break;
+      case 3: input.view()[i] = static_cast<float>(static_cast<int>(random() % 2001) - 1000) / 131072.0f; break;  // ties
+      default: input.view()[i] = uniform(random) * (random() % 2 ? 1.0f : 1e-3f);
+    }
+  }
+  input.view()[0] = kMaxFixedPointInput;  // the bound itself is a value; the next float up is not
+  input.view()[1] = -kMaxFixedPointInput;
+  input.view()[2] = std::nextafter(kMaxFixedPointInput, INFINITY);
+  const auto reference = [&](int x, int y) -> std::optional<int64_t> {
+    const float v = input.view().at(x, y);
+    if (!(std::fabs(v) <= kMaxFixedPointInput)) return std::nullopt;
+    return std::llrint(static_cast<double>(v) * kFixedPointScale);
+  };
+  int ties = 0;
+  for (int64_t i = 0; i < w * h; ++i) {
+    const double scaled = static_cast<double>(input.view()[i]) * kFixedPointScale;
+    ties += std::isfinite(scaled) && scaled != std::floor(scaled) && scaled - std::floor(scaled) == 0.5;
+  }
+  EXPECT_GT(ties, 20);  // halves occur, so round-half-even is tested against llrint
+  for (const int r : {0, 3, 15, 25}) expectBoxSumsMatchBruteForce(FloatValue{input.view()}, w, h, r, reference);
+  // The exact conversions at the magnitudes the bound allows.
+  for (const int64_t i : {int64_t{0}, int64_t{-1}, int64_t{1} << 50, -(int64_t{1} << 50) + 3, int64_t{123456789012345}}) {
+    EXPECT_EQ(int64ToDouble(i), static_cast<double>(i));
+    EXPECT_EQ(roundToInt64(static_cast<double>(i) + 0.5), std::llrint(static_cast<double>(i) + 0.5));
   }
 }
 

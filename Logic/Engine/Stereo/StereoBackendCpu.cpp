@@ -508,14 +508,28 @@ void ReselectDiscreteRows::consumeRow(int64_t firstIndex, const int64_t* boxSums
   pixelCoordinates(firstIndex, r.current.width, x0, y);
   float d[kMaxColumns];
   int centre[kMaxColumns];
+  float* __restrict current = &r.current[firstIndex];
+  const int16_t* __restrict discrete = &r.discrete[firstIndex];
+  int segmentLo = r.disparityCount, segmentHi = -1;
+  // Branch-free (vectorised): the corrected d of every pixel, kept only where the pixel takes part.
   for (int c = 0; c < columns; ++c) {
-    const int64_t index = firstIndex + c;
-    centre[c] = kNotActive;
-    d[c] = 0.0f;
-    if (!r.reselects(index, boxCounts[c])) continue;
-    d[c] = correctedDisparity(r.current[index], boxSums[c], boxCounts[c]);
-    r.current[index] = d[c];
-    if (isFiniteValue(d[c])) centre[c] = r.centreIndex(d[c]);
+    const bool takesPart = ReselectDiscrete::takesPart(discrete[c], boxCounts[c]);
+    const float corrected = correctedDisparity(current[c], boxSums[c], takesPart ? boxCounts[c] : 1);
+    const bool active = takesPart & isFiniteValue(corrected);
+    current[c] = takesPart ? corrected : current[c];
+    d[c] = takesPart ? corrected : 0.0f;
+    centre[c] = active ? r.centreIndex(active ? corrected : 0.0f) : kNotActive;  // no NaN to int
+    segmentLo = std::min(segmentLo, active ? centre[c] - r.search : r.disparityCount);
+    segmentHi = std::max(segmentHi, active ? centre[c] + r.search : -1);
+  }
+  // The next row of this column block comes next (BoxColumnSums runs down the rows), with much the same candidates:
+  // ask for its volume lines now, so that their misses overlap this row's work (the volume is read in short
+  // pieces a row of disparities apart, which the hardware prefetchers do not follow).
+  if (y + 1 < r.current.height) {
+    for (int i = std::max(segmentLo, 0); i <= std::min(segmentHi, r.disparityCount - 1); ++i) {
+      const int16_t* next = r.volume + r.layout.index(x0, y + 1, i);
+      for (int c = 0; c < columns; c += 32) __builtin_prefetch(next + c);
+    }
   }
   for (int g0 = 0; g0 < columns; g0 += kGroup) {
     const int n = std::min(kGroup, columns - g0);

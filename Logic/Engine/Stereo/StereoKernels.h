@@ -12,8 +12,10 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace tissuemosaic::stereo {
 
@@ -356,12 +358,39 @@ struct FillHolesRadialFromHits {
   }
 };
 
-/// Box sums work on exact fixed-point integers (a value v enters as llrint(v * scale)), so any summation order
-/// gives the same sums: the CPU uses running sums (two passes, O(1) per pixel), the GPU direct sums per pixel
-/// (parallel, coalesced), and both produce identical results.
+/// Box sums work on exact fixed-point integers (a value v enters as v * scale rounded half to even, as llrint), so
+/// any summation order gives the same sums: the CPU uses prefix sums along rows and running sums down columns, the
+/// GPU direct sums per pixel (parallel, coalesced), and both produce identical results.
 constexpr double kFixedPointScale = 65536.0;  ///< 1/65536 px resolution for real-valued maps
+/// Real values enter the box sums only up to this magnitude; larger ones count as no value, as NaN does. Disparities
+/// are int16, so the real maps (corrections of disparities) never come near it. It bounds every fixed-point value by
+/// 2^32 and every box sum (windows up to 401 x 401 pixels) by 2^50, where the conversions below are exact.
+constexpr float kMaxFixedPointInput = 65536.0f;
 
-/// Box sums, pass 1 on the CPU (one row per call): running sums over x of a value and a validity count, radius r.
+/// 1.5 * 2^52: adding it to a double of magnitude below 2^51 leaves that value rounded half to even (the default
+/// rounding mode) in the low mantissa bits, whose pattern is then the integer plus kShifterBits.
+constexpr double kShifter = 6755399441055744.0;
+constexpr int64_t kShifterBits = 0x4338000000000000LL;
+
+/// llrint(x) for |x| < 2^51, without a conversion instruction, so that it vectorises on AVX2 (which has no double to
+/// int64 conversion); device and host alike.
+TM_HOST_DEVICE TM_FORCE_INLINE int64_t roundToInt64(double x) {
+  const double shifted = x + kShifter;
+  int64_t bits;
+  memcpy(&bits, &shifted, sizeof bits);
+  return bits - kShifterBits;
+}
+
+/// static_cast<double>(i) for |i| < 2^51 (exact), by the same trick in reverse.
+TM_HOST_DEVICE TM_FORCE_INLINE double int64ToDouble(int64_t i) {
+  const int64_t bits = i + kShifterBits;
+  double shifted;
+  memcpy(&shifted, &bits, sizeof shifted);
+  return shifted - kShifter;
+}
+
+/// Box sums, pass 1 on the CPU (one row per call): sums over x of a value and a validity count, radius r, as
+/// differences of the row's prefix sums. The values are gathered in one vectorised pass; only the prefix is serial.
 template <class Value>
 struct BoxRowSums {
   Value value;  ///< value(x, y, out) -> bool valid; out is the fixed-point value
@@ -369,20 +398,50 @@ struct BoxRowSums {
   int64_t* rowSum;
   int* rowCount;
 
-  TM_HOST_DEVICE void operator()(int64_t row) const {
-    const int y = static_cast<int>(row);
-    int64_t sum = 0, v = 0;
-    int count = 0;
-    for (int x = 0; x < radius && x < width; ++x) {
-      if (value(x, y, v)) { sum += v; ++count; }
+  void operator()(int64_t row) const {
+    // Locals, so that the compiler knows the stores below do not change them (and vectorises).
+    const int y = static_cast<int>(row), w = width, r = radius;
+    const Value rowValue = value;
+    thread_local std::vector<int64_t> prefixStore;
+    thread_local std::vector<int> prefixCountStore;
+    prefixStore.resize(static_cast<std::size_t>(w) + 1);
+    prefixCountStore.resize(static_cast<std::size_t>(w) + 1);
+    int64_t* __restrict prefix = prefixStore.data();  // prefix[x]: sum of the values left of x
+    int* __restrict prefixCount = prefixCountStore.data();
+    for (int x = 0; x < w; ++x) {
+      int64_t v = 0;
+      const bool valid = rowValue(x, y, v);
+      prefix[x + 1] = valid ? v : 0;
+      prefixCount[x + 1] = valid ? 1 : 0;
     }
-    for (int x = 0; x < width; ++x) {
-      const int enter = x + radius, leave = x - radius - 1;
-      if (enter < width && value(enter, y, v)) { sum += v; ++count; }
-      if (leave >= 0 && value(leave, y, v)) { sum -= v; --count; }
-      rowSum[static_cast<int64_t>(y) * width + x] = sum;
-      rowCount[static_cast<int64_t>(y) * width + x] = count;
+    prefix[0] = 0;
+    prefixCount[0] = 0;
+    for (int x = 1; x <= w; ++x) {
+      prefix[x] += prefix[x - 1];
+      prefixCount[x] += prefixCount[x - 1];
     }
+    int64_t* __restrict sums = rowSum + static_cast<int64_t>(y) * w;
+    int* __restrict counts = rowCount + static_cast<int64_t>(y) * w;
+    const auto clippedWindowSums = [&](int begin, int end) {  // x in [begin, end): window [x - r, x + r] clipped
+      for (int x = begin; x < end; ++x) {
+        const int lo = x - r < 0 ? 0 : x - r, hi = x + r + 1 > w ? w : x + r + 1;
+        sums[x] = prefix[hi] - prefix[lo];
+        counts[x] = prefixCount[hi] - prefixCount[lo];
+      }
+    };
+    // Windows that lie inside the row: contiguous differences, vectorised.
+    const int innerBegin = r < w ? r : w;
+    const int innerEnd = w - r - 1 > innerBegin ? w - r - 1 : innerBegin;
+    clippedWindowSums(0, innerBegin);
+    const int64_t* __restrict entering = prefix + r + 1;
+    const int64_t* __restrict leaving = prefix - r;
+    const int* __restrict enteringCount = prefixCount + r + 1;
+    const int* __restrict leavingCount = prefixCount - r;
+    for (int x = innerBegin; x < innerEnd; ++x) {
+      sums[x] = entering[x] - leaving[x];
+      counts[x] = enteringCount[x] - leavingCount[x];
+    }
+    clippedWindowSums(innerEnd, w);
   }
 };
 
@@ -512,15 +571,15 @@ struct DiscreteDisparityValue {
   }
 };
 
-/// Box-sum inputs: a float map (valid where finite) in fixed point.
+/// Box-sum inputs: a float map (valid where finite and within kMaxFixedPointInput) in fixed point.
 struct FloatValue {
   ImageView<const float> map;
   static constexpr double kScale = kFixedPointScale;
   using TileSum = int64_t;
   TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
     const float v = map.at(x, y);
-    const bool valid = isFiniteValue(v);
-    value = valid ? llrint(static_cast<double>(v) * kScale) : 0;
+    const bool valid = fabsf(v) <= kMaxFixedPointInput;  // false for NaN
+    value = valid ? roundToInt64(static_cast<double>(v) * kScale) : 0;
     return valid;
   }
 };
@@ -651,7 +710,7 @@ struct LaplacianStep {
 
 /// II.C eq. (3): d^(k) -= average(b_j), from the fixed-point box sum of the corrections b.
 TM_HOST_DEVICE TM_FORCE_INLINE float correctedDisparity(float current, int64_t correctionBoxSum, int boxCount) {
-  return current - static_cast<float>(static_cast<double>(correctionBoxSum) / (FloatValue::kScale * boxCount));
+  return current - static_cast<float>(int64ToDouble(correctionBoxSum) / (FloatValue::kScale * boxCount));
 }
 
 /// The re-selection cost of candidate disparity o* with positive quantised ZNCC q at smoothed disparity d:
@@ -674,9 +733,10 @@ struct ReselectDiscrete {
   ImageView<int16_t> discrete;
 
   /// Pixels with an estimate and corrections around them take part.
-  TM_HOST_DEVICE bool reselects(int64_t index, int boxCount) const {
-    return discrete[index] != kNoDisparity && boxCount != 0;
+  TM_HOST_DEVICE static bool takesPart(int16_t discreteDisparity, int boxCount) {
+    return (discreteDisparity != kNoDisparity) & (boxCount != 0);
   }
+  TM_HOST_DEVICE bool reselects(int64_t index, int boxCount) const { return takesPart(discrete[index], boxCount); }
   /// Index of the candidate nearest to the smoothed disparity d (finite).
   TM_HOST_DEVICE int centreIndex(float d) const { return static_cast<int>(floorf(d + 0.5f)) - minDisparity; }
 
