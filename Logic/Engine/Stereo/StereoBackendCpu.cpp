@@ -283,24 +283,12 @@ struct NearestAlongRay {
     int16_t* rowDistance = previousValue + width;
     int16_t* rowValue = rowDistance + width;
     std::fill(previousDistance, previousDistance + width, int16_t{0});  // nothing known before the first step
+    std::vector<int16_t> reversedStore(dy == 0 ? 3 * static_cast<std::size_t>(width) : 0);
     for (int step = sweep.first; step < sweep.end; ++step) {
       const int y = sweep.row(step);
       const int16_t* row = &input.at(0, y);
       if (dy == 0) {
-        // Within the row, from its far end: the neighbour's (x + dx) value and hit are carried in registers, and
-        // chosen by bit masks, not branches (holes and estimates alternate unpredictably; GCC turns plain selects
-        // here into branches).
-        int neighbour = kNoDisparity, carriedDistance = 0, carriedValue = 0;
-        for (int i = 0; i < width; ++i) {
-          const int x = dx > 0 ? width - 1 - i : i;
-          const int hit = -static_cast<int>(neighbour != kNoDisparity);  // all bits set, or none
-          const int carries = -static_cast<int>((carriedDistance > 0) & (carriedDistance < radius)) & ~hit;
-          carriedValue = (neighbour & hit) | (carriedValue & carries);
-          carriedDistance = (1 & hit) | ((carriedDistance + 1) & carries);
-          rowDistance[x] = static_cast<int16_t>(carriedDistance);
-          rowValue[x] = static_cast<int16_t>(carriedValue);
-          neighbour = row[x];
-        }
+        nearestAlongRow(row, rowDistance, rowValue, width, dx, radius, reversedStore.data());
       } else if (step == 0) {  // the neighbours' row is outside the image
         std::fill(rowDistance, rowDistance + width, int16_t{0});
       } else {
@@ -314,6 +302,40 @@ struct NearestAlongRay {
       }
       std::swap(previousDistance, rowDistance);
       std::swap(previousValue, rowValue);
+    }
+  }
+
+  /// The hits of one row along the row (direction dx): a scan from the far end whose only carried values are the
+  /// nearest estimate's position and value, each one select (no recurrence through the distance). A ray towards -x
+  /// runs on the reversed row. reversed: 3 x width scratch.
+  static void nearestAlongRow(const int16_t* row, int16_t* rowDistance, int16_t* rowValue, int width, int dx,
+                              int radius, int16_t* reversed) {
+    const int16_t* in = row;
+    int16_t* distance = rowDistance;
+    int16_t* value = rowValue;
+    if (dx < 0) {
+      std::reverse_copy(row, row + width, reversed);
+      in = reversed;
+      distance = reversed + width;
+      value = distance + width;
+    }
+    nearestTowardsPlusX(in, distance, value, width, radius);
+    if (dx < 0) {
+      std::reverse_copy(distance, distance + width, rowDistance);
+      std::reverse_copy(value, value + width, rowValue);
+    }
+  }
+  static void nearestTowardsPlusX(const int16_t* __restrict in, int16_t* __restrict distance,
+                                  int16_t* __restrict value, int width, int radius) {
+    int next = width + radius + 1, nextValue = 0;  // the nearest estimate right of x (none: beyond any radius)
+    for (int x = width - 1; x >= 0; --x) {
+      const int steps = next - x;
+      const int hit = -static_cast<int>(steps <= radius);  // bit masks: GCC makes selects here into branches
+      distance[x] = static_cast<int16_t>(steps & hit);
+      value[x] = static_cast<int16_t>(nextValue & hit);
+      const int valid = -static_cast<int>(in[x] != kNoDisparity);
+      next = (x & valid) | (next & ~valid);
+      nextValue = (in[x] & valid) | (nextValue & ~valid);
     }
   }
 
@@ -431,31 +453,66 @@ struct SmoothRaySweep {
     }
   }
 
-  /// The same for a direction along the rows: each row is its own sweep, from its far end.
+  /// The same for a direction along the rows, a row at a time (a ray towards -x runs on the reversed row). The
+  /// break distance's recurrence unrolls to break(x) = min(cap, J(x) - x), where J(x) is the first estimate beyond
+  /// x that differs by more than maxStep from the estimate before it; so two scans, each carrying only a select,
+  /// and a vectorised pass for the answers replace the per-pixel recurrence (latency-bound along a row).
   void sweepRows(const SweepBand& sweep, int dx, int cap, int maxStep, uint8_t* pass) const {
     const int width = input.width;
-    std::vector<int> countStore(width + 2 * static_cast<std::size_t>(cap), 0);
-    int* count = countStore.data() + cap;  // running counts, 0 beyond the row
+    AlongRowScratch scratch(width, cap);
     for (int y = sweep.begin; y < sweep.end; ++y) {
       const int16_t* row = &input.at(0, y);
-      int nearAhead = cap, valueAhead = 0, breakAhead = cap, countAhead = 0;
-      for (int i = 0; i < width; ++i) {
-        const int x = dx > 0 ? width - 1 - i : i;
-        const int v = row[x];
-        const bool valid = v != kNoDisparity;
-        const int ahead = std::min(cap, nearAhead + 1);
-        const int breakHere = breakDistance(v, ahead, valueAhead, breakAhead, cap, maxStep);
-        const int inImage = std::min(radius, i);  // steps to the row's end
-        const int estimates = countAhead - count[x + cap * dx];
-        pass[static_cast<int64_t>(y) * width + x] = rayPasses(valid, inImage, breakHere, estimates);
-        // Bit masks, not branches (as in NearestAlongRay's rows).
-        const int validMask = -static_cast<int>(valid);
-        nearAhead = ahead & ~validMask;
-        valueAhead = (v & validMask) | (valueAhead & ~validMask);
-        breakAhead = (breakHere & validMask) | (breakAhead & ~validMask);
-        countAhead += valid;
-        count[x] = countAhead;
+      uint8_t* out = pass + static_cast<int64_t>(y) * width;
+      if (dx > 0) {
+        passesTowardsPlusX(row, out, width, radius, cap, maxStep, scratch);
+      } else {
+        std::reverse_copy(row, row + width, scratch.reversedRow.data());
+        passesTowardsPlusX(scratch.reversedRow.data(), scratch.reversedPass.data(), width, radius, cap, maxStep, scratch);
+        std::reverse_copy(scratch.reversedPass.begin(), scratch.reversedPass.end(), out);
       }
+    }
+  }
+
+  struct AlongRowScratch {
+    std::vector<int16_t> reversedRow;
+    std::vector<uint8_t> reversedPass, jump;
+    std::vector<int> estimatesBefore;  ///< [j]: estimates in [0, j), j up to width + cap (constant past the row)
+    std::vector<int> breakSteps;
+    AlongRowScratch(int width, int cap)
+        : reversedRow(width), reversedPass(width), jump(width), estimatesBefore(width + cap + 1), breakSteps(width) {}
+  };
+
+  static void passesTowardsPlusX(const int16_t* __restrict row, uint8_t* __restrict pass, int width, int radius,
+                                 int cap, int maxStep, AlongRowScratch& scratch) {
+    uint8_t* __restrict jump = scratch.jump.data();
+    int* __restrict before = scratch.estimatesBefore.data();
+    int* __restrict breakSteps = scratch.breakSteps.data();
+    // Left to right: which estimates jump from the estimate before them, and the running count.
+    int previous = 0, seen = 0, count = 0;  // bit masks below: GCC makes selects here into branches
+    before[0] = 0;
+    for (int x = 0; x < width; ++x) {
+      const int v = row[x];
+      const int valid = -static_cast<int>(v != kNoDisparity);
+      jump[x] = static_cast<uint8_t>(valid & seen & -static_cast<int>(std::abs(v - previous) > maxStep) & 1);
+      previous = (v & valid) | (previous & ~valid);
+      seen |= valid;
+      count += valid & 1;
+      before[x + 1] = count;
+    }
+    std::fill(before + width + 1, before + width + cap + 1, count);
+    // Right to left: the first jump beyond each pixel.
+    int nextJump = width + cap;  // none: beyond any cap
+    for (int x = width - 1; x >= 0; --x) {
+      breakSteps[x] = std::min(cap, nextJump - x);
+      const int jumps = -static_cast<int>(jump[x]);
+      nextJump = (x & jumps) | (nextJump & ~jumps);
+    }
+    // The answers, independent per pixel: steps to the row's end, and the estimates over steps 1..radius.
+    for (int x = 0; x < width; ++x) {
+      const int valid = row[x] != kNoDisparity;
+      const int inImage = std::min(radius, width - 1 - x);
+      const int estimates = before[x + radius + 1] - before[x + 1];
+      pass[x] = rayPasses(valid, inImage, breakSteps[x], estimates);
     }
   }
 };
