@@ -425,6 +425,43 @@ TEST(StereoStages, FloatBoxSumsRoundEachValueLikeLlrint) {
   }
 }
 
+TEST(StereoStages, CpuRowConsumersEqualThePerPixelRules) {
+  // The disc filling and the Laplacian step take row segments on the CPU (consumeRow) and single pixels on the GPU
+  // (operator()): random maps with holes, radii whose boxes reach past the image, segments of every length.
+  const int w = 131, h = 29;
+  std::mt19937 random(31);
+  Image<int16_t> discrete(Device::Cpu, w, h);
+  Image<float> previous(Device::Cpu, w, h);
+  for (int64_t i = 0; i < w * h; ++i) {
+    discrete.view()[i] = random() % 3 == 0 ? kNoDisparity : static_cast<int16_t>(static_cast<int>(random() % 200) - 60);
+    previous.view()[i] = static_cast<float>(random() % 100000) / 997.0f - 40.0f;
+  }
+  for (const int r : {1, 6, 20, 70}) {
+    SCOPED_TRACE("radius " + std::to_string(r));
+    Buffer<int64_t> rowSum(Device::Cpu, w * h);
+    Buffer<int> rowCount(Device::Cpu, w * h);
+    parallelFor<CpuBackend>(h, BoxRowSums<DiscreteDisparityValue>{{discrete.view()}, w, r, rowSum.data(), rowCount.data()}, 1);
+    Image<int16_t> filledRows(Device::Cpu, w, h), filledPixels(Device::Cpu, w, h);
+    using DiscRows = BoxColumnSums<kCpuBoxColumnBlock, FillHolesDisc>;
+    parallelFor<CpuBackend>(DiscRows::taskCount(w), DiscRows{rowSum.data(), rowCount.data(), w, h, r, {discrete.view(), filledRows.view(), r, 0.4f}}, 1);
+    parallelFor<CpuBackend>(w * h, BoxColumnSumsDirect<FillHolesDisc>{rowSum.data(), rowCount.data(), w, h, r, {discrete.view(), filledPixels.view(), r, 0.4f}});
+    Image<float> currentRows(Device::Cpu, w, h), correctionRows(Device::Cpu, w, h);
+    Image<float> currentPixels(Device::Cpu, w, h), correctionPixels(Device::Cpu, w, h);
+    using StepRows = BoxColumnSums<kCpuBoxColumnBlock, LaplacianStep>;
+    parallelFor<CpuBackend>(StepRows::taskCount(w), StepRows{rowSum.data(), rowCount.data(), w, h, r, {discrete.view(), previous.view(), currentRows.view(), correctionRows.view(), 0.1f}}, 1);
+    parallelFor<CpuBackend>(w * h, BoxColumnSumsDirect<LaplacianStep>{rowSum.data(), rowCount.data(), w, h, r, {discrete.view(), previous.view(), currentPixels.view(), correctionPixels.view(), 0.1f}});
+    int filled = 0;
+    const auto same = [](float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); };
+    for (int64_t i = 0; i < w * h; ++i) {
+      ASSERT_EQ(filledRows.view()[i], filledPixels.view()[i]) << "pixel " << i;
+      ASSERT_TRUE(same(currentRows.view()[i], currentPixels.view()[i])) << "pixel " << i;
+      ASSERT_TRUE(same(correctionRows.view()[i], correctionPixels.view()[i])) << "pixel " << i;
+      filled += discrete.view()[i] == kNoDisparity && filledPixels.view()[i] != kNoDisparity;
+    }
+    EXPECT_GT(filled, 0);
+  }
+}
+
 TEST(StereoStages, DiscFillingUsesNeighbourhoodMean) {
   const int w = 60, h = 60, r = 20;
   Image<int16_t> input = discreteImage(w, h, 12);

@@ -663,17 +663,38 @@ struct FillHolesDisc {
   int radius;
   float minValidFraction;
 
+  /// The rule for one pixel whose box (area pixels inside the image) holds count estimates summing to boxSum:
+  /// a hole with enough estimates around it takes their rounded mean; anything else keeps its value. Branch-free.
+  TM_HOST_DEVICE static int16_t filled(int16_t centre, int64_t boxSum, int count, int area, float minValidFraction) {
+    const bool fills = (centre == kNoDisparity) & (count != 0) &
+                       !(static_cast<float>(count) < minValidFraction * static_cast<float>(area));
+    const double mean = floor(int64ToDouble(boxSum) / (count != 0 ? count : 1) + 0.5);  // exact: |boxSum| < 2^34
+    return fills ? static_cast<int16_t>(static_cast<int>(mean)) : centre;
+  }
+  /// Pixels of the box around x that lie inside [0, size).
+  TM_HOST_DEVICE static int insideSpan(int x, int radius, int size) {
+    const int lo = x - radius < 0 ? 0 : x - radius, hi = x + radius >= size ? size - 1 : x + radius;
+    return hi - lo + 1;
+  }
+
   TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int count) const {
-    const int16_t centre = input[index];
-    output[index] = centre;
-    if (centre != kNoDisparity) return;
     int x, y;
     pixelCoordinates(index, input.width, x, y);
-    const int x0 = x - radius < 0 ? 0 : x - radius, x1 = x + radius >= input.width ? input.width - 1 : x + radius;
-    const int y0 = y - radius < 0 ? 0 : y - radius, y1 = y + radius >= input.height ? input.height - 1 : y + radius;
-    const int area = (x1 - x0 + 1) * (y1 - y0 + 1);
-    if (count == 0 || static_cast<float>(count) < minValidFraction * static_cast<float>(area)) return;
-    output[index] = static_cast<int16_t>(floor(static_cast<double>(boxSum) / count + 0.5));
+    const int area = insideSpan(x, radius, input.width) * insideSpan(y, radius, input.height);
+    output[index] = filled(input[index], boxSum, count, area, minValidFraction);
+  }
+  /// The CPU's form (BoxColumnSums hands it a row segment): the same rule, vectorised.
+  void consumeRow(int64_t firstIndex, const int64_t* __restrict boxSums, const int* __restrict boxCounts,
+                  int columns) const {
+    int x0, y;
+    pixelCoordinates(firstIndex, input.width, x0, y);
+    const int rows = insideSpan(y, radius, input.height), width = input.width, r = radius;
+    const float fraction = minValidFraction;
+    const int16_t* __restrict in = &input[firstIndex];
+    int16_t* __restrict out = &output[firstIndex];
+    for (int c = 0; c < columns; ++c) {
+      out[c] = filled(in[c], boxSums[c], boxCounts[c], insideSpan(x0 + c, r, width) * rows, fraction);
+    }
   }
 };
 
@@ -695,16 +716,27 @@ struct LaplacianStep {
   ImageView<float> current, correction;
   float alpha;
 
+  /// The step for one pixel, branch-free: NaN for both where there is no estimate or none around it.
+  TM_HOST_DEVICE static void step(int16_t o, int64_t boxSum, int boxCount, float previousValue, float alpha,
+                                  float& currentValue, float& correctionValue) {
+    const bool valid = (o != kNoDisparity) & (boxCount != 0);
+    const float average = static_cast<float>(int64ToDouble(boxSum) / (valid ? boxCount : 1));  // exact: < 2^34
+    currentValue = valid ? average : NAN;
+    correctionValue = valid ? average - alpha * static_cast<float>(o) - (1.0f - alpha) * previousValue : NAN;
+  }
+
   TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int boxCount) const {
-    const int16_t o = discrete[index];
-    if (o == kNoDisparity || boxCount == 0) {
-      current[index] = NAN;
-      correction[index] = NAN;
-      return;
-    }
-    const float average = static_cast<float>(static_cast<double>(boxSum) / boxCount);
-    current[index] = average;
-    correction[index] = average - alpha * static_cast<float>(o) - (1.0f - alpha) * previous[index];
+    step(discrete[index], boxSum, boxCount, previous[index], alpha, current[index], correction[index]);
+  }
+  /// The CPU's form (BoxColumnSums hands it a row segment): the same step, vectorised.
+  void consumeRow(int64_t firstIndex, const int64_t* __restrict boxSums, const int* __restrict boxCounts,
+                  int columns) const {
+    const int16_t* __restrict o = &discrete[firstIndex];
+    const float* __restrict before = &previous[firstIndex];
+    float* __restrict now = &current[firstIndex];
+    float* __restrict b = &correction[firstIndex];
+    const float a = alpha;
+    for (int c = 0; c < columns; ++c) step(o[c], boxSums[c], boxCounts[c], before[c], a, now[c], b[c]);
   }
 };
 
