@@ -358,10 +358,13 @@ struct NearestAlongRay {
   }
 };
 
+/// II.B's smoothness test between neighbouring estimates along a ray: they differ by more than maxStep.
+inline bool breaksBetween(int a, int b, int maxStep) { return std::abs(a - b) > maxStep; }
+
 /// The break distance of an estimate v whose next estimate along the ray is `ahead` steps on (cap: none within the
 /// radius), with value valueAhead and break distance breakAhead: SmoothRaySweep's recurrence.
 inline int breakDistance(int v, int ahead, int valueAhead, int breakAhead, int cap, int maxStep) {
-  return ahead >= cap ? cap : (std::abs(valueAhead - v) > maxStep ? ahead : std::min(cap, ahead + breakAhead));
+  return ahead >= cap ? cap : (breaksBetween(valueAhead, v, maxStep) ? ahead : std::min(cap, ahead + breakAhead));
 }
 
 /// II.B's test of one ray, as RemoveOutliers walks it: an estimate, steps inside the image, no break within them,
@@ -493,7 +496,7 @@ struct SmoothRaySweep {
     for (int x = 0; x < width; ++x) {
       const int v = row[x];
       const int valid = -static_cast<int>(v != kNoDisparity);
-      jump[x] = static_cast<uint8_t>(valid & seen & -static_cast<int>(std::abs(v - previous) > maxStep) & 1);
+      jump[x] = static_cast<uint8_t>(valid & seen & -static_cast<int>(breaksBetween(v, previous, maxStep)) & 1);
       previous = (v & valid) | (previous & ~valid);
       seen |= valid;
       count += valid & 1;
@@ -568,14 +571,16 @@ void ReselectDiscreteRows::consumeRow(int64_t firstIndex, const int64_t* boxSums
   float* __restrict current = &r.current[firstIndex];
   const int16_t* __restrict discrete = &r.discrete[firstIndex];
   int segmentLo = r.disparityCount, segmentHi = -1;
-  // Branch-free (vectorised): the corrected d of every pixel, kept only where the pixel takes part.
+  // Branch-free: the corrected d of every pixel, kept only where the pixel takes part. GCC 12 does not vectorise
+  // this loop ("unsupported use in stmt"), though it has no branches left to mispredict.
   for (int c = 0; c < columns; ++c) {
     const bool takesPart = ReselectDiscrete::takesPart(discrete[c], boxCounts[c]);
     const float corrected = correctedDisparity(current[c], boxSums[c], takesPart ? boxCounts[c] : 1);
     const bool active = takesPart & isFiniteValue(corrected);
     current[c] = takesPart ? corrected : current[c];
     d[c] = takesPart ? corrected : 0.0f;
-    centre[c] = active ? r.centreIndex(active ? corrected : 0.0f) : kNotActive;  // no NaN to int
+    const float centred = active ? corrected : 0.0f;  // both select arms are evaluated: no NaN to int
+    centre[c] = active ? r.centreIndex(centred) : kNotActive;
     segmentLo = std::min(segmentLo, active ? centre[c] - r.search : r.disparityCount);
     segmentHi = std::max(segmentHi, active ? centre[c] + r.search : -1);
   }
