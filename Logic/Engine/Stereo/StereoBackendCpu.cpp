@@ -51,6 +51,34 @@ const float* chessboardPairsAndQuads(const float* even, const float* odd, int r,
   return f;
 }
 
+/// The chessboard window sum at x from f, G and H (see chessboardPairsAndQuads); R is a template parameter so that
+/// the terms unroll and the loops calling this vectorise.
+template <int R>
+TM_FORCE_INLINE float chessboardWindowSum(const float* __restrict f, const float* __restrict G,
+                                          const float* __restrict H, int x) {
+  float sum = f[x + R];
+  for (int m = 0; m + 1 < R; m += 2) sum += H[x + m * 2 - R];
+  if constexpr ((R & 1) != 0) sum += G[x + 2 * (R - 1) - R];
+  return sum;
+}
+
+/// Row<R>::run(arguments...) for the runtime radius r (windows 3x3 to 19x19).
+template <template <int> class Row, class... Arguments>
+void runForChessboardRadius(int r, Arguments... arguments) {
+  switch (r) {
+    case 1: return Row<1>::run(arguments...);
+    case 2: return Row<2>::run(arguments...);
+    case 3: return Row<3>::run(arguments...);
+    case 4: return Row<4>::run(arguments...);
+    case 5: return Row<5>::run(arguments...);
+    case 6: return Row<6>::run(arguments...);
+    case 7: return Row<7>::run(arguments...);
+    case 8: return Row<8>::run(arguments...);
+    case 9: return Row<9>::run(arguments...);
+    default: throw Error("ZNCC window radius " + std::to_string(r) + " is outside 1..9");
+  }
+}
+
 /// One row of one disparity's slice, fused into one pass over x: the chessboard window sum from f, G and H (see
 /// chessboardPairsAndQuads), the quantised ZNCC into the volume, and the running winners, strictly better (the
 /// lowest disparity wins ties), of the left pixel x and of the right pixel x - d (whose arrays come shifted by d).
@@ -64,9 +92,7 @@ struct ChessboardScoreRow {
                   int16_t disparity, int xBegin, int xEnd) {
     const int n = chessboardPixelCount(R);
     for (int x = xBegin; x < xEnd; ++x) {
-      float sum = f[x + R];
-      for (int m = 0; m + 1 < R; m += 2) sum += H[x + m * 2 - R];
-      if constexpr ((R & 1) != 0) sum += G[x + 2 * (R - 1) - R];
+      const float sum = chessboardWindowSum<R>(f, G, H, x);
       const int16_t q = quantisedZncc(sum, sumL[x], sumR[x], normL[x], normR[x], n);
       scores[x] = q;
       const bool leftBetter = q > bestScore[x], rightBetter = q > rightScore[x];
@@ -77,23 +103,6 @@ struct ChessboardScoreRow {
     }
   }
 };
-
-/// ChessboardScoreRow<R>::run for the runtime radius (windows 3x3 to 19x19).
-template <class... Arguments>
-void scoreChessboardRow(int r, Arguments... arguments) {
-  switch (r) {
-    case 1: return ChessboardScoreRow<1>::run(arguments...);
-    case 2: return ChessboardScoreRow<2>::run(arguments...);
-    case 3: return ChessboardScoreRow<3>::run(arguments...);
-    case 4: return ChessboardScoreRow<4>::run(arguments...);
-    case 5: return ChessboardScoreRow<5>::run(arguments...);
-    case 6: return ChessboardScoreRow<6>::run(arguments...);
-    case 7: return ChessboardScoreRow<7>::run(arguments...);
-    case 8: return ChessboardScoreRow<8>::run(arguments...);
-    case 9: return ChessboardScoreRow<9>::run(arguments...);
-    default: throw Error("ZNCC window radius " + std::to_string(r) + " is outside 1..9");
-  }
-}
 
 /// Rows per CPU task of the cost volume: the column sums of each disparity are carried down the band.
 constexpr int kBandRows = 16;
@@ -161,7 +170,7 @@ struct ZnccVolumeBand {
         std::fill(scores, scores + xBegin, kNoZncc);
         std::fill(scores + xEnd, scores + width, kNoZncc);
         const std::size_t bandRow = static_cast<std::size_t>(k) * width;
-        scoreChessboardRow(r, f, pairs.data() + r, quads.data() + r, &in.sumLeft.at(0, y), &in.inverseNormLeft.at(0, y),
+        runForChessboardRadius<ChessboardScoreRow>(r, f, pairs.data() + r, quads.data() + r, &in.sumLeft.at(0, y), &in.inverseNormLeft.at(0, y),
                            &in.sumRight.at(0, y) - d, &in.inverseNormRight.at(0, y) - d,
                            scores, best.data() + bandRow, bestDisparity.data() + bandRow,
                            rightBest.data() + bandRow - d, rightBestDisparity.data() + bandRow - d,
@@ -176,8 +185,24 @@ struct ZnccVolumeBand {
   }
 };
 
+/// One row of window statistics from the pairs and quads (chessboardPairsAndQuads) of the column sums of I and I^2:
+/// the window sums and the shared windowInverseNorm.
+template <int R>
+struct WindowStatisticsRow {
+  static void run(const float* __restrict f, const float* __restrict G, const float* __restrict H,
+                  const float* __restrict fSq, const float* __restrict GSq, const float* __restrict HSq, int width,
+                  float minStdDev, float* __restrict outSum, float* __restrict outNorm) {
+    const int n = chessboardPixelCount(R);
+    for (int x = 0; x < width; ++x) {
+      const float s = chessboardWindowSum<R>(f, G, H, x), s2 = chessboardWindowSum<R>(fSq, GSq, HSq, x);
+      outSum[x] = s;
+      outNorm[x] = windowInverseNorm(s, s2, n, minStdDev);
+    }
+  }
+};
+
 /// Window statistics of one band of rows: chessboard sums of I and I^2 per pixel (column sums carried down the band
-/// as in ZnccVolumeBand, window sums vectorised over x), then the shared windowInverseNorm.
+/// as in ZnccVolumeBand, window sums from their pairs and quads), then the shared windowInverseNorm.
 struct WindowStatisticsBand {
   ImageView<const float> image;
   ImageView<float> sum, inverseNorm;
@@ -189,13 +214,16 @@ struct WindowStatisticsBand {
     const int y0 = static_cast<int>(bandIndex) * kBandRows;
     const int rows = std::min(kBandRows, height - y0);
     const PaddedRows padded(image, y0 - r, rows + 2 * r, r);
-    const int n = chessboardPixelCount(r);
     const int columns = width + 2 * r;
-    std::vector<float> store(4 * static_cast<std::size_t>(columns)), sums(width), sumsSq(width);
+    std::vector<float> store(8 * static_cast<std::size_t>(columns));
     float* __restrict even = store.data() + r;  // index c in [-r, width + r)
     float* __restrict odd = even + columns;
     float* __restrict evenSq = odd + columns;
     float* __restrict oddSq = evenSq + columns;
+    float* pairs = oddSq + columns;
+    float* quads = pairs + columns;
+    float* pairsSq = quads + columns;
+    float* quadsSq = pairsSq + columns;
     for (int dy = -r; dy <= r; ++dy) {
       const float* __restrict row = padded.row(y0 + dy);
       float* __restrict target = (dy & 1) == 0 ? even : odd;
@@ -219,24 +247,13 @@ struct WindowStatisticsBand {
           oddSq[c] = oddRadius ? e2 + enter[c] * enter[c] : e2 - leave[c] * leave[c];
         }
       }
-      float* __restrict s = sums.data();
-      float* __restrict s2 = sumsSq.data();
-      std::fill(s, s + width, 0.0f);
-      std::fill(s2, s2 + width, 0.0f);
-      for (int dx = -r; dx <= r; ++dx) {
-        const float* __restrict column = ((dx & 1) == 0 ? even : odd) + dx;
-        const float* __restrict columnSq = ((dx & 1) == 0 ? evenSq : oddSq) + dx;
-        for (int x = 0; x < width; ++x) {
-          s[x] += column[x];
-          s2[x] += columnSq[x];
-        }
-      }
-      float* __restrict outSum = &sum.at(0, y);
-      float* __restrict outNorm = &inverseNorm.at(0, y);
-      for (int x = 0; x < width; ++x) {
-        outSum[x] = s[x];
-        outNorm[x] = windowInverseNorm(s[x], s2[x], n, minStdDev);
-      }
+      const float* f = chessboardPairsAndQuads(even, odd, r, 0, width, pairs, quads);
+      const float* fSq = chessboardPairsAndQuads(evenSq, oddSq, r, 0, width, pairsSq, quadsSq);
+      runForChessboardRadius<WindowStatisticsRow>(r, f, static_cast<const float*>(pairs),
+                                                  static_cast<const float*>(quads), fSq,
+                                                  static_cast<const float*>(pairsSq),
+                                                  static_cast<const float*>(quadsSq), width, minStdDev,
+                                                  &sum.at(0, y), &inverseNorm.at(0, y));
     }
   }
 };
