@@ -50,7 +50,7 @@ refinement::RefinementProblem exactProblem(const std::vector<Eigen::Matrix4d, Ei
                                            const FeatureScene& scene) {
   const RectifiedGeometry g = testGeometry();
   refinement::RefinementProblem problem;
-  problem.camera = {g.focalPx, g.focalPx, g.cxLeftPx, g.cyPx, g.imageSize.width, g.imageSize.height};
+  problem.camera = {g.leftIntrinsics(), g.imageSize.width, g.imageSize.height};
   problem.robust = {2.0, 2.0, 1.0, 0.1};
   for (const Eigen::Vector3d& X : scene.pointsWorldMm) {
     problem.pointsWorldMm.insert(problem.pointsWorldMm.end(), {X.x(), X.y(), X.z()});

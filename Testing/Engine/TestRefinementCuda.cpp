@@ -110,7 +110,7 @@ TEST(RefinementCuda, SolverMatchesCpu) {
   const FeatureScene scene(800, 12);
   const CurvedSurface surface;
   refinement::RefinementProblem problem;
-  problem.camera = {g.focalPx, g.focalPx, g.cxLeftPx, g.cyPx, g.imageSize.width, g.imageSize.height};
+  problem.camera = {g.leftIntrinsics(), g.imageSize.width, g.imageSize.height};
   problem.robust = {2.0, 2.0, 0.5, 0.1};
   std::mt19937 random(3);
   std::normal_distribution<double> noise(0, 0.5);

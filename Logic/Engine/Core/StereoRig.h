@@ -2,6 +2,8 @@
 /// @file StereoRig.h
 /// @brief The calibrated stereo scope: calibration files, rectification, and disparity to depth and to a
 /// coloured point cloud (equivalent to MATLAB's reconstructScene). Units: millimetres and pixels.
+#include "Core/PinholeIntrinsics.h"
+
 #include <opencv2/core.hpp>
 
 #include <string>
@@ -35,6 +37,8 @@ struct RectifiedGeometry {
 
   /// Depth in mm of a left-view disparity: focalPx * baselineMm / (d + doffsPx).
   double depthMm(double disparityPx) const { return focalPx * baselineMm / (disparityPx + doffsPx); }
+  /// The rectified left camera.
+  PinholeIntrinsics leftIntrinsics() const { return {focalPx, focalPx, cxLeftPx, cyPx}; }
 };
 
 /// Where the rectified principal points go. ZeroDisparityAtInfinity (cv::CALIB_ZERO_DISPARITY, OpenCV's default,

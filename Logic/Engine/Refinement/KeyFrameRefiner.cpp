@@ -178,7 +178,7 @@ struct KeyFrameRefiner::Impl {
     tracking.maxRansacIterations = std::min(tracking.maxRansacIterations, parameters.maxSolveHypotheses);
   }
 
-  PinholeIntrinsics intrinsics() const { return {geometry.focalPx, geometry.focalPx, geometry.cxLeftPx, geometry.cyPx}; }
+  PinholeIntrinsics intrinsics() const { return geometry.leftIntrinsics(); }
 
   int matchK() const { return std::min(8, 1 + features.candidatesPerFeature); }
 
@@ -381,6 +381,7 @@ struct KeyFrameRefiner::Impl {
     // The view's four side planes through the camera centre (camera frame, unit normals pointing inwards): a point
     // at depth z > 0 projects inside the image exactly when it is on the inner side of all four.
     const double f = geometry.focalPx, width = geometry.imageSize.width, height = geometry.imageSize.height;
+    const PinholeIntrinsics camera = geometry.leftIntrinsics();
     const std::array<Eigen::Vector3d, 4> insideNormals = {
         Eigen::Vector3d(f, 0, geometry.cxLeftPx).normalized(),           // u >= 0
         Eigen::Vector3d(-f, 0, width - geometry.cxLeftPx).normalized(),  // u < width
@@ -406,8 +407,8 @@ struct KeyFrameRefiner::Impl {
       for (std::size_t i = 0; i < points.size(); i += step, ++tried) {
         const Eigen::Vector3d c = R * points[i].cast<double>() + t;
         if (c.z() < kMinVisibleDepthMm) continue;
-        const double u = geometry.focalPx * c.x() / c.z() + geometry.cxLeftPx;
-        const double v = geometry.focalPx * c.y() / c.z() + geometry.cyPx;
+        double u, v;
+        camera.project(c.x(), c.y(), c.z(), u, v);
         seen += u >= 0 && v >= 0 && u < geometry.imageSize.width && v < geometry.imageSize.height;
       }
       overlap = static_cast<double>(seen) / tried;
@@ -667,13 +668,15 @@ IcpModelPoints KeyFrameRefiner::selectIcpModelPoints(const SurfaceMeasurement& m
   const Eigen::Matrix4d T_camera_world = inverseRigid(T_world_camera);
   const Eigen::Matrix3f R = T_camera_world.block<3, 3>(0, 0).cast<float>();
   const Eigen::Vector3f t = T_camera_world.block<3, 1>(0, 3).cast<float>();
+  const PinholeIntrinsics camera = s.geometry.leftIntrinsics();
   // Flagged in parallel (a model sample has 10^4 points), kept in order.
   std::vector<uint8_t> lands(modelPointsWorldMm.size(), 0);
   parallelFor<CpuBackend>(static_cast<int64_t>(modelPointsWorldMm.size()), [&](int64_t i) {
     const Eigen::Vector3f c = R * modelPointsWorldMm[static_cast<std::size_t>(i)] + t;
     if (!(c.z() >= kMinVisibleDepthMm)) return;
-    const int x = static_cast<int>(std::floor(s.geometry.focalPx * c.x() / c.z() + s.geometry.cxLeftPx + 0.5));
-    const int y = static_cast<int>(std::floor(s.geometry.focalPx * c.y() / c.z() + s.geometry.cyPx + 0.5));
+    double u, v;
+    camera.project(c.x(), c.y(), c.z(), u, v);
+    const int x = static_cast<int>(std::floor(u + 0.5)), y = static_cast<int>(std::floor(v + 0.5));
     if (x < 0 || y < 0 || x >= valid.cols || y >= valid.rows) return;
     lands[static_cast<std::size_t>(i)] = valid.at<uint8_t>(y, x) ? 1 : 0;
   });
@@ -764,8 +767,7 @@ RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches,
   result.beta = result.baObservations > 0 && result.icpPoints > 0
                     ? p.icpWeightFactor * result.baObservations / result.icpPoints
                     : 1.0;
-  problem.camera = {s.geometry.focalPx, s.geometry.focalPx, s.geometry.cxLeftPx, s.geometry.cyPx,
-                    s.geometry.imageSize.width, s.geometry.imageSize.height};
+  problem.camera = {s.geometry.leftIntrinsics(), s.geometry.imageSize.width, s.geometry.imageSize.height};
   problem.robust = {p.baHuberPx, p.icpTukeyMm, result.beta, kMinVisibleDepthMm};
   problem.poses.push_back(toPose(T_camera_world));
   for (int f : frameOfSlot) problem.poses.push_back(toPose(inverseRigid(s.intermediates[f].T_world_camera)));

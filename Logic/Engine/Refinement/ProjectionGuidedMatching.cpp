@@ -100,8 +100,8 @@ ProjectionGuidedMatches matchProjectedPoints(const Points3d& queryPointsWorldMm,
   for (std::size_t q = 0; q < queryPointsWorldMm.size(); ++q) {
     const Eigen::Vector3d c = R * queryPointsWorldMm[q] + t;
     if (!(c.z() >= kMinVisibleDepthMm)) continue;
-    const double u = intrinsics.fxPx * c.x() / c.z() + intrinsics.cxPx;
-    const double v = intrinsics.fyPx * c.y() / c.z() + intrinsics.cyPx;
+    double u, v;
+    intrinsics.project(c.x(), c.y(), c.z(), u, v);
     projectedPx[q] = Eigen::Vector2d(u, v);
     const uchar* query = queryDescriptors.ptr<uchar>(static_cast<int>(q));
     int best = kNone, bestDistance = parameters.maxHammingDistance + 1;

@@ -11,6 +11,7 @@
 #include "Core/Float3.h"
 #include "Core/HostDevice.h"
 #include "Core/Image.h"
+#include "Core/PinholeIntrinsics.h"
 
 #include <cmath>
 #include <cstdint>
@@ -32,7 +33,7 @@ struct Observation {
 
 /// The rectified left camera.
 struct Camera {
-  double fxPx, fyPx, cxPx, cyPx;
+  PinholeIntrinsics intrinsics;
   int width, height;
 };
 
@@ -115,14 +116,12 @@ struct BaPoseTerms {
     if (c[2] < robust.minDepthMm) {
       acc[kCostOffset] = huberCost(kBehindCameraErrorPx, robust.baHuberPx);
     } else {
-      const double invZ = 1.0 / c[2];
-      const double eu = camera.fxPx * c[0] * invZ + camera.cxPx - o.uPx;
-      const double ev = camera.fyPx * c[1] * invZ + camera.cyPx - o.vPx;
+      double u, v, au[3], av[3];
+      camera.intrinsics.projectWithDerivatives(c, u, v, au, av);
+      const double eu = u - o.uPx, ev = v - o.vPx;
       const double e = sqrt(eu * eu + ev * ev);
       const double w = huberWeight(e, robust.baHuberPx);
       acc[kCostOffset] = huberCost(e, robust.baHuberPx);
-      const double au[3] = {camera.fxPx * invZ, 0.0, -camera.fxPx * c[0] * invZ * invZ};
-      const double av[3] = {0.0, camera.fyPx * invZ, -camera.fyPx * c[1] * invZ * invZ};
       double J[6];
       poseRow(c, au, J);
       addRow(acc, J, eu, w);
@@ -153,8 +152,9 @@ struct IcpPoseTerms {
     double c[3];
     transformPoint(pose, p.x, p.y, p.z, c);
     if (c[2] >= robust.minDepthMm) {
-      const double x = floor(camera.fxPx * c[0] / c[2] + camera.cxPx + 0.5);
-      const double y = floor(camera.fyPx * c[1] / c[2] + camera.cyPx + 0.5);
+      double u, v;
+      camera.intrinsics.project(c[0], c[1], c[2], u, v);
+      const double x = floor(u + 0.5), y = floor(v + 0.5);
       if (x >= 0 && y >= 0 && x < measuredPointsCameraMm.width && y < measuredPointsCameraMm.height) {
         const Float3 q = measuredPointsCameraMm.at(static_cast<int>(x), static_cast<int>(y));
         const Float3 n = measuredNormalsCamera.at(static_cast<int>(x), static_cast<int>(y));
@@ -226,16 +226,14 @@ struct UpdatePoints {
         cost += huberCost(kBehindCameraErrorPx, robust.baHuberPx);
         continue;
       }
-      const double invZ = 1.0 / c[2];
-      const double eu = camera.fxPx * c[0] * invZ + camera.cxPx - o.uPx;
-      const double ev = camera.fyPx * c[1] * invZ + camera.cyPx - o.vPx;
+      double u, v, au[3], av[3];
+      camera.intrinsics.projectWithDerivatives(c, u, v, au, av);
+      const double eu = u - o.uPx, ev = v - o.vPx;
       const double e = sqrt(eu * eu + ev * ev);
       cost += huberCost(e, robust.baHuberPx);
       if (!H) continue;
       const double w = huberWeight(e, robust.baHuberPx);
       // d(u, v)/dX_w = d(u, v)/dX_c R.
-      const double au[3] = {camera.fxPx * invZ, 0.0, -camera.fxPx * c[0] * invZ * invZ};
-      const double av[3] = {0.0, camera.fyPx * invZ, -camera.fyPx * c[1] * invZ * invZ};
       double Ju[3], Jv[3];
       for (int k = 0; k < 3; ++k) {
         Ju[k] = au[0] * pose.r[k] + au[1] * pose.r[3 + k] + au[2] * pose.r[6 + k];

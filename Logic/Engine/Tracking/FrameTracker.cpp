@@ -260,7 +260,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
     return lost("too few feature matches with the last tracked frame (" + std::to_string(result.matches) + ", need " +
                 std::to_string(needed) + ")");
   }
-  const PinholeIntrinsics intrinsics{s.geometry.focalPx, s.geometry.focalPx, s.geometry.cxLeftPx, s.geometry.cyPx};
+  const PinholeIntrinsics intrinsics = s.geometry.leftIntrinsics();
   const auto pnpStart = std::chrono::steady_clock::now();
   // The pose predicted from the last two tracked frames starts the first hypothesis near its answer.
   const Eigen::Matrix4d T_camera_world_guess = inverseRigid(s.predictedPose(result.frameIndex));

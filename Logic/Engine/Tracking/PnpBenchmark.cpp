@@ -116,7 +116,7 @@ SyntheticPnpCase makeSyntheticPnpCase(std::uint64_t seed, int n, double outlierR
   scene.candidates.resize(n);
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector2d truePx(W * unit(rng), H * unit(rng));
-    const double xn = (truePx.x() - k.cxPx) / k.fxPx, yn = (truePx.y() - k.cyPx) / k.fyPx;
+    const double xn = k.normalisedX(truePx.x()), yn = k.normalisedY(truePx.y());
     const Eigen::Vector3d cameraPoint = depthMm(xn, yn) * Eigen::Vector3d(xn, yn, 1.0);
     scene.pointsMm.push_back((T_world_camera * cameraPoint.homogeneous()).head<3>());
     scene.pixelsPx.push_back(scene.isInlier[i] ? noisy(truePx) : randomPixel());

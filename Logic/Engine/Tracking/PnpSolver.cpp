@@ -76,7 +76,8 @@ std::vector<BestMatch> bestMatches(const Points3d& points, const Pixels2d& pixel
       b.pixelPx = pixels[i];
       continue;
     }
-    const Eigen::Vector2d projected(k.fxPx * c.x() / c.z() + k.cxPx, k.fyPx * c.y() / c.z() + k.cyPx);
+    Eigen::Vector2d projected;
+    k.project(c.x(), c.y(), c.z(), projected.x(), projected.y());
     b.pixelPx = pixels[i];
     b.error2 = b.primaryError2 = (projected - pixels[i]).squaredNorm();
     if (candidates.empty()) continue;
@@ -104,12 +105,13 @@ bool polish(const Points3d& points, const std::vector<BestMatch>& matches, const
       const Eigen::Vector3d rotated = R * points[i];  // R X
       const Eigen::Vector3d c = rotated + t;
       if (!(c.z() > 1e-9)) return false;
-      const double iz = 1.0 / c.z();
-      const double ru = k.fxPx * c.x() * iz + k.cxPx - matches[i].pixelPx.x();
-      const double rv = k.fyPx * c.y() * iz + k.cyPx - matches[i].pixelPx.y();
-      // d(exp(w) R X + t) / d(w, t) = [-[RX]x, I], times d(projection) / dc.
-      const double au = k.fxPx * iz, cu = -k.fxPx * c.x() * iz * iz;
-      const double bv = k.fyPx * iz, cv = -k.fyPx * c.y() * iz * iz;
+      const double cameraPoint[3] = {c.x(), c.y(), c.z()};
+      double u, v, dU[3], dV[3];
+      k.projectWithDerivatives(cameraPoint, u, v, dU, dV);
+      const double ru = u - matches[i].pixelPx.x(), rv = v - matches[i].pixelPx.y();
+      // d(exp(w) R X + t) / d(w, t) = [-[RX]x, I], times d(projection) / dc. (The refinement's poseRow differs: its
+      // increments move the camera-frame point, so its rotation rows use c, not R X, and come after translation.)
+      const double au = dU[0], cu = dU[2], bv = dV[1], cv = dV[2];
       const double x = rotated.x(), y = rotated.y(), z = rotated.z();
       const double Ju[6] = {cu * y, au * z - cu * x, -au * y, au, 0.0, cu};
       const double Jv[6] = {cv * y - bv * z, -cv * x, bv * x, 0.0, bv, cv};
@@ -207,8 +209,8 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
     problem.X[i] = static_cast<float>(points[i].x() - problem.originMm.x());
     problem.Y[i] = static_cast<float>(points[i].y() - problem.originMm.y());
     problem.Z[i] = static_cast<float>(points[i].z() - problem.originMm.z());
-    problem.xn[i] = (pixels[i].x() - k.cxPx) / k.fxPx;
-    problem.yn[i] = (pixels[i].y() - k.cyPx) / k.fyPx;
+    problem.xn[i] = k.normalisedX(pixels[i].x());
+    problem.yn[i] = k.normalisedY(pixels[i].y());
   }
   problem.invNorm2 = (problem.xn.square() + problem.yn.square() + 1.0f).inverse();
   int m = 0;
@@ -223,8 +225,8 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
       problem.cX[j] = problem.X[i];
       problem.cY[j] = problem.Y[i];
       problem.cZ[j] = problem.Z[i];
-      problem.cxn[j] = (candidates[i][s].pixelPx.x() - k.cxPx) / k.fxPx;
-      problem.cyn[j] = (candidates[i][s].pixelPx.y() - k.cyPx) / k.fyPx;
+      problem.cxn[j] = k.normalisedX(candidates[i][s].pixelPx.x());
+      problem.cyn[j] = k.normalisedY(candidates[i][s].pixelPx.y());
       problem.cScore[j] = candidates[i][s].score;
       problem.cOwner.push_back(i);
       problem.cSlot.push_back(static_cast<int>(s));

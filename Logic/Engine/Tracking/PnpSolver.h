@@ -12,6 +12,7 @@
 /// Failure is a result, not an exception: degenerate input (fewer than 4 matches, non-finite values, coincident or
 /// collinear 3D points, too few inliers) gives success = false and a reason, never a pose. Only misuse (arrays of
 /// different lengths, vote indices out of range, invalid parameters) throws tissuemosaic::Error.
+#include "Core/PinholeIntrinsics.h"
 #include "Tracking/TrackingParameters.h"
 
 #include <Eigen/Core>
@@ -21,11 +22,6 @@
 #include <vector>
 
 namespace tissuemosaic {
-
-/// Pinhole camera of rectified (undistorted) images: u = fx X/Z + cx, v = fy Y/Z + cy.
-struct PinholeIntrinsics {
-  double fxPx = 0, fyPx = 0, cxPx = 0, cyPx = 0;
-};
 
 /// One candidate 2D match of a 3D point (DynamicR1PPnP), e.g. a further descriptor match in the current frame.
 struct CandidateMatch {

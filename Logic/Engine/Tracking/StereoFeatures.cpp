@@ -115,8 +115,9 @@ void liftFeatures(StereoFeatures& features, const cv::Mat& disparityPx, const Re
     const double d = sampleDisparity(disparityPx, p);
     if (!std::isfinite(d) || d + geometry.doffsPx <= 0) continue;
     const double z = geometry.depthMm(d);
-    features.pointsCameraMm[i] = Eigen::Vector3d((p.x - geometry.cxLeftPx) * z / geometry.focalPx,
-                                                 (p.y - geometry.cyPx) * z / geometry.focalPx, z);
+    double x, y;
+    geometry.leftIntrinsics().backProject(p.x, p.y, z, x, y);
+    features.pointsCameraMm[i] = Eigen::Vector3d(x, y, z);
     ++features.withDepth;
   }
 }
