@@ -117,7 +117,8 @@ TEST(StereoStages, CostVolumeMatchesBruteForceZncc) {
 }
 
 TEST(StereoStages, BandedCpuWindowStatisticsEqualThePerPixelFunctors) {
-  for (int radius : {2, 5, 8}) {
+  // Both ends of the radius range (1: no quads; 9: the widest window) and odd and even radii (odd ones add a pair).
+  for (int radius : {1, 2, 5, 8, 9}) {
     const cv::Mat texture = test::randomTexture(77, 45, 7 + radius);
     cv::Mat grey;
     texture.convertTo(grey, CV_32F);

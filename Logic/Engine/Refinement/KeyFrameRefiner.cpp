@@ -178,8 +178,6 @@ struct KeyFrameRefiner::Impl {
     tracking.maxRansacIterations = std::min(tracking.maxRansacIterations, parameters.maxSolveHypotheses);
   }
 
-  PinholeIntrinsics intrinsics() const { return geometry.leftIntrinsics(); }
-
   int matchK() const { return std::min(8, 1 + features.candidatesPerFeature); }
 
   /// Descriptor matches (knn: one list per query row, from HammingMatcher) of query rows with world points
@@ -272,8 +270,9 @@ struct KeyFrameRefiner::Impl {
     const HistogramVote vote = histogramVote(set.fromPx, set.pixelsPx, features.voteBinPx);
     // The tracked pose starts the first hypothesis near its answer (PnpSolver.h: same iteration, fewer steps).
     const Eigen::Matrix4d T_camera_world_guess = inverseRigid(T_world_expected);
-    const PnpResult pnp = solveDynamicR1Ppnp(set.pointsWorldMm, set.pixelsPx, set.candidates, intrinsics(), tracking,
-                                             vote.order, &T_camera_world_guess, kPnpHypothesesAtOnce);
+    const PnpResult pnp = solveDynamicR1Ppnp(set.pointsWorldMm, set.pixelsPx, set.candidates,
+                                             geometry.leftIntrinsics(), tracking, vote.order, &T_camera_world_guess,
+                                             kPnpHypothesesAtOnce);
     hypotheses = pnp.hypotheses;
     if (!pnp.success || static_cast<int>(pnp.inlierIndices.size()) < minInliers) return inliers;
     double degrees = 0, mm = 0;
@@ -311,7 +310,8 @@ struct KeyFrameRefiner::Impl {
             const IntermediateFrame& frame = intermediates[static_cast<std::size_t>(f)];
             const ProjectionGuidedMatches found =
                 matchProjectedPoints(liftedWorld, liftedDescriptors, frame.features.keypoints, frame.features.descriptors,
-                                     inverseRigid(frame.T_world_camera), intrinsics(), guidedMatchParameters());
+                                     inverseRigid(frame.T_world_camera), geometry.leftIntrinsics(),
+                                     guidedMatchParameters());
             if (!found.trusted || static_cast<int>(found.matches.size()) < parameters.minFrameInliers) return;
             // The tracked poses already agree with these matches: they are the observations (the paper takes them
             // from tracking), without a pose solve.
@@ -581,8 +581,8 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
         for (const Eigen::Vector3f& point : kf.pointsWorldMm) match.world.push_back(point.cast<double>());
         if (p.guidedSearchRadiusPx <= 0) return;
         const ProjectionGuidedMatches found = matchProjectedPoints(
-            match.world, kf.descriptors, features.keypoints, features.descriptors, T_camera_world, s.intrinsics(),
-            keyFrameGuide);
+            match.world, kf.descriptors, features.keypoints, features.descriptors, T_camera_world,
+            s.geometry.leftIntrinsics(), keyFrameGuide);
         if (!found.trusted || static_cast<int>(found.matches.size()) < p.minKeyFrameInliers) return;
         match.set = s.toMatchSet(found, match.world, kf.pixelsPx, features);
         keyFrameGuided[static_cast<std::size_t>(c)] = 1;

@@ -249,10 +249,7 @@ struct WindowStatisticsBand {
       }
       const float* f = chessboardPairsAndQuads(even, odd, r, 0, width, pairs, quads);
       const float* fSq = chessboardPairsAndQuads(evenSq, oddSq, r, 0, width, pairsSq, quadsSq);
-      runForChessboardRadius<WindowStatisticsRow>(r, f, static_cast<const float*>(pairs),
-                                                  static_cast<const float*>(quads), fSq,
-                                                  static_cast<const float*>(pairsSq),
-                                                  static_cast<const float*>(quadsSq), width, minStdDev,
+      runForChessboardRadius<WindowStatisticsRow>(r, f, pairs, quads, fSq, pairsSq, quadsSq, width, minStdDev,
                                                   &sum.at(0, y), &inverseNorm.at(0, y));
     }
   }
