@@ -26,11 +26,13 @@ namespace tissuemosaic::cli {
 namespace {
 
 const char* const help = R"(usage: tissuemosaic bench stereo [--width 960] [--height 540] [--device cpu|cuda|auto]
-                               [--repeats N] [--disparities 100] [--seed S]
+                               [--repeats N] [--disparities 100] [--seed S] [--method paper|ad-census]
 
 Prints one JSON object: the device, the input size and the median milliseconds per stage (zncc, outliers_holes,
 refinement, total) over N runs after 2 warm-up runs, on a synthetic tissue pair. On the CPU it also times OpenCV
 StereoSGBM (MODE_SGBM_3WAY) on the same pair and disparity range (rounded up to a multiple of 16, as SGBM needs).
+--method ad-census times the AD-Census matcher instead; its stages are reported under the same keys (cost and
+aggregation as zncc, scanline optimisation and winners as outliers_holes, median and checks as refinement).
 )";
 
 
@@ -42,7 +44,7 @@ int runBenchStereo(const Words& words) {
     return 0;
   }
   const Arguments arguments(words);
-  arguments.allowOnly({"width", "height", "device", "repeats", "disparities", "seed", "help"});
+  arguments.allowOnly({"width", "height", "device", "repeats", "disparities", "seed", "method", "help"});
   synthetic::SyntheticStereoOptions options = synthetic::SyntheticStereoOptions::wideDisparity();
   options.width = arguments.integer("width", 960);
   options.height = arguments.integer("height", 540);
@@ -64,6 +66,7 @@ int runBenchStereo(const Words& words) {
   StereoParameters parameters;
   parameters.minDisparityPx = static_cast<int>(std::floor(minTruth)) - 2;
   parameters.maxDisparityPx = parameters.minDisparityPx + disparities - 1;
+  parameters.method = parseStereoMethod(arguments.text("method", "paper"));
   StereoMatcher matcher(device, parameters);
 
   std::vector<double> zncc, outliers, refinement, total, upload;
@@ -87,8 +90,9 @@ int runBenchStereo(const Words& words) {
   const DisparityScore ours = scoreDisparity(disparity, pair.disparityPx);
 
   std::printf("{\"command\": \"bench stereo\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
-              "\"height\": %d, \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
-              deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, disparities,
+              "\"height\": %d, \"method\": \"%s\", \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
+              deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height,
+              stereoMethodName(parameters.method), disparities,
               parameters.minDisparityPx, repeats, cpuThreadCount());
   std::printf(" \"median_ms\": {\"zncc\": %.4f, \"outliers_holes\": %.4f, \"refinement\": %.4f, \"total\": %.4f, "
               "\"upload\": %.4f},\n",

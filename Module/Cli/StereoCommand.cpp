@@ -24,7 +24,8 @@ const char* const help = R"(usage: tissuemosaic stereo --left L.png --right R.pn
 
 Left-view disparity (PFM, float, NaN where there is no estimate; a left pixel x matches right pixel x - d) by the
 paper's section II: ZNCC on an 11x11 chessboard window, iterative outlier removal with hole filling, and the
-improved Laplacian refinement.
+improved Laplacian refinement. --method ad-census runs AD-Census instead (census + grey-difference cost,
+cross-based aggregation, scanline optimisation: sharper at depth edges, see docs/STEREO.md).
 
   --left, --right PATH       the stereo pair (8-bit PNG/JPEG/...; rectified unless --calib is given)
   --out PATH                 disparity output (.pfm)
@@ -33,7 +34,9 @@ improved Laplacian refinement.
   --calib rig.yml            OpenCV stereo calibration (K1 D1 K2 D2 R T imageSize): the pair is rectified
                              first, and --cloud becomes available
   --cloud PATH               binary PLY point cloud (mm, left rectified camera frame) with colour
-  --params p.yml             stereo parameters file (node "stereo"); --min/--max-disparity override it
+  --method paper|ad-census   the matcher (default paper, or the parameters file's "method")
+  --params p.yml             stereo parameters file (node "stereo"); --min/--max-disparity and --method
+                             override it
   --device cpu|cuda|auto     where to compute (default auto)
   --ground-truth GT.pfm      print density, bad-1 and bad-2 against a ground-truth disparity (NaN = unknown)
   --rectified-left PATH      also write the rectified left image (with --calib)
@@ -56,7 +59,7 @@ int runStereo(const Words& words) {
   }
   const Arguments arguments(words);
   arguments.allowOnly({"left", "right", "out", "min-disparity", "max-disparity", "calib", "cloud", "params", "device",
-                       "ground-truth", "rectified-left", "help"});
+                       "method", "ground-truth", "rectified-left", "help"});
   const std::string leftPath = arguments.required("left");
   const std::string rightPath = arguments.required("right");
   const std::string outPath = arguments.required("out");
@@ -68,6 +71,7 @@ int runStereo(const Words& words) {
                                                         : StereoParameters{};
   parameters.minDisparityPx = arguments.integer("min-disparity", parameters.minDisparityPx);
   parameters.maxDisparityPx = arguments.integer("max-disparity", parameters.maxDisparityPx);
+  if (arguments.has("method")) parameters.method = parseStereoMethod(arguments.required("method"));
   parameters.validate();
   const Device device = parseDevice(arguments.text("device", "auto"));
 

@@ -131,6 +131,37 @@ TEST(StereoCuda, MatchesCpuFrameAfterFrameOnOneMatcher) {
             0.9);
 }
 
+TEST(StereoCuda, AdCensusMatchesCpuBitForBit) {
+  // AD-Census works on integer costs throughout (tabulated robust functions, exact sums), so the winners and the
+  // final disparities must be identical, not only close.
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  StereoParameters parameters;
+  parameters.method = StereoMethod::AdCensus;
+  synthetic::SyntheticStereoOptions options;
+  options.width = 480;
+  options.height = 270;
+  const auto pair = synthetic::renderSyntheticStereoPair(options);
+  parameters.minDisparityPx = -10;
+  parameters.maxDisparityPx = 40;
+  const auto check = [&](const cv::Mat& left, const cv::Mat& right, const char* what) {
+    StereoMatcher cpu(Device::Cpu, parameters);
+    StereoMatcher gpu(Device::Cuda, parameters);
+    const cv::Mat cpuDisparity = cpu.computeDisparity(left, right);
+    const cv::Mat gpuDisparity = gpu.computeDisparity(left, right);
+    const long winners = countDifferent(cpu.lastZnccDisparity(), gpu.lastZnccDisparity());
+    const long final = countDifferent(cpuDisparity, gpuDisparity);
+    std::printf("AD-Census %s: winners differing %ld, final differing %ld\n", what, winners, final);
+    EXPECT_EQ(winners, 0) << what;
+    EXPECT_EQ(final, 0) << what;
+  };
+  check(pair.leftRectified, pair.rightRectified, "synthetic tissue 480x270, -10..40");
+  const cv::Mat left = test::randomTexture(211, 97, 9);
+  parameters.minDisparityPx = -3;
+  parameters.maxDisparityPx = 17;
+  parameters.aggregationIterations = 3;  // a vertical-first round too
+  check(left, test::shiftedView(left, 6.3, 0.01, -0.02), "random texture 211x97, -3..17");
+}
+
 TEST(StereoDeviceChoice, GpuRequestRefusedWithoutGpu) {
   if (cudaAvailable()) GTEST_SKIP() << "a GPU is present: the refusal path cannot be exercised here";
   EXPECT_THROW(StereoMatcher(Device::Cuda, StereoParameters{}), Error);

@@ -5,6 +5,7 @@
 #include "Core/Stopwatch.h"
 #include "StereoPipeline.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace tissuemosaic {
@@ -33,6 +34,18 @@ StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int di
       rowSum(device, static_cast<std::size_t>(width) * height), rowCount(device, static_cast<std::size_t>(width) * height) {
   rightWinnerKeys.setZero();  // the GPU launcher leaves them zero after each frame
 }
+
+AdCensusWorkspace::AdCensusWorkspace(Device device, int width_, int height_, int disparityCount_)
+    : width(width_), height(height_), disparityCount(disparityCount_),
+      leftCensus(device, static_cast<std::size_t>(width) * height),
+      rightCensus(device, static_cast<std::size_t>(width) * height),
+      leftArms(device, 4 * static_cast<std::size_t>(width) * height),
+      rightArms(device, 4 * static_cast<std::size_t>(width) * height),
+      cost(device, static_cast<std::size_t>(width) * height * disparityCount),
+      packedWindows(device, static_cast<std::size_t>(width) * height * disparityCount),
+      prefix(device, static_cast<std::size_t>(width + 1) * (height + 1) * disparityCount),
+      pathCost(device, static_cast<std::size_t>(width) * height * disparityCount),
+      pathScratch(device, 2 * static_cast<std::size_t>(std::max(width, height)) * disparityCount) {}
 
 }  // namespace stereo
 

@@ -21,6 +21,14 @@ void readKey(const cv::FileNode& node, const char* name, T& value) {
 
 }  // namespace
 
+const char* stereoMethodName(StereoMethod method) { return method == StereoMethod::AdCensus ? "ad-census" : "paper"; }
+
+StereoMethod parseStereoMethod(const std::string& name) {
+  if (name == "paper") return StereoMethod::Paper;
+  if (name == "ad-census") return StereoMethod::AdCensus;
+  throw Error("unknown stereo method '" + name + "' (choices: paper, ad-census)");
+}
+
 void StereoParameters::validate() const {
   requireRange("minDisparityPx", minDisparityPx, -1000, 1000);
   requireRange("maxDisparityPx", maxDisparityPx, -1000, 1000);
@@ -51,10 +59,28 @@ void StereoParameters::validate() const {
   requireRange("refineAlpha", refineAlpha, 0.0f, 1.0f);
   requireRange("refineEta", refineEta, 0.0f, 100.0f);
   requireRange("refineSearchPx", refineSearchPx, 0, 50);
+  requireRange("censusWidthPx", censusWidthPx, 1, 15);
+  requireRange("censusHeightPx", censusHeightPx, 1, 15);
+  if (censusWidthPx % 2 == 0 || censusHeightPx % 2 == 0) throw Error("stereo census window sides must be odd");
+  if (censusWidthPx * censusHeightPx - 1 > 64) {
+    throw Error("stereo census window " + std::to_string(censusWidthPx) + "x" + std::to_string(censusHeightPx) +
+                " has more than 64 neighbours");
+  }
+  requireRange("censusLambda", censusLambda, 0.01f, 1000.0f);
+  requireRange("absoluteDifferenceLambda", absoluteDifferenceLambda, 0.01f, 1000.0f);
+  requireRange("armMaxPx", armMaxPx, 0, 127);  // windows of at most 255 x 255 pixels: counts fit 16 bits
+  requireRange("armLongPx", armLongPx, 0, armMaxPx);
+  requireRange("armLimitGrey", armLimitGrey, 1, 256);
+  requireRange("armLongLimitGrey", armLongLimitGrey, 1, 256);
+  requireRange("aggregationIterations", aggregationIterations, 0, 8);
+  requireRange("pathPenaltySmall", pathPenaltySmall, 0.0f, 100.0f);
+  requireRange("pathPenaltyLarge", pathPenaltyLarge, pathPenaltySmall, 100.0f);
+  requireRange("pathEdgeGrey", pathEdgeGrey, 1, 256);
 }
 
 void StereoParameters::write(cv::FileStorage& storage) const {
   storage << "stereo" << "{";
+  storage << "method" << stereoMethodName(method);
   storage << "minDisparityPx" << minDisparityPx << "maxDisparityPx" << maxDisparityPx;
   storage << "znccWindowPx" << znccWindowPx << "minWindowStdDev" << minWindowStdDev;
   storage << "leftRightMaxDifferencePx" << leftRightMaxDifferencePx << "refineMaxDeviationPx" << refineMaxDeviationPx;
@@ -67,6 +93,11 @@ void StereoParameters::write(cv::FileStorage& storage) const {
   storage << "holeDiscRadiusPx" << holeDiscRadiusPx << "holeDiscMinValidFraction" << holeDiscMinValidFraction;
   storage << "refineIterations" << refineIterations << "refineRadiusPx" << refineRadiusPx;
   storage << "refineAlpha" << refineAlpha << "refineEta" << refineEta << "refineSearchPx" << refineSearchPx;
+  storage << "censusWidthPx" << censusWidthPx << "censusHeightPx" << censusHeightPx << "censusLambda" << censusLambda;
+  storage << "absoluteDifferenceLambda" << absoluteDifferenceLambda << "armMaxPx" << armMaxPx << "armLongPx" << armLongPx;
+  storage << "armLimitGrey" << armLimitGrey << "armLongLimitGrey" << armLongLimitGrey;
+  storage << "aggregationIterations" << aggregationIterations << "pathPenaltySmall" << pathPenaltySmall;
+  storage << "pathPenaltyLarge" << pathPenaltyLarge << "pathEdgeGrey" << pathEdgeGrey;
   storage << "}";
 }
 
@@ -74,6 +105,10 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
   StereoParameters p;
   if (node.empty()) return p;
   if (!node.isMap()) throw Error("the 'stereo' parameter node must be a map");
+  if (!node["method"].empty()) {
+    if (!node["method"].isString()) throw Error("stereo parameter method must be a string (paper or ad-census)");
+    p.method = parseStereoMethod(static_cast<std::string>(node["method"]));
+  }
   readKey(node, "minDisparityPx", p.minDisparityPx);
   readKey(node, "maxDisparityPx", p.maxDisparityPx);
   readKey(node, "znccWindowPx", p.znccWindowPx);
@@ -97,6 +132,18 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
   readKey(node, "refineAlpha", p.refineAlpha);
   readKey(node, "refineEta", p.refineEta);
   readKey(node, "refineSearchPx", p.refineSearchPx);
+  readKey(node, "censusWidthPx", p.censusWidthPx);
+  readKey(node, "censusHeightPx", p.censusHeightPx);
+  readKey(node, "censusLambda", p.censusLambda);
+  readKey(node, "absoluteDifferenceLambda", p.absoluteDifferenceLambda);
+  readKey(node, "armMaxPx", p.armMaxPx);
+  readKey(node, "armLongPx", p.armLongPx);
+  readKey(node, "armLimitGrey", p.armLimitGrey);
+  readKey(node, "armLongLimitGrey", p.armLongLimitGrey);
+  readKey(node, "aggregationIterations", p.aggregationIterations);
+  readKey(node, "pathPenaltySmall", p.pathPenaltySmall);
+  readKey(node, "pathPenaltyLarge", p.pathPenaltyLarge);
+  readKey(node, "pathEdgeGrey", p.pathEdgeGrey);
   p.validate();
   return p;
 }

@@ -12,7 +12,20 @@ class FileNode;
 
 namespace tissuemosaic {
 
+/// The matcher: the paper's section II (ZNCC, outlier removal and hole filling, Laplacian refinement), or AD-Census
+/// (Mei et al. 2011: census + absolute-difference cost, cross-based aggregation, scanline optimisation), an
+/// addition for scenes with sharp depth edges (it meets the Middlebury bar that the paper's local method does not;
+/// docs/STEREO.md). Both run on the CPU and CUDA.
+enum class StereoMethod { Paper, AdCensus };
+
+/// "paper" or "ad-census".
+const char* stereoMethodName(StereoMethod method);
+/// Throws Error naming the choices for anything else.
+StereoMethod parseStereoMethod(const std::string& name);
+
 struct StereoParameters {
+  StereoMethod method = StereoMethod::Paper;
+
   // ZNCC local matching (II.A). Windows use every other pixel (a chessboard that contains the centre).
   int minDisparityPx = -20;           ///< smallest candidate disparity (left x matches right x - d)
   int maxDisparityPx = 80;            ///< largest candidate disparity, inclusive
@@ -46,6 +59,21 @@ struct StereoParameters {
   float refineAlpha = 0.1f;           ///< Vollmer's alpha, in [0, 1]
   float refineEta = 0.01f;            ///< weight of the smoothness cost against 1/ZNCC
   int refineSearchPx = 5;             ///< o_i is re-selected within d_i +- this
+
+  // AD-Census (method ad-census; Mei et al.'s values, grey levels for their colour distances). The disparity range,
+  // leftRightMaxDifferencePx and the specular masking above apply to it too.
+  int censusWidthPx = 9;              ///< census window, odd; width x height - 1 <= 64 bits
+  int censusHeightPx = 7;
+  float censusLambda = 30.0f;         ///< robust census cost 1 - exp(-hamming / lambda)
+  float absoluteDifferenceLambda = 10.0f;  ///< robust grey cost 1 - exp(-|IL - IR| / lambda)
+  int armMaxPx = 34;                  ///< cross arms: longest reach (L1)
+  int armLongPx = 17;                 ///< beyond this reach (L2) the stricter armLongLimitGrey applies
+  int armLimitGrey = 20;              ///< an arm stops at a grey step of this much (tau1)
+  int armLongLimitGrey = 6;           ///< ... and, beyond armLongPx, at this difference from its anchor (tau2)
+  int aggregationIterations = 2;      ///< cross-based aggregation rounds (2 measured as good as Mei's 4)
+  float pathPenaltySmall = 1.0f;      ///< scanline optimisation P1 (pi1), cost units
+  float pathPenaltyLarge = 3.0f;      ///< P2 (pi2); both shrink by 4 across one image's edge, by 10 across both
+  int pathEdgeGrey = 15;              ///< a grey step of this much is an edge for the penalties (tau_SO)
 
   int disparityCount() const { return maxDisparityPx - minDisparityPx + 1; }
   int znccRadiusPx() const { return znccWindowPx / 2; }

@@ -11,7 +11,23 @@
 #include "StereoMatcher.h"
 #include "StereoParameters.h"
 
+#include <memory>
+
 namespace tissuemosaic::stereo {
+
+/// The working set of the AD-Census method (StereoParameters::method; AdCensusKernels.h), made on its first frame.
+/// Volumes are pixel-major, width x height x disparityCount elements.
+struct AdCensusWorkspace {
+  AdCensusWorkspace(Device device, int width, int height, int disparityCount);
+  int width, height, disparityCount;
+  Buffer<uint64_t> leftCensus, rightCensus;
+  Buffer<uint8_t> leftArms, rightArms;  ///< 4 planes each (ArmPlane)
+  Buffer<int32_t> cost;                 ///< matching cost, then the aggregated cost
+  Buffer<int64_t> packedWindows;        ///< first pass of an aggregation round: packed (sum, count)
+  Buffer<int64_t> prefix;               ///< prefix sums along rows or columns (one more entry per line)
+  Buffer<int32_t> pathCost;             ///< the four scanline directions summed
+  Buffer<int32_t> pathScratch;          ///< two cost rows per path
+};
 
 struct StereoWorkspace {
   StereoWorkspace(Device device, int width, int height, int disparityCount);
@@ -40,6 +56,7 @@ struct StereoWorkspace {
   Buffer<uint8_t> rayPasses;  ///< CPU outlier test: 1 where a pixel's ray of direction k passes [8][pixels]
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)
   Buffer<int> rowCount;
+  std::unique_ptr<AdCensusWorkspace> adCensus;  ///< made by the first AD-Census frame
 };
 
 /// Runs the whole of section II on workspace.left/right; the result is workspace.smoothed (NaN = none).

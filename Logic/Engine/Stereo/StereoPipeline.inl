@@ -2,17 +2,43 @@
 // StereoBackendCuda.cu only).
 #include "Core/ParallelFor.h"
 #include "Core/StageClock.h"
+#include "AdCensusKernels.h"
 #include "StereoPipeline.h"
 #if defined(__CUDACC__)
 #include "BoxFilterCuda.cuh"
 #endif
 
+#include <cmath>
+#include <memory>
 #include <type_traits>
 #include <vector>
 
 namespace tissuemosaic::stereo {
 
 namespace {
+
+/// The robust functions 1 - exp(-c / lambda) in cost units, rounded.
+AdCensusCostTables makeAdCensusCostTables(const StereoParameters& p) {
+  AdCensusCostTables tables{};
+  const auto robust = [](double c, double lambda) {
+    return static_cast<int32_t>(std::lround(kAdCensusCostUnit * (1.0 - std::exp(-c / lambda))));
+  };
+  for (int bits = 0; bits <= kCensusMaxBits; ++bits) tables.census[bits] = robust(bits, p.censusLambda);
+  for (int grey = 0; grey < 256; ++grey) tables.absoluteDifference[grey] = robust(grey, p.absoluteDifferenceLambda);
+  return tables;
+}
+
+/// P1 and P2 in cost units: full where neither image has an edge along the step, a quarter where one has, a tenth
+/// where both have (Mei et al.).
+PathPenalties makePathPenalties(const StereoParameters& p) {
+  PathPenalties penalties{};
+  const double divisors[3] = {1.0, 4.0, 10.0};
+  for (int edges = 0; edges < 3; ++edges) {
+    penalties.small[edges] = static_cast<int32_t>(std::lround(kAdCensusCostUnit * p.pathPenaltySmall / divisors[edges]));
+    penalties.large[edges] = static_cast<int32_t>(std::lround(kAdCensusCostUnit * p.pathPenaltyLarge / divisors[edges]));
+  }
+  return penalties;
+}
 
 template <class Backend>
 struct PipelineSteps {
@@ -132,6 +158,75 @@ struct PipelineSteps {
                                                        w.smoothed.view()});
     }
   }
+
+  // AD-Census (AdCensusKernels.h): cost and aggregation; scanline optimisation and winners; median, left-right
+  // check and highlights.
+  VolumeGeometry adCensusGeometry() const { return {w.width, w.height, p.minDisparityPx, p.disparityCount()}; }
+
+  void adCensusCostAndAggregation() {
+    if (!w.adCensus || w.adCensus->width != w.width || w.adCensus->height != w.height ||
+        w.adCensus->disparityCount != p.disparityCount()) {
+      w.adCensus = std::make_unique<AdCensusWorkspace>(w.device, w.width, w.height, p.disparityCount());
+    }
+    AdCensusWorkspace& a = *w.adCensus;
+    const VolumeGeometry g = adCensusGeometry();
+    const int halfWidth = p.censusWidthPx / 2, halfHeight = p.censusHeightPx / 2;
+    parallelFor<Backend>(pixels(), CensusTransform{w.leftGrey.view(), a.leftCensus.data(), halfWidth, halfHeight});
+    parallelFor<Backend>(pixels(), CensusTransform{w.rightGrey.view(), a.rightCensus.data(), halfWidth, halfHeight});
+    parallelFor<Backend>(pixels(), CrossArms{w.leftGrey.view(), a.leftArms.data(), p.armMaxPx, p.armLongPx,
+                                             p.armLimitGrey, p.armLongLimitGrey});
+    parallelFor<Backend>(pixels(), CrossArms{w.rightGrey.view(), a.rightArms.data(), p.armMaxPx, p.armLongPx,
+                                             p.armLimitGrey, p.armLongLimitGrey});
+    parallelFor<Backend>(g.elementCount(), AdCensusCost{g, w.leftGrey.view(), w.rightGrey.view(), a.leftCensus.data(),
+                                                        a.rightCensus.data(), makeAdCensusCostTables(p), a.cost.data()});
+    for (int iteration = 0; iteration < p.aggregationIterations; ++iteration) {
+      const bool horizontalFirst = iteration % 2 == 0;  // Mei et al. alternate the order
+      for (int pass = 0; pass < 2; ++pass) {
+        const AggregationLines lines{g, (pass == 0) == horizontalFirst};
+        const PrefixAlongLines prefix{lines, pass == 0 ? a.cost.data() : nullptr,
+                                      pass == 0 ? nullptr : a.packedWindows.data(), a.prefix.data()};
+        if constexpr (std::is_same_v<Backend, CpuBackend>) {
+          parallelFor<Backend>(lines.lineCount(), [prefix](int64_t line) { prefix.line(static_cast<int>(line)); }, 1);
+        } else {
+          parallelFor<Backend>(static_cast<int64_t>(lines.lineCount()) * g.disparityCount, prefix);
+        }
+        parallelFor<Backend>(g.elementCount(),
+                             WindowAlongLines{lines, a.leftArms.data(), a.rightArms.data(), a.prefix.data(),
+                                              pass == 0 ? a.packedWindows.data() : nullptr,
+                                              pass == 0 ? nullptr : a.cost.data()});
+      }
+    }
+  }
+
+  void adCensusPathsAndWinners() {
+    AdCensusWorkspace& a = *w.adCensus;
+    const VolumeGeometry g = adCensusGeometry();
+    const int directions[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+    for (int k = 0; k < 4; ++k) {
+      const int dx = directions[k][0], dy = directions[k][1];
+      parallelFor<Backend>(dx != 0 ? w.height : w.width,
+                           ScanlinePath{g, w.leftGrey.view(), w.rightGrey.view(), a.cost.data(), a.pathCost.data(),
+                                        a.pathScratch.data(), makePathPenalties(p), dx, dy, p.pathEdgeGrey, k == 0},
+                           1);
+    }
+    parallelFor<Backend>(pixels(), AdCensusWinners{g, a.pathCost.data(), w.znccDisparity.view(),
+                                                   w.rightZnccDisparity.view(), w.correction.view()});
+  }
+
+  void adCensusFinish() {
+    parallelFor<Backend>(pixels(), Median3x3{w.correction.view(), w.smoothed.view()});
+    w.discrete.buffer().copyFrom(w.znccDisparity.buffer());
+    if (p.leftRightMaxDifferencePx >= 0) {
+      parallelFor<Backend>(pixels(), LeftRightCheck{w.znccDisparity.view(), w.rightZnccDisparity.view(),
+                                                    w.discrete.view(), p.leftRightMaxDifferencePx});
+      parallelFor<Backend>(pixels(), DropWhereNoDiscrete{w.discrete.view(), w.smoothed.view()});
+    }
+    if (specularMasking()) {
+      specularMasks();
+      parallelFor<Backend>(pixels(), DropSpecularFloat{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
+                                                       w.smoothed.view()});
+    }
+  }
 };
 
 }  // namespace
@@ -144,21 +239,32 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
 
   parallelFor<Backend>(steps.pixels(), GreyToFloat{w.leftGrey.view(), w.rightGrey.view(), w.left.view(), w.right.view()});
 
-  steps.windowStatistics(w.left, w.sumLeft, w.inverseNormLeft);
-  steps.windowStatistics(w.right, w.sumRight, w.inverseNormRight);
-  const ImageView<const float> left = w.left.view(), right = w.right.view();
-  znccVolume(ZnccVolumeInputs{left, right, w.sumLeft.view(), w.inverseNormLeft.view(), w.sumRight.view(),
-                              w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx, p.disparityCount(),
-                              w.volume.data(), w.volumeLayout(), w.znccDisparity.view(), w.rightZnccDisparity.view(),
-                              w.rightWinnerKeys.data()});
-  clock.mark();
+  if (p.method == StereoMethod::AdCensus) {
+    // The same three timed stages: cost and aggregation; scanline optimisation and winners; median, checks.
+    steps.adCensusCostAndAggregation();
+    clock.mark();
+    steps.adCensusPathsAndWinners();
+    clock.mark();
+    steps.adCensusFinish();
+    w.filledDisparity.buffer().copyFrom(w.discrete.buffer());
+    clock.mark();
+  } else {
+    steps.windowStatistics(w.left, w.sumLeft, w.inverseNormLeft);
+    steps.windowStatistics(w.right, w.sumRight, w.inverseNormRight);
+    const ImageView<const float> left = w.left.view(), right = w.right.view();
+    znccVolume(ZnccVolumeInputs{left, right, w.sumLeft.view(), w.inverseNormLeft.view(), w.sumRight.view(),
+                                w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx, p.disparityCount(),
+                                w.volume.data(), w.volumeLayout(), w.znccDisparity.view(), w.rightZnccDisparity.view(),
+                                w.rightWinnerKeys.data()});
+    clock.mark();
 
-  steps.outliersAndHoles();
-  w.filledDisparity.buffer().copyFrom(w.discrete.buffer());
-  clock.mark();
+    steps.outliersAndHoles();
+    w.filledDisparity.buffer().copyFrom(w.discrete.buffer());
+    clock.mark();
 
-  steps.refinement();
-  clock.mark();
+    steps.refinement();
+    clock.mark();
+  }
   const std::vector<double> stageMs = clock.stageMilliseconds();  // waits for the device
   timings.zncc = stageMs[0];
   timings.outliersHoles = stageMs[1];

@@ -39,14 +39,6 @@ TM_HOST_DEVICE TM_FORCE_INLINE void atomicAddInt(int* target, int value) {
 #endif
 }
 
-TM_HOST_DEVICE TM_FORCE_INLINE int popcount64(uint64_t v) {
-#if defined(__CUDA_ARCH__)
-  return __popcll(v);
-#else
-  return __builtin_popcountll(v);
-#endif
-}
-
 /// floor(log2(v)) for v > 0.
 TM_HOST_DEVICE TM_FORCE_INLINE int floorLog2(uint64_t v) {
 #if defined(__CUDA_ARCH__)

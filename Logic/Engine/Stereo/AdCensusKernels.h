@@ -1,0 +1,362 @@
+#pragma once
+/// @file AdCensusKernels.h
+/// @brief The per-element steps of the AD-Census matcher (Mei et al., "On building an accurate stereo matching
+/// system on graphics hardware", ICCV workshops 2011), the engine's optional alternative to the paper's ZNCC
+/// pipeline (StereoParameters::method): census + absolute-difference cost, cross-based aggregation, four-direction
+/// scanline optimisation and winner-takes-all with a parabola's sub-pixel offset. Written once for both backends.
+///
+/// Costs are integers in units of 1 / kAdCensusCostUnit (the robust functions 1 - exp(-c / lambda) are tabulated on
+/// the host), so every sum is exact and the CPU and the GPU give the same volume bit for bit in any order.
+///
+/// Volumes are pixel-major: element (pixel, disparity index i) lies at pixel * disparityCount + i, pixel = y * width
+/// + x. A left pixel x at disparity d = minDisparity + i matches the right pixel x - d.
+#include "Core/HostDevice.h"
+#include "Core/Image.h"
+#include "StereoKernels.h"
+
+#include <cstdint>
+
+namespace tissuemosaic::stereo {
+
+constexpr int kAdCensusCostUnit = 1024;  ///< a robust cost of 1.0
+constexpr int kCensusMaxBits = 64;
+
+/// The robust cost functions 1 - exp(-c / lambda), tabulated in cost units: census by Hamming distance, AD by grey
+/// difference. Filled on the host (AdCensusCostTables::make in AdCensusPipeline) and passed by value.
+struct AdCensusCostTables {
+  int32_t census[kCensusMaxBits + 1];
+  int32_t absoluteDifference[256];
+};
+
+/// Path penalties of the scanline optimisation by how many of the two images change by tauSo or more along the
+/// step (0: neither, 1: one, 2: both), in cost units.
+struct PathPenalties {
+  int32_t small[3];
+  int32_t large[3];
+};
+
+/// Census transform: one bit per window pixel other than the centre, set where the neighbour is darker than the
+/// centre (rows top to bottom, columns left to right, the first pixel in the highest bit); borders replicated.
+struct CensusTransform {
+  ImageView<const uint8_t> grey;
+  uint64_t* census;
+  int halfWidth, halfHeight;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    int x, y;
+    pixelCoordinates(index, grey.width, x, y);
+    const int centre = grey[index];
+    uint64_t bits = 0;
+    for (int dy = -halfHeight; dy <= halfHeight; ++dy) {
+      const int row = clampIndex(y + dy, grey.height);
+      for (int dx = -halfWidth; dx <= halfWidth; ++dx) {
+        if (dx == 0 && dy == 0) continue;
+        bits = (bits << 1) | (grey.at(clampIndex(x + dx, grey.width), row) < centre ? 1u : 0u);
+      }
+    }
+    census[index] = bits;
+  }
+};
+
+/// Arm planes of a cross: reach to the left, right, up and down, in pixels, the pixel itself excluded.
+enum ArmPlane { kArmLeft = 0, kArmRight = 1, kArmUp = 2, kArmDown = 3 };
+
+/// Cross arms (Mei et al.'s rules on grey levels): an arm grows while the next pixel differs from the anchor by less
+/// than limit and from its predecessor by less than limit, up to maxPx; beyond longPx the anchor difference must
+/// also stay below limitLong. arms: 4 planes of pixelCount bytes (ArmPlane order).
+struct CrossArms {
+  ImageView<const uint8_t> grey;
+  uint8_t* arms;
+  int maxPx, longPx, limit, limitLong;
+
+  TM_HOST_DEVICE int reach(int x, int y, int dx, int dy) const {
+    const int anchor = grey.at(x, y);
+    int length = 0;
+    for (int s = 1; s <= maxPx; ++s) {
+      const int xs = x + s * dx, ys = y + s * dy;
+      if (!grey.contains(xs, ys)) break;
+      const int value = grey.at(xs, ys), previous = grey.at(xs - dx, ys - dy);
+      const int fromAnchor = value > anchor ? value - anchor : anchor - value;
+      const int fromPrevious = value > previous ? value - previous : previous - value;
+      if (fromAnchor >= limit || fromPrevious >= limit) break;
+      if (s > longPx && fromAnchor >= limitLong) break;
+      length = s;
+    }
+    return length;
+  }
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    int x, y;
+    pixelCoordinates(index, grey.width, x, y);
+    const int64_t plane = grey.pixelCount();
+    arms[kArmLeft * plane + index] = static_cast<uint8_t>(reach(x, y, -1, 0));
+    arms[kArmRight * plane + index] = static_cast<uint8_t>(reach(x, y, 1, 0));
+    arms[kArmUp * plane + index] = static_cast<uint8_t>(reach(x, y, 0, -1));
+    arms[kArmDown * plane + index] = static_cast<uint8_t>(reach(x, y, 0, 1));
+  }
+};
+
+/// Where a volume element's pixel and disparity lie.
+struct VolumeGeometry {
+  int width, height, minDisparity, disparityCount;
+  TM_HOST_DEVICE void element(int64_t index, int& x, int& y, int& i) const {
+    const int64_t pixel = index / disparityCount;
+    i = static_cast<int>(index - pixel * disparityCount);
+    pixelCoordinates(pixel, width, x, y);
+  }
+  TM_HOST_DEVICE int64_t pixelCount() const { return static_cast<int64_t>(width) * height; }
+  TM_HOST_DEVICE int64_t elementCount() const { return pixelCount() * disparityCount; }
+};
+
+/// Matching cost per element: census Hamming distance and grey difference through the robust tables, the right
+/// pixel clamped into the image.
+struct AdCensusCost {
+  VolumeGeometry g;
+  ImageView<const uint8_t> leftGrey, rightGrey;
+  const uint64_t *leftCensus, *rightCensus;
+  AdCensusCostTables tables;
+  int32_t* cost;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    int x, y, i;
+    g.element(index, x, y, i);
+    const int xr = clampIndex(x - (g.minDisparity + i), g.width);
+    const int64_t left = static_cast<int64_t>(y) * g.width + x, right = static_cast<int64_t>(y) * g.width + xr;
+    const int difference = leftGrey[left] - rightGrey[right];
+    cost[index] = tables.census[popcount64(leftCensus[left] ^ rightCensus[right])] +
+                  tables.absoluteDifference[difference < 0 ? -difference : difference];
+  }
+};
+
+/// The support region of an element: the left pixel's arm, shortened to its match's arm in the right image (0 where
+/// the match is outside the right image).
+TM_HOST_DEVICE TM_FORCE_INLINE int combinedArm(const uint8_t* leftArms, const uint8_t* rightArms, int plane,
+                                               const VolumeGeometry& g, int x, int y, int i) {
+  const int64_t planeOffset = static_cast<int64_t>(plane) * g.pixelCount();
+  const int leftArm = leftArms[planeOffset + static_cast<int64_t>(y) * g.width + x];
+  const int xr = x - (g.minDisparity + i);
+  if (xr < 0 || xr >= g.width) return 0;
+  const int rightArm = rightArms[planeOffset + static_cast<int64_t>(y) * g.width + xr];
+  return leftArm < rightArm ? leftArm : rightArm;
+}
+
+/// A window sum and its pixel count packed in one int64 (sum << 16 | count): prefix sums and their differences carry
+/// both at once, exactly (a window holds at most 69 x 69 < 2^16 pixels; sums stay far below 2^47).
+constexpr int kPackedCountBits = 16;
+TM_HOST_DEVICE TM_FORCE_INLINE int64_t packSumCount(int64_t sum, int64_t count) {
+  return sum * (int64_t(1) << kPackedCountBits) + count;
+}
+TM_HOST_DEVICE TM_FORCE_INLINE int64_t packedCount(int64_t packed) {
+  return packed & ((int64_t(1) << kPackedCountBits) - 1);
+}
+TM_HOST_DEVICE TM_FORCE_INLINE int64_t packedSum(int64_t packed) { return packed >> kPackedCountBits; }
+
+/// Lines of one aggregation pass: rows (horizontal) or columns. The prefix of a line has one more position than the
+/// line: prefix(k) = sum of positions < k.
+struct AggregationLines {
+  VolumeGeometry g;
+  bool horizontal;
+  TM_HOST_DEVICE int lineCount() const { return horizontal ? g.height : g.width; }
+  TM_HOST_DEVICE int lineLength() const { return horizontal ? g.width : g.height; }
+  /// Volume element of position k on line `line`, disparity index i.
+  TM_HOST_DEVICE int64_t element(int line, int k, int i) const {
+    const int64_t pixel = horizontal ? static_cast<int64_t>(line) * g.width + k : static_cast<int64_t>(k) * g.width + line;
+    return pixel * g.disparityCount + i;
+  }
+  /// Prefix entry k in [0, lineLength] of line `line`, disparity index i.
+  TM_HOST_DEVICE int64_t prefix(int line, int k, int i) const {
+    return (static_cast<int64_t>(line) * (lineLength() + 1) + k) * g.disparityCount + i;
+  }
+};
+
+/// Prefix sums along lines of packed (sum, count) values: the raw costs (count 1 each) in the first pass of an
+/// aggregation iteration, the first pass's packed window sums in the second. operator() runs one disparity of one
+/// line (the GPU's thread: neighbouring threads read neighbouring disparities); line() runs all disparities of a
+/// line, position by position (the CPU's task: it reads the volume in order). Same additions either way.
+struct PrefixAlongLines {
+  AggregationLines lines;
+  const int32_t* cost;     ///< first pass: raw costs (packed is null)
+  const int64_t* packed;   ///< second pass: packed window sums
+  int64_t* prefix;
+
+  TM_HOST_DEVICE int64_t value(int64_t element) const {
+    return packed ? packed[element] : packSumCount(cost[element], 1);
+  }
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int line = static_cast<int>(index / lines.g.disparityCount);
+    const int i = static_cast<int>(index - static_cast<int64_t>(line) * lines.g.disparityCount);
+    int64_t running = 0;
+    prefix[lines.prefix(line, 0, i)] = 0;
+    for (int k = 0; k < lines.lineLength(); ++k) {
+      running += value(lines.element(line, k, i));
+      prefix[lines.prefix(line, k + 1, i)] = running;
+    }
+  }
+  void line(int line) const {
+    const int count = lines.g.disparityCount;
+    int64_t* first = prefix + lines.prefix(line, 0, 0);
+    for (int i = 0; i < count; ++i) first[i] = 0;
+    for (int k = 0; k < lines.lineLength(); ++k) {
+      const int64_t* before = prefix + lines.prefix(line, k, 0);
+      int64_t* after = prefix + lines.prefix(line, k + 1, 0);
+      const int64_t element = lines.element(line, k, 0);
+      for (int i = 0; i < count; ++i) after[i] = before[i] + value(element + i);
+    }
+  }
+};
+
+/// Window sums along lines from the prefix sums, over each element's combined arm (left/right on rows, up/down on
+/// columns). First pass: writes the packed (sum, count); second pass: the aggregated cost sum / count (integer
+/// division) back into cost.
+struct WindowAlongLines {
+  AggregationLines lines;
+  const uint8_t *leftArms, *rightArms;
+  const int64_t* prefix;
+  int64_t* packedOut;  ///< first pass output (null in the second)
+  int32_t* costOut;    ///< second pass output (null in the first)
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    int x, y, i;
+    lines.g.element(index, x, y, i);
+    const int line = lines.horizontal ? y : x, k = lines.horizontal ? x : y;
+    const int before = combinedArm(leftArms, rightArms, lines.horizontal ? kArmLeft : kArmUp, lines.g, x, y, i);
+    const int after = combinedArm(leftArms, rightArms, lines.horizontal ? kArmRight : kArmDown, lines.g, x, y, i);
+    const int64_t window = prefix[lines.prefix(line, k + after + 1, i)] - prefix[lines.prefix(line, k - before, i)];
+    if (packedOut) {
+      packedOut[index] = window;
+    } else {
+      costOut[index] = static_cast<int32_t>(packedSum(window) / packedCount(window));
+    }
+  }
+};
+
+/// One direction (dx, dy) of the scanline optimisation along one path (a row for dx != 0, a column otherwise):
+/// L(p, d) = C(p, d) + min(L(p-r, d), L(p-r, d +- 1) + P1, min L(p-r) + P2) - min L(p-r), with the penalties
+/// chosen by the grey steps of both images along r (PathPenalties). Adds L into pathCost (or writes it, for the
+/// first direction). scratch: 2 * disparityCount int32 per path.
+struct ScanlinePath {
+  VolumeGeometry g;
+  ImageView<const uint8_t> leftGrey, rightGrey;
+  const int32_t* cost;
+  int32_t* pathCost;
+  int32_t* scratch;
+  PathPenalties penalties;
+  int dx, dy;
+  int edgeGrey;  ///< a grey step of this much or more is an edge
+  bool first;
+
+  TM_HOST_DEVICE static int absolute(int v) { return v < 0 ? -v : v; }
+
+  TM_HOST_DEVICE void operator()(int64_t path) const {
+    const int D = g.disparityCount;
+    int32_t* previous = scratch + path * 2 * D;
+    int32_t* current = previous + D;
+    const int length = dx != 0 ? g.width : g.height;
+    int32_t previousMin = 0;
+    for (int s = 0; s < length; ++s) {
+      const int step = (dx > 0 || dy > 0) ? s : length - 1 - s;
+      const int x = dx != 0 ? step : static_cast<int>(path), y = dx != 0 ? static_cast<int>(path) : step;
+      const int64_t base = (static_cast<int64_t>(y) * g.width + x) * D;
+      int32_t currentMin = 0x7fffffff;
+      if (s == 0) {
+        for (int i = 0; i < D; ++i) {
+          current[i] = cost[base + i];
+          currentMin = current[i] < currentMin ? current[i] : currentMin;
+        }
+      } else {
+        const int px = x - dx, py = y - dy;
+        const bool leftEdge = absolute(leftGrey.at(x, y) - leftGrey.at(px, py)) >= edgeGrey;
+        for (int i = 0; i < D; ++i) {
+          const int xr = x - (g.minDisparity + i), pxr = px - (g.minDisparity + i);
+          const bool inside = xr >= 0 && xr < g.width && pxr >= 0 && pxr < g.width;
+          const bool rightEdge = !inside || absolute(rightGrey.at(inside ? xr : 0, y) - rightGrey.at(inside ? pxr : 0, py)) >= edgeGrey;
+          const int edges = (leftEdge ? 1 : 0) + (rightEdge ? 1 : 0);
+          const int32_t small = penalties.small[edges], large = penalties.large[edges];
+          int32_t best = previous[i];
+          if (i > 0 && previous[i - 1] + small < best) best = previous[i - 1] + small;
+          if (i + 1 < D && previous[i + 1] + small < best) best = previous[i + 1] + small;
+          if (previousMin + large < best) best = previousMin + large;
+          current[i] = cost[base + i] + best - previousMin;
+          currentMin = current[i] < currentMin ? current[i] : currentMin;
+        }
+      }
+      for (int i = 0; i < D; ++i) pathCost[base + i] = first ? current[i] : pathCost[base + i] + current[i];
+      previousMin = currentMin;
+      int32_t* swap = previous;
+      previous = current;
+      current = swap;
+    }
+  }
+};
+
+/// Left winners (lowest disparity on ties) with the parabola's sub-pixel offset through the neighbouring costs,
+/// and right-view winners along the volume's diagonal (x = xr + d inside the image).
+struct AdCensusWinners {
+  VolumeGeometry g;
+  const int32_t* pathCost;
+  ImageView<int16_t> leftDisparity, rightDisparity;
+  ImageView<float> subpixelDisparity;
+
+  TM_HOST_DEVICE void operator()(int64_t pixel) const {
+    int x, y;
+    pixelCoordinates(pixel, g.width, x, y);
+    const int D = g.disparityCount;
+    const int32_t* costs = pathCost + pixel * D;
+    int best = 0;
+    for (int i = 1; i < D; ++i) best = costs[i] < costs[best] ? i : best;
+    const int d = g.minDisparity + best;
+    leftDisparity[pixel] = static_cast<int16_t>(d);
+    float value = static_cast<float>(d);
+    if (best > 0 && best + 1 < D) {
+      const int64_t below = costs[best - 1], centre = costs[best], above = costs[best + 1];
+      const int64_t curvature = below + above - 2 * centre;
+      if (curvature > 0) value -= static_cast<float>(above - below) / static_cast<float>(2 * curvature);
+    }
+    subpixelDisparity[pixel] = value;
+
+    int rightBest = -1;
+    int32_t rightCost = 0;
+    for (int i = 0; i < D; ++i) {
+      const int xl = x + g.minDisparity + i;
+      if (xl < 0 || xl >= g.width) continue;
+      const int32_t c = pathCost[(static_cast<int64_t>(y) * g.width + xl) * D + i];
+      if (rightBest < 0 || c < rightCost) {
+        rightBest = i;
+        rightCost = c;
+      }
+    }
+    rightDisparity[pixel] = rightBest < 0 ? kNoDisparity : static_cast<int16_t>(g.minDisparity + rightBest);
+  }
+};
+
+/// 3x3 median of a float map (borders replicated, as OpenCV's medianBlur).
+struct Median3x3 {
+  ImageView<const float> input;
+  ImageView<float> output;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    int x, y;
+    pixelCoordinates(index, input.width, x, y);
+    float v[9];
+    int n = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) v[n++] = input.at(clampIndex(x + dx, input.width), clampIndex(y + dy, input.height));
+    for (int a = 1; a < 9; ++a) {  // insertion sort: nine values
+      const float key = v[a];
+      int b = a - 1;
+      while (b >= 0 && v[b] > key) {
+        v[b + 1] = v[b];
+        --b;
+      }
+      v[b + 1] = key;
+    }
+    output[index] = v[4];
+  }
+};
+
+/// NaN where the discrete map has no disparity (after the left-right check).
+struct DropWhereNoDiscrete {
+  ImageView<const int16_t> discrete;
+  ImageView<float> disparity;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    if (discrete[index] == kNoDisparity) disparity[index] = NAN;
+  }
+};
+
+}  // namespace tissuemosaic::stereo
