@@ -266,7 +266,7 @@ struct ScanlinePath {
         for (int i = 0; i < D; ++i) {
           const int xr = x - (g.minDisparity + i), pxr = px - (g.minDisparity + i);
           const bool inside = xr >= 0 && xr < g.width && pxr >= 0 && pxr < g.width;
-          const bool rightEdge = !inside || absolute(rightGrey.at(inside ? xr : 0, y) - rightGrey.at(inside ? pxr : 0, py)) >= edgeGrey;
+          const bool rightEdge = !inside || absolute(rightGrey.at(xr, y) - rightGrey.at(pxr, py)) >= edgeGrey;
           const int edges = (leftEdge ? 1 : 0) + (rightEdge ? 1 : 0);
           const int32_t small = penalties.small[edges], large = penalties.large[edges];
           int32_t best = previous[i];

@@ -35,9 +35,8 @@ StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int di
   rightWinnerKeys.setZero();  // the GPU launcher leaves them zero after each frame
 }
 
-AdCensusWorkspace::AdCensusWorkspace(Device device, int width_, int height_, int disparityCount_)
-    : width(width_), height(height_), disparityCount(disparityCount_),
-      leftCensus(device, static_cast<std::size_t>(width) * height),
+AdCensusWorkspace::AdCensusWorkspace(Device device, int width, int height, int disparityCount)
+    : leftCensus(device, static_cast<std::size_t>(width) * height),
       rightCensus(device, static_cast<std::size_t>(width) * height),
       leftArms(device, 4 * static_cast<std::size_t>(width) * height),
       rightArms(device, 4 * static_cast<std::size_t>(width) * height),

@@ -19,7 +19,6 @@ namespace tissuemosaic::stereo {
 /// Volumes are pixel-major, width x height x disparityCount elements.
 struct AdCensusWorkspace {
   AdCensusWorkspace(Device device, int width, int height, int disparityCount);
-  int width, height, disparityCount;
   Buffer<uint64_t> leftCensus, rightCensus;
   Buffer<uint8_t> leftArms, rightArms;  ///< 4 planes each (ArmPlane)
   Buffer<int32_t> cost;                 ///< matching cost, then the aggregated cost

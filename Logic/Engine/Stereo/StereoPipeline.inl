@@ -85,6 +85,17 @@ struct PipelineSteps {
     std::swap(w.discrete, w.discreteScratch);
   }
 
+  /// w.discrete = the left winners, without those failing the left-right check where it is on (LeftRightCheck
+  /// writes every pixel, so the plain copy is only needed where it is off).
+  void winnersAfterLeftRightCheck() {
+    if (p.leftRightMaxDifferencePx >= 0) {
+      parallelFor<Backend>(pixels(), LeftRightCheck{w.znccDisparity.view(), w.rightZnccDisparity.view(),
+                                                    w.discrete.view(), p.leftRightMaxDifferencePx});
+    } else {
+      w.discrete.buffer().copyFrom(w.znccDisparity.buffer());
+    }
+  }
+
   bool specularMasking() const { return p.specularMinGrey <= 255.0f; }
 
   /// The highlight masks of both eyes (pixels with at least specularMinPixels grey levels >= specularMinGrey within
@@ -95,11 +106,7 @@ struct PipelineSteps {
   }
 
   void outliersAndHoles() {
-    w.discrete.buffer().copyFrom(w.znccDisparity.buffer());
-    if (p.leftRightMaxDifferencePx >= 0) {
-      parallelFor<Backend>(pixels(), LeftRightCheck{w.znccDisparity.view(), w.rightZnccDisparity.view(),
-                                                    w.discrete.view(), p.leftRightMaxDifferencePx});
-    }
+    winnersAfterLeftRightCheck();
     if (specularMasking()) {
       specularMasks();
       parallelFor<Backend>(pixels(), DropSpecularDiscrete{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
@@ -164,10 +171,9 @@ struct PipelineSteps {
   VolumeGeometry adCensusGeometry() const { return {w.width, w.height, p.minDisparityPx, p.disparityCount()}; }
 
   void adCensusCostAndAggregation() {
-    if (!w.adCensus || w.adCensus->width != w.width || w.adCensus->height != w.height ||
-        w.adCensus->disparityCount != p.disparityCount()) {
-      w.adCensus = std::make_unique<AdCensusWorkspace>(w.device, w.width, w.height, p.disparityCount());
-    }
+    // The matcher makes a new StereoWorkspace whenever the size or the disparity range changes, so one made here
+    // always fits.
+    if (!w.adCensus) w.adCensus = std::make_unique<AdCensusWorkspace>(w.device, w.width, w.height, w.disparityCount);
     AdCensusWorkspace& a = *w.adCensus;
     const VolumeGeometry g = adCensusGeometry();
     const int halfWidth = p.censusWidthPx / 2, halfHeight = p.censusHeightPx / 2;
@@ -201,12 +207,13 @@ struct PipelineSteps {
   void adCensusPathsAndWinners() {
     AdCensusWorkspace& a = *w.adCensus;
     const VolumeGeometry g = adCensusGeometry();
+    const PathPenalties penalties = makePathPenalties(p);
     const int directions[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
     for (int k = 0; k < 4; ++k) {
       const int dx = directions[k][0], dy = directions[k][1];
       parallelFor<Backend>(dx != 0 ? w.height : w.width,
                            ScanlinePath{g, w.leftGrey.view(), w.rightGrey.view(), a.cost.data(), a.pathCost.data(),
-                                        a.pathScratch.data(), makePathPenalties(p), dx, dy, p.pathEdgeGrey, k == 0},
+                                        a.pathScratch.data(), penalties, dx, dy, p.pathEdgeGrey, k == 0},
                            1);
     }
     parallelFor<Backend>(pixels(), AdCensusWinners{g, a.pathCost.data(), w.znccDisparity.view(),
@@ -215,10 +222,8 @@ struct PipelineSteps {
 
   void adCensusFinish() {
     parallelFor<Backend>(pixels(), Median3x3{w.correction.view(), w.smoothed.view()});
-    w.discrete.buffer().copyFrom(w.znccDisparity.buffer());
+    winnersAfterLeftRightCheck();
     if (p.leftRightMaxDifferencePx >= 0) {
-      parallelFor<Backend>(pixels(), LeftRightCheck{w.znccDisparity.view(), w.rightZnccDisparity.view(),
-                                                    w.discrete.view(), p.leftRightMaxDifferencePx});
       parallelFor<Backend>(pixels(), DropWhereNoDiscrete{w.discrete.view(), w.smoothed.view()});
     }
     if (specularMasking()) {
