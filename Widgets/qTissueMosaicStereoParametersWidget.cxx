@@ -28,9 +28,12 @@ static void initPresetResources() { Q_INIT_RESOURCE(Presets); }
 
 namespace {
 
+using tissuemosaic::StereoMethod;
 using tissuemosaic::StereoParameters;
 
-enum Group { Zncc, Outliers, Refinement };
+/// Matching: what both methods use; Zncc, Outliers and Refinement: the paper's method (section II); AdCensus: the
+/// optional second method. The groups of the method not chosen are disabled.
+enum Group { Matching, Zncc, Outliers, Refinement, AdCensus, GroupCount };
 
 /// One spin box per field. Ranges are those StereoParameters::validate accepts, so the spin boxes never clamp
 /// silently; combinations (min <= max, odd window) are checked by validate and refused with its message.
@@ -56,12 +59,20 @@ struct RealField {
 };
 
 const IntField intFields[] = {
-    {"minDisparityPx", "Min disparity", Zncc, &StereoParameters::minDisparityPx, -1000, 1000, 1, " px",
+    {"minDisparityPx", "Min disparity", Matching, &StereoParameters::minDisparityPx, -1000, 1000, 1, " px",
      "Smallest candidate disparity (a left pixel x matches right pixel x - d). Paper IV: candidates from -20 to "
      "80 px. Must not exceed the max disparity; at most 1024 candidates."},
-    {"maxDisparityPx", "Max disparity", Zncc, &StereoParameters::maxDisparityPx, -1000, 1000, 1, " px",
-     "Largest candidate disparity, inclusive. Paper IV: 80 px (range -20..80). The ZNCC cost grows with the "
+    {"maxDisparityPx", "Max disparity", Matching, &StereoParameters::maxDisparityPx, -1000, 1000, 1, " px",
+     "Largest candidate disparity, inclusive. Paper IV: 80 px (range -20..80). The matching cost grows with the "
      "number of candidates."},
+    {"leftRightMaxDifferencePx", "Left-right check", Matching, &StereoParameters::leftRightMaxDifferencePx, -1,
+     1000, 1, " px",
+     "Winners whose right-view winner disagrees by more than this are dropped (occlusions, fattened depth edges). "
+     "-1 switches the check off. An addition to the paper."},
+    {"specularMarginPx", "Specular margin", Matching, &StereoParameters::specularMarginPx, 0, 20, 1, " px",
+     "No estimate within this distance of a specular highlight in either eye. An addition to the paper."},
+    {"specularMinPixels", "Specular min. pixels", Matching, &StereoParameters::specularMinPixels, 1, 1681, 1, "",
+     "Pixels at or above the specular grey level that a neighbourhood must hold to count as a highlight."},
     {"znccWindowPx", "ZNCC window", Zncc, &StereoParameters::znccWindowPx, 3, 21, 2, " px",
      "Side of the square ZNCC matching window, odd. Paper II.A: 11x11, using every other pixel (a chessboard)."},
     {"outlierIterations", "Iterations", Outliers, &StereoParameters::outlierIterations, 0, 10, 1, "",
@@ -87,9 +98,29 @@ const IntField intFields[] = {
      "Neighbourhood radius of the Laplacian smoothing of the discrete disparities o_j (design default 15 px)."},
     {"refineSearchPx", "Re-selection range", Refinement, &StereoParameters::refineSearchPx, 0, 50, 1, " px",
      "o_i is re-selected within [d_i - s, d_i + s] minimising 1/ZNCC + eta (o - d_i)^2. Paper II.C: 5 px."},
+    {"censusWidthPx", "Census width", AdCensus, &StereoParameters::censusWidthPx, 1, 15, 2, " px",
+     "Census window width, odd; width x height - 1 may not exceed 64 bits. Mei et al.: 9."},
+    {"censusHeightPx", "Census height", AdCensus, &StereoParameters::censusHeightPx, 1, 15, 2, " px",
+     "Census window height, odd. Mei et al.: 7."},
+    {"armMaxPx", "Arm length L1", AdCensus, &StereoParameters::armMaxPx, 0, 127, 1, " px",
+     "Longest reach of a pixel's cross arms, the support region of the cost aggregation. Mei et al.: 34."},
+    {"armLongPx", "Long arm from L2", AdCensus, &StereoParameters::armLongPx, 0, 127, 1, " px",
+     "Beyond this reach an arm must also stay within the stricter grey limit tau2. Mei et al.: 17; at most L1."},
+    {"armLimitGrey", "Arm grey limit tau1", AdCensus, &StereoParameters::armLimitGrey, 1, 256, 1, "",
+     "An arm stops at a grey step of this much from its anchor or from its predecessor. Mei et al.: 20."},
+    {"armLongLimitGrey", "Long arm limit tau2", AdCensus, &StereoParameters::armLongLimitGrey, 1, 256, 1, "",
+     "Beyond L2 an arm stops at this grey difference from its anchor. Mei et al.: 6."},
+    {"aggregationIterations", "Aggregation rounds", AdCensus, &StereoParameters::aggregationIterations, 0, 8, 1, "",
+     "Rounds of cross-based aggregation, alternating horizontal-first and vertical-first. 2 scored as well as "
+     "Mei et al.'s 4."},
+    {"pathEdgeGrey", "Path edge tau_SO", AdCensus, &StereoParameters::pathEdgeGrey, 1, 256, 1, "",
+     "A grey step of this much along a scanline path is an edge: the path penalties shrink there. Mei et al.: 15."},
 };
 
 const RealField realFields[] = {
+    {"specularMinGrey", "Specular grey level", Matching, &StereoParameters::specularMinGrey, 1.0, 256.0, 1.0, 1, "",
+     "Grey level from which a pixel may belong to a specular highlight, which sits on a different surface point "
+     "in each eye and matches consistently but falsely. 256 switches the mask off. An addition to the paper."},
     {"minWindowStdDev", "Min window std. dev.", Zncc, &StereoParameters::minWindowStdDev, 0.0, 100.0, 0.5, 2, "",
      "Grey-level standard deviation below which a window counts as textureless and gets no ZNCC estimate "
      "(an engine safeguard; not in the paper)."},
@@ -97,6 +128,10 @@ const RealField realFields[] = {
      0.5, 2, " px",
      "Largest disparity difference between neighbouring points along a smooth radial direction. "
      "Paper II.B: 2.5."},
+    {"holeMaxEdgeDifferencePx", "Filling edge limit", Outliers, &StereoParameters::holeMaxEdgeDifferencePx, -1.0,
+     1000.0, 0.5, 2, " px",
+     "Radial filling ignores a line whose two ends differ by more than this plus 0.25 px per pixel of its length "
+     "(it crosses a depth edge). -1 switches it off. An addition to the paper."},
     {"holeDiscMinValidFraction", "Disc filling valid share", Outliers, &StereoParameters::holeDiscMinValidFraction,
      0.0, 1.0, 0.05, 2, "",
      "Hole filling, second method: share of the neighbourhood that must have a valid disparity before "
@@ -107,9 +142,30 @@ const RealField realFields[] = {
     {"refineEta", "Eta", Refinement, &StereoParameters::refineEta, 0.0, 100.0, 0.005, 4, "",
      "Weight of the smoothness cost (o - d_i)^2 against the ZNCC cost 1/ZNCC when re-selecting o_i. "
      "Paper II.C: 0.01 with an 11x11 window."},
+    {"refineMaxDeviationPx", "Max. smoothing deviation", Refinement, &StereoParameters::refineMaxDeviationPx, -1.0,
+     1000.0, 0.5, 2, " px",
+     "Where the smoothed d_i and the re-selected o_i differ by more, the output is o_i (a depth edge, where a "
+     "neighbourhood average is meaningless). -1 switches it off. An addition to the paper."},
+    {"censusLambda", "Census lambda", AdCensus, &StereoParameters::censusLambda, 0.01, 1000.0, 1.0, 2, "",
+     "Census cost 1 - exp(-Hamming distance / lambda). Mei et al.: 30."},
+    {"absoluteDifferenceLambda", "Grey difference lambda", AdCensus, &StereoParameters::absoluteDifferenceLambda,
+     0.01, 1000.0, 1.0, 2, "", "Grey cost 1 - exp(-|I_L - I_R| / lambda). Mei et al.: 10 (on colour)."},
+    {"pathPenaltySmall", "Path penalty P1", AdCensus, &StereoParameters::pathPenaltySmall, 0.0, 100.0, 0.25, 2, "",
+     "Scanline optimisation: penalty of a 1 px disparity change, in cost units (census + grey cost <= 2). "
+     "Divided by 4 across an edge in one image, by 10 across both. Mei et al.: 1."},
+    {"pathPenaltyLarge", "Path penalty P2", AdCensus, &StereoParameters::pathPenaltyLarge, 0.0, 100.0, 0.25, 2, "",
+     "Penalty of a larger disparity change; at least P1. Mei et al.: 3."},
 };
 
+struct MethodChoice {
+  StereoMethod method;
+  const char* label;
+};
+const MethodChoice methodChoices[] = {{StereoMethod::Paper, "Paper: ZNCC, outliers, Laplacian (section II)"},
+                                      {StereoMethod::AdCensus, "AD-Census (Mei et al. 2011)"}};
+
 bool sameParameters(const StereoParameters& a, const StereoParameters& b) {
+  if (a.method != b.method) return false;
   for (const IntField& field : intFields) {
     if (a.*field.member != b.*field.member) return false;
   }
@@ -132,6 +188,8 @@ public:
   void loadPresets();
   void showError(const QString& message);
   void selectMatchingPreset();
+  /// Enables the groups of the method in use and disables the other method's.
+  void enableMethodGroups(StereoMethod method);
   /// The parameters the panel shows: the logic's when set, else the panel's own.
   const StereoParameters& current() const { return logic ? logic->GetStereoParameters() : ownParameters; }
   bool store(const StereoParameters& parameters);
@@ -142,6 +200,8 @@ public:
   std::vector<QSpinBox*> intSpinBoxes;        ///< parallel to intFields
   std::vector<QDoubleSpinBox*> realSpinBoxes; ///< parallel to realFields
   std::map<QString, StereoParameters> presets;
+  QComboBox* methodComboBox = nullptr;  ///< items parallel to methodChoices
+  QGroupBox* groupBoxes[GroupCount] = {};
   QComboBox* presetComboBox = nullptr;
   QLabel* errorLabel = nullptr;
 };
@@ -168,14 +228,26 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
   presetRow->addWidget(saveButton);
   layout->addLayout(presetRow);
 
-  const char* const groupTitles[] = {"ZNCC matching (paper II.A)", "Outlier removal and hole filling (II.B)",
-                                     "Improved Laplacian refinement (II.C)"};
-  QFormLayout* forms[3];
-  for (int group = 0; group < 3; ++group) {
-    auto* box = new QGroupBox(QObject::tr(groupTitles[group]), q);
-    forms[group] = new QFormLayout(box);
-    layout->addWidget(box);
+  const char* const groupTitles[GroupCount] = {"Matching", "ZNCC matching (paper II.A)",
+                                               "Outlier removal and hole filling (II.B)",
+                                               "Improved Laplacian refinement (II.C)",
+                                               "AD-Census (optional second method)"};
+  QFormLayout* forms[GroupCount];
+  for (int group = 0; group < GroupCount; ++group) {
+    groupBoxes[group] = new QGroupBox(QObject::tr(groupTitles[group]), q);
+    forms[group] = new QFormLayout(groupBoxes[group]);
+    layout->addWidget(groupBoxes[group]);
   }
+  methodComboBox = new QComboBox(q);
+  methodComboBox->setObjectName("methodComboBox");
+  for (const MethodChoice& choice : methodChoices) methodComboBox->addItem(QObject::tr(choice.label));
+  methodComboBox->setToolTip(
+      QObject::tr("The paper's method suits smooth, steep tissue; AD-Census suits scenes with sharp depth edges "
+                  "(it meets the Middlebury bar the paper's local method does not) and is far slower on the CPU. "
+                  "docs/STEREO.md compares them."));
+  forms[Matching]->addRow(QObject::tr("Method"), methodComboBox);
+  QObject::connect(methodComboBox, QOverload<int>::of(&QComboBox::currentIndexChanged), q,
+                   &qTissueMosaicStereoParametersWidget::updateParametersFromGUI);
   for (const IntField& field : intFields) {
     auto* spinBox = new QSpinBox(q);
     spinBox->setObjectName(QString(field.key) + "SpinBox");
@@ -247,6 +319,12 @@ void qTissueMosaicStereoParametersWidgetPrivate::loadPresets() {
   for (const auto& preset : presets) {
     if (preset.first != "paper defaults") presetComboBox->addItem(preset.first);
   }
+}
+
+void qTissueMosaicStereoParametersWidgetPrivate::enableMethodGroups(StereoMethod method) {
+  const bool paper = method == StereoMethod::Paper;
+  for (Group group : {Zncc, Outliers, Refinement}) groupBoxes[group]->setEnabled(paper);
+  groupBoxes[AdCensus]->setEnabled(!paper);
 }
 
 void qTissueMosaicStereoParametersWidgetPrivate::showError(const QString& message) {
@@ -336,6 +414,12 @@ void qTissueMosaicStereoParametersWidget::setPresetControlsVisible(bool visible)
 void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {
   Q_D(qTissueMosaicStereoParametersWidget);
   const StereoParameters& parameters = d->current();
+  for (int i = 0; i < d->methodComboBox->count(); ++i) {
+    if (methodChoices[i].method != parameters.method) continue;
+    const QSignalBlocker blocker(d->methodComboBox);
+    d->methodComboBox->setCurrentIndex(i);
+  }
+  d->enableMethodGroups(parameters.method);
   for (std::size_t i = 0; i < d->intSpinBoxes.size(); ++i) {
     const QSignalBlocker blocker(d->intSpinBoxes[i]);
     d->intSpinBoxes[i]->setValue(parameters.*intFields[i].member);
@@ -351,6 +435,7 @@ void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {
 bool qTissueMosaicStereoParametersWidget::updateParametersFromGUI() {
   Q_D(qTissueMosaicStereoParametersWidget);
   StereoParameters parameters = d->current();
+  parameters.method = methodChoices[d->methodComboBox->currentIndex()].method;
   for (std::size_t i = 0; i < d->intSpinBoxes.size(); ++i) {
     parameters.*intFields[i].member = d->intSpinBoxes[i]->value();
   }
@@ -358,6 +443,7 @@ bool qTissueMosaicStereoParametersWidget::updateParametersFromGUI() {
     parameters.*realFields[i].member = static_cast<float>(d->realSpinBoxes[i]->value());
   }
   if (!d->store(parameters)) return false;
+  d->enableMethodGroups(parameters.method);
   d->selectMatchingPreset();
   emit parametersChanged();
   return true;

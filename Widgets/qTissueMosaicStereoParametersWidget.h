@@ -1,6 +1,7 @@
 #pragma once
 /// @class qTissueMosaicStereoParametersWidget
-/// @brief Panel that edits every field of tissuemosaic::StereoParameters (paper section II), with presets.
+/// @brief Panel that edits every field of tissuemosaic::StereoParameters, with presets: the method (the paper's
+/// section II or AD-Census), the fields both use, and each method's own group (the other method's is disabled).
 ///
 /// The panel shows one parameters object: its own, or, after setStereoLogic(), the logic's. Every edit is
 /// validated at once (StereoParameters::validate); an invalid combination (e.g. min disparity > max, an even

@@ -17,6 +17,7 @@ const char* const usage = R"(usage: tissuemosaic COMMAND [options]
 commands:
   stereo       --left L.png --right R.png --out d.pfm [--min-disparity A] [--max-disparity B]
                [--calib rig.yml] [--cloud cloud.ply] [--device cpu|cuda|auto] [--params p.yml]
+               [--method paper|ad-census]
                left-view disparity of one stereo pair (PFM, NaN = no estimate), optionally a coloured cloud
   synth pair   --out DIR [--seed S] [--width W] [--height H]
                a synthetic stereo pair with calibration and ground truth
@@ -36,7 +37,7 @@ commands:
   eval         --model model.ply --reference surface.ply [--trajectory t.txt --reference-trajectory gt.txt]
                [--align icp] [--coverage-radius-mm R] [--time-tolerance S] [--json]
                a reconstruction against a known surface: distances (RMSE, mean, p95), coverage, ATE and RPE
-  bench stereo [--width 960] [--height 540] [--device cpu|cuda] [--repeats N]
+  bench stereo [--width 960] [--height 540] [--device cpu|cuda] [--repeats N] [--method paper|ad-census]
                median milliseconds per stereo stage as JSON
   bench track  [--width 960] [--height 540] [--frames 20] [--device cpu|cuda] [--features opencv|tissuemosaic]
                median milliseconds per frame of ORB + voting and DynamicR1PPnP as JSON

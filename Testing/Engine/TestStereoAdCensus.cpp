@@ -5,9 +5,11 @@
 #include "StereoTestUtilities.h"
 #include "Stereo/AdCensusKernels.h"
 #include "Stereo/StereoMatcher.h"
+#include "Stereo/StereoPipeline.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -103,7 +105,8 @@ TEST(StereoAdCensus, AggregationRoundEqualsBruteForceCrossSums) {
             }
           }
     }
-    // The kernels, with both forms of the prefix pass (the CPU's per line, the GPU's per line and disparity).
+    // The kernels in both forms: the CPU's (prefix sums and windows by blocks of lines) and the GPU's (prefix sums
+    // per line and disparity, windows per element).
     for (bool perLine : {true, false}) {
       std::vector<int32_t> aggregated = cost;
       std::vector<int64_t> packed(g.elementCount()), prefix(static_cast<std::size_t>(width + 1) * (height + 1) * count);
@@ -112,17 +115,24 @@ TEST(StereoAdCensus, AggregationRoundEqualsBruteForceCrossSums) {
         const PrefixAlongLines prefixPass{lines, pass == 0 ? aggregated.data() : nullptr,
                                           pass == 0 ? nullptr : packed.data(), prefix.data()};
         if (perLine) {
-          for (int line = 0; line < lines.lineCount(); ++line) prefixPass.line(line);
+          for (int line = 0; line < lines.lineCount(); line += 3) {
+            prefixPass.lineBlock(line, std::min(line + 3, lines.lineCount()));  // blocks of 3, the last shorter
+          }
         } else {
           for (int64_t k = 0; k < static_cast<int64_t>(lines.lineCount()) * count; ++k) prefixPass(k);
         }
-        parallelFor<CpuBackend>(g.elementCount(),
-                                WindowAlongLines{lines, leftArms.data(), rightArms.data(), prefix.data(),
-                                                 pass == 0 ? packed.data() : nullptr,
-                                                 pass == 0 ? nullptr : aggregated.data()});
+        const WindowAlongLines window{lines, leftArms.data(), rightArms.data(), prefix.data(),
+                                      pass == 0 ? packed.data() : nullptr, pass == 0 ? nullptr : aggregated.data()};
+        if (perLine) {
+          for (int line = 0; line < lines.lineCount(); line += 3) {
+            window.lineBlock(line, std::min(line + 3, lines.lineCount()));
+          }
+        } else {
+          for (int64_t e = 0; e < g.elementCount(); ++e) VolumeElements<WindowAlongLines>{g, window}(e);
+        }
       }
       EXPECT_EQ(aggregated, expected) << (horizontalFirst ? "horizontal first" : "vertical first")
-                                      << (perLine ? ", CPU prefix form" : ", GPU prefix form");
+                                      << (perLine ? ", CPU forms" : ", GPU forms");
     }
   }
 }
@@ -136,13 +146,10 @@ TEST(StereoAdCensus, ScanlinePathsEqualTheRecurrenceWrittenOut) {
   for (auto& c : cost) c = std::uniform_int_distribution<int>(0, 2048)(random);
   const PathPenalties penalties{{1024, 256, 102}, {3072, 768, 307}};
   const int edgeGrey = 15;
-  std::vector<int32_t> pathCost(g.elementCount()), scratch(2 * std::max(width, height) * count);
+  std::vector<int32_t> pathCost(g.elementCount(), -1);  // the first direction must overwrite, not add
+  computeScanlinePathsCpu(ScanlineInputs{g, view(left, width, height), view(right, width, height), cost.data(),
+                                         pathCost.data(), penalties, edgeGrey});
   const int directions[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-  for (int k = 0; k < 4; ++k) {
-    const ScanlinePath path{g, view(left, width, height), view(right, width, height), cost.data(), pathCost.data(),
-                            scratch.data(), penalties, directions[k][0], directions[k][1], edgeGrey, k == 0};
-    for (int p = 0; p < (directions[k][0] != 0 ? height : width); ++p) path(p);
-  }
   // The recurrence written out per element, each direction kept as its own volume.
   const auto at = [&](int x, int y, int i) { return (static_cast<int64_t>(y) * width + x) * count + i; };
   std::vector<int64_t> expected(g.elementCount(), 0);

@@ -4,13 +4,18 @@
 // least 99.5% of pixels (the bar); in practice they are bit-identical too.
 #include "StereoTestUtilities.h"
 #include "Core/Error.h"
+#include "Core/Buffer.h"
 #include "Stereo/StereoMatcher.h"
+#include "Stereo/StereoPipeline.h"
 #include "SyntheticStereoScene.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <tuple>
+#include <random>
+#include <vector>
 
 using namespace tissuemosaic;
 
@@ -160,6 +165,41 @@ TEST(StereoCuda, AdCensusMatchesCpuBitForBit) {
   parameters.maxDisparityPx = 17;
   parameters.aggregationIterations = 3;  // a vertical-first round too
   check(left, test::shiftedView(left, 6.3, 0.01, -0.02), "random texture 211x97, -3..17");
+}
+
+TEST(StereoCuda, ScanlinePathsMatchCpuBitForBit) {
+  // The GPU's warp-per-path launcher against the CPU's thread-per-path one on random costs and grey steps, for
+  // disparity counts that fill one lane slot, leave lanes idle, and need 2, 4 and 16 slots per lane.
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  const stereo::PathPenalties penalties{{1024, 256, 102}, {3072, 768, 307}};
+  for (const auto& [width, height, count] : {std::tuple{37, 23, 32}, std::tuple{53, 19, 7}, std::tuple{41, 29, 101},
+                                             std::tuple{23, 31, 300}}) {
+    const stereo::VolumeGeometry g{width, height, -count / 4, count};
+    std::mt19937 random(static_cast<unsigned>(count));
+    std::vector<uint8_t> left(g.pixelCount()), right(g.pixelCount());
+    for (auto* image : {&left, &right})
+      for (auto& grey : *image) grey = static_cast<uint8_t>(std::uniform_int_distribution<int>(0, 40)(random));
+    std::vector<int32_t> cost(g.elementCount());
+    for (auto& c : cost) c = std::uniform_int_distribution<int>(0, 2048)(random);
+    std::vector<int32_t> cpuPaths(g.elementCount());
+    stereo::computeScanlinePathsCpu(stereo::ScanlineInputs{g, {left.data(), width, height}, {right.data(), width, height},
+                                                           cost.data(), cpuPaths.data(), penalties, 15});
+    Buffer<uint8_t> leftDevice(Device::Cuda, left.size()), rightDevice(Device::Cuda, right.size());
+    Buffer<int32_t> costDevice(Device::Cuda, cost.size()), pathsDevice(Device::Cuda, cost.size());
+    leftDevice.upload(left.data());
+    rightDevice.upload(right.data());
+    costDevice.upload(cost.data());
+    stereo::computeScanlinePathsCuda(stereo::ScanlineInputs{g, {leftDevice.data(), width, height},
+                                                            {rightDevice.data(), width, height}, costDevice.data(),
+                                                            pathsDevice.data(), penalties, 15});
+    std::vector<int32_t> gpuPaths(g.elementCount());
+    pathsDevice.download(gpuPaths.data());
+    long different = 0;
+    for (std::size_t e = 0; e < gpuPaths.size(); ++e) different += gpuPaths[e] != cpuPaths[e];
+    std::printf("scanline paths %dx%d x %d disparities: %ld of %zu elements differ\n", width, height, count, different,
+                gpuPaths.size());
+    EXPECT_EQ(different, 0) << width << "x" << height << " x " << count;
+  }
 }
 
 TEST(StereoDeviceChoice, GpuRequestRefusedWithoutGpu) {

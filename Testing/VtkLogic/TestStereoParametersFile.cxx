@@ -88,6 +88,21 @@ TEST(StereoParametersFile, PaperDefaultsPresetIsTheStructDefault) {
       << errorText;
   EXPECT_LT(parameters.znccWindowPx, StereoParameters{}.znccWindowPx);
   EXPECT_LT(parameters.refineIterations, StereoParameters{}.refineIterations);
+
+  // The AD-Census preset: that method with Mei et al.'s values, which are the struct's defaults.
+  parameters = unusualParameters();
+  ASSERT_TRUE(
+      vtkTissueMosaicStereoLogic::ReadStereoParametersFile(TM_PRESETS_DIR "/ad-census.yml", parameters, errorText))
+      << errorText;
+  EXPECT_EQ(parameters.method, tissuemosaic::StereoMethod::AdCensus);
+  const StereoParameters defaults;
+  EXPECT_EQ(parameters.minDisparityPx, defaults.minDisparityPx);
+  EXPECT_EQ(parameters.maxDisparityPx, defaults.maxDisparityPx);
+  EXPECT_EQ(parameters.censusWidthPx, defaults.censusWidthPx);
+  EXPECT_EQ(parameters.censusHeightPx, defaults.censusHeightPx);
+  EXPECT_EQ(parameters.armMaxPx, defaults.armMaxPx);
+  EXPECT_EQ(parameters.aggregationIterations, defaults.aggregationIterations);
+  EXPECT_FLOAT_EQ(parameters.pathPenaltyLarge, defaults.pathPenaltyLarge);
 }
 
 TEST(StereoParametersFile, ParsesTextInMemoryAndKeepsDefaultsForMissingKeys) {

@@ -41,6 +41,24 @@ StereoParameters unusualParameters() {
   p.refineAlpha = 0.3f;
   p.refineEta = 0.025f;
   p.refineSearchPx = 4;
+  p.leftRightMaxDifferencePx = 3;
+  p.refineMaxDeviationPx = 1.5f;
+  p.holeMaxEdgeDifferencePx = -1.0f;
+  p.specularMinGrey = 250.0f;
+  p.specularMarginPx = 9;
+  p.specularMinPixels = 30;
+  p.censusWidthPx = 7;
+  p.censusHeightPx = 5;
+  p.censusLambda = 25.0f;
+  p.absoluteDifferenceLambda = 12.5f;
+  p.armMaxPx = 30;
+  p.armLongPx = 15;
+  p.armLimitGrey = 18;
+  p.armLongLimitGrey = 5;
+  p.aggregationIterations = 3;
+  p.pathPenaltySmall = 1.25f;
+  p.pathPenaltyLarge = 3.5f;
+  p.pathEdgeGrey = 12;
   return p;
 }
 
@@ -57,13 +75,31 @@ struct Fields {
       {"holeDiscRadiusPx", &StereoParameters::holeDiscRadiusPx},
       {"refineIterations", &StereoParameters::refineIterations},
       {"refineRadiusPx", &StereoParameters::refineRadiusPx},
-      {"refineSearchPx", &StereoParameters::refineSearchPx}};
+      {"refineSearchPx", &StereoParameters::refineSearchPx},
+      {"leftRightMaxDifferencePx", &StereoParameters::leftRightMaxDifferencePx},
+      {"specularMarginPx", &StereoParameters::specularMarginPx},
+      {"specularMinPixels", &StereoParameters::specularMinPixels},
+      {"censusWidthPx", &StereoParameters::censusWidthPx},
+      {"censusHeightPx", &StereoParameters::censusHeightPx},
+      {"armMaxPx", &StereoParameters::armMaxPx},
+      {"armLongPx", &StereoParameters::armLongPx},
+      {"armLimitGrey", &StereoParameters::armLimitGrey},
+      {"armLongLimitGrey", &StereoParameters::armLongLimitGrey},
+      {"aggregationIterations", &StereoParameters::aggregationIterations},
+      {"pathEdgeGrey", &StereoParameters::pathEdgeGrey}};
   std::vector<std::pair<const char*, float StereoParameters::*>> reals = {
       {"minWindowStdDev", &StereoParameters::minWindowStdDev},
       {"outlierSmoothnessPx", &StereoParameters::outlierSmoothnessPx},
       {"holeDiscMinValidFraction", &StereoParameters::holeDiscMinValidFraction},
       {"refineAlpha", &StereoParameters::refineAlpha},
-      {"refineEta", &StereoParameters::refineEta}};
+      {"refineEta", &StereoParameters::refineEta},
+      {"refineMaxDeviationPx", &StereoParameters::refineMaxDeviationPx},
+      {"holeMaxEdgeDifferencePx", &StereoParameters::holeMaxEdgeDifferencePx},
+      {"specularMinGrey", &StereoParameters::specularMinGrey},
+      {"censusLambda", &StereoParameters::censusLambda},
+      {"absoluteDifferenceLambda", &StereoParameters::absoluteDifferenceLambda},
+      {"pathPenaltySmall", &StereoParameters::pathPenaltySmall},
+      {"pathPenaltyLarge", &StereoParameters::pathPenaltyLarge}};
 };
 
 QSpinBox* intBox(QWidget& widget, const char* key) {
@@ -74,6 +110,7 @@ QDoubleSpinBox* realBox(QWidget& widget, const char* key) {
 }
 
 void expectSameParameters(const StereoParameters& a, const StereoParameters& b) {
+  EXPECT_EQ(a.method, b.method);
   const Fields fields;
   for (const auto& field : fields.ints) EXPECT_EQ(a.*field.second, b.*field.second) << field.first;
   for (const auto& field : fields.reals) EXPECT_FLOAT_EQ(a.*field.second, b.*field.second) << field.first;
@@ -84,8 +121,12 @@ void expectSameParameters(const StereoParameters& a, const StereoParameters& b) 
 TEST(StereoParametersWidget, ObjectToPanelShowsEveryField) {
   qTissueMosaicStereoParametersWidget widget;
   const Fields fields;
-  // The 17 fields of StereoParameters, each with its own spin box and a tooltip.
-  ASSERT_EQ(fields.ints.size() + fields.reals.size(), 17u);
+  // The 35 numeric fields of StereoParameters, each with its own spin box and a tooltip (the method has its combo
+  // box). Counted from the struct's size, so that a field added to StereoParameters and not here fails this test.
+  ASSERT_EQ(fields.ints.size() + fields.reals.size(), 35u);
+  static_assert(sizeof(StereoParameters) == sizeof(tissuemosaic::StereoMethod) + 35 * sizeof(int) &&
+                    sizeof(int) == sizeof(float),
+                "a StereoParameters field is missing from this test (and perhaps from the panel)");
   ASSERT_TRUE(widget.setParameters(unusualParameters())) << widget.errorText().toStdString();
   const StereoParameters expected = unusualParameters();
   for (const auto& field : fields.ints) {
@@ -111,7 +152,7 @@ TEST(StereoParametersWidget, PanelToObjectRoundTrip) {
   for (const auto& field : fields.ints) intBox(widget, field.first)->setValue(target.*field.second);
   for (const auto& field : fields.reals) realBox(widget, field.first)->setValue(target.*field.second);
   expectSameParameters(widget.parameters(), target);
-  EXPECT_EQ(changed.count(), 17);
+  EXPECT_EQ(changed.count(), 35);
   EXPECT_TRUE(widget.errorText().isEmpty());
 
   // And back: what the panel holds shows again after a GUI refresh.
@@ -179,6 +220,49 @@ TEST(StereoParametersWidget, PresetsApplyTheirFiles) {
   ASSERT_TRUE(widget.applyPreset("paper defaults"));
   expectSameParameters(widget.parameters(), StereoParameters{});
   EXPECT_FALSE(widget.applyPreset("no such preset"));
+}
+
+TEST(StereoParametersWidget, MethodChoiceSwitchesTheGroupsAndIsPartOfPresets) {
+  qTissueMosaicStereoParametersWidget widget;
+  auto* method = widget.findChild<QComboBox*>("methodComboBox");
+  auto* presetBox = widget.findChild<QComboBox*>("presetComboBox");
+  ASSERT_NE(method, nullptr);
+  ASSERT_NE(presetBox, nullptr);
+  ASSERT_EQ(method->count(), 2);
+  QSpinBox* zncc = intBox(widget, "znccWindowPx");
+  QSpinBox* census = intBox(widget, "censusWidthPx");
+  QSpinBox* range = intBox(widget, "minDisparityPx");
+  EXPECT_EQ(method->currentIndex(), 0);
+  EXPECT_TRUE(zncc->isEnabled());
+  EXPECT_FALSE(census->isEnabled());
+  EXPECT_EQ(presetBox->currentText(), "paper defaults");
+
+  QSignalSpy changed(&widget, &qTissueMosaicStereoParametersWidget::parametersChanged);
+  method->setCurrentIndex(1);
+  EXPECT_EQ(widget.parameters().method, tissuemosaic::StereoMethod::AdCensus);
+  EXPECT_EQ(changed.count(), 1);
+  EXPECT_FALSE(zncc->isEnabled()) << "the paper's groups do nothing under AD-Census";
+  EXPECT_TRUE(census->isEnabled());
+  EXPECT_TRUE(range->isEnabled()) << "both methods use the disparity range";
+  // AD-Census with every other value at its default is the "ad census" preset, not "paper defaults".
+  EXPECT_EQ(presetBox->currentText(), "ad census");
+
+  ASSERT_TRUE(widget.applyPreset("paper defaults"));
+  EXPECT_EQ(method->currentIndex(), 0);
+  EXPECT_TRUE(zncc->isEnabled());
+  EXPECT_FALSE(census->isEnabled());
+
+  // The method travels through parameter files like every other field.
+  StereoParameters adCensus = unusualParameters();
+  adCensus.method = tissuemosaic::StereoMethod::AdCensus;
+  std::filesystem::create_directories(TM_TEST_OUTPUT_DIR);
+  const std::string path = TM_TEST_OUTPUT_DIR "/widget-ad-census.yml";
+  std::string errorText;
+  ASSERT_TRUE(vtkTissueMosaicStereoLogic::WriteStereoParametersFile(path, adCensus, errorText)) << errorText;
+  ASSERT_TRUE(widget.loadParametersFile(QString::fromStdString(path))) << widget.errorText().toStdString();
+  EXPECT_EQ(method->currentIndex(), 1);
+  expectSameParameters(widget.parameters(), adCensus);
+  EXPECT_EQ(presetBox->currentText(), "(custom)");
 }
 
 TEST(StereoParametersWidget, EditsTheLogicsParametersAndFiles) {

@@ -106,6 +106,33 @@ struct VolumeGeometry {
   TM_HOST_DEVICE int64_t elementCount() const { return pixelCount() * disparityCount; }
 };
 
+/// Runs an element functor (element(x, y, i, index)) over a whole volume, one element per call: the GPU's form, in
+/// which neighbouring threads take neighbouring disparities.
+template <class ElementFunctor>
+struct VolumeElements {
+  VolumeGeometry g;
+  ElementFunctor f;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    int x, y, i;
+    g.element(index, x, y, i);
+    f.element(x, y, i, index);
+  }
+};
+
+/// The same calls one image row per call: the CPU's form, which counts x and i instead of dividing them out of
+/// every index (two 64-bit divisions per element bounded the CPU's cost and aggregation).
+template <class ElementFunctor>
+struct VolumeRows {
+  VolumeGeometry g;
+  ElementFunctor f;
+  void operator()(int64_t row) const {
+    const int y = static_cast<int>(row);
+    int64_t index = row * g.width * g.disparityCount;
+    for (int x = 0; x < g.width; ++x)
+      for (int i = 0; i < g.disparityCount; ++i, ++index) f.element(x, y, i, index);
+  }
+};
+
 /// Matching cost per element: census Hamming distance and grey difference through the robust tables, the right
 /// pixel clamped into the image.
 struct AdCensusCost {
@@ -114,9 +141,7 @@ struct AdCensusCost {
   const uint64_t *leftCensus, *rightCensus;
   AdCensusCostTables tables;
   int32_t* cost;
-  TM_HOST_DEVICE void operator()(int64_t index) const {
-    int x, y, i;
-    g.element(index, x, y, i);
+  TM_HOST_DEVICE void element(int x, int y, int i, int64_t index) const {
     const int xr = clampIndex(x - (g.minDisparity + i), g.width);
     const int64_t left = static_cast<int64_t>(y) * g.width + x, right = static_cast<int64_t>(y) * g.width + xr;
     const int difference = leftGrey[left] - rightGrey[right];
@@ -138,8 +163,10 @@ TM_HOST_DEVICE TM_FORCE_INLINE int combinedArm(const uint8_t* leftArms, const ui
 }
 
 /// A window sum and its pixel count packed in one int64 (sum << 16 | count): prefix sums and their differences carry
-/// both at once, exactly (a window holds at most 69 x 69 < 2^16 pixels; sums stay far below 2^47).
+/// both at once, exactly (a window holds at most 255 x 255 < 2^16 pixels, arms being at most 127 px; its sum of
+/// costs of at most 2 kAdCensusCostUnit each stays below 2^28, so a window's sum fits an int32 as well).
 constexpr int kPackedCountBits = 16;
+static_assert(int64_t(2) * kAdCensusCostUnit * 255 * 255 < (int64_t(1) << 28), "window sums must fit 28 bits");
 TM_HOST_DEVICE TM_FORCE_INLINE int64_t packSumCount(int64_t sum, int64_t count) {
   return sum * (int64_t(1) << kPackedCountBits) + count;
 }
@@ -160,16 +187,21 @@ struct AggregationLines {
     const int64_t pixel = horizontal ? static_cast<int64_t>(line) * g.width + k : static_cast<int64_t>(k) * g.width + line;
     return pixel * g.disparityCount + i;
   }
-  /// Prefix entry k in [0, lineLength] of line `line`, disparity index i.
+  /// Prefix entry k in [0, lineLength] of line `line`, disparity index i. Laid out as the volume with one more
+  /// column (rows) or one more row (columns): an image row of elements finds both its prefix entries along an
+  /// image row of the prefix, in order, in either direction (the CPU's window pass reads them as streams).
   TM_HOST_DEVICE int64_t prefix(int line, int k, int i) const {
-    return (static_cast<int64_t>(line) * (lineLength() + 1) + k) * g.disparityCount + i;
+    const int64_t entry =
+        horizontal ? static_cast<int64_t>(line) * (g.width + 1) + k : static_cast<int64_t>(k) * g.width + line;
+    return entry * g.disparityCount + i;
   }
 };
 
 /// Prefix sums along lines of packed (sum, count) values: the raw costs (count 1 each) in the first pass of an
 /// aggregation iteration, the first pass's packed window sums in the second. operator() runs one disparity of one
-/// line (the GPU's thread: neighbouring threads read neighbouring disparities); line() runs all disparities of a
-/// line, position by position (the CPU's task: it reads the volume in order). Same additions either way.
+/// line (the GPU's thread: neighbouring threads read neighbouring disparities); lineBlock() runs all disparities of
+/// neighbouring lines, position by position (the CPU's task: a block of columns is contiguous in memory at each
+/// position). Same additions either way.
 struct PrefixAlongLines {
   AggregationLines lines;
   const int32_t* cost;     ///< first pass: raw costs (packed is null)
@@ -189,15 +221,19 @@ struct PrefixAlongLines {
       prefix[lines.prefix(line, k + 1, i)] = running;
     }
   }
-  void line(int line) const {
+  void lineBlock(int firstLine, int endLine) const {
     const int count = lines.g.disparityCount;
-    int64_t* first = prefix + lines.prefix(line, 0, 0);
-    for (int i = 0; i < count; ++i) first[i] = 0;
+    for (int line = firstLine; line < endLine; ++line) {
+      int64_t* first = prefix + lines.prefix(line, 0, 0);
+      for (int i = 0; i < count; ++i) first[i] = 0;
+    }
     for (int k = 0; k < lines.lineLength(); ++k) {
-      const int64_t* before = prefix + lines.prefix(line, k, 0);
-      int64_t* after = prefix + lines.prefix(line, k + 1, 0);
-      const int64_t element = lines.element(line, k, 0);
-      for (int i = 0; i < count; ++i) after[i] = before[i] + value(element + i);
+      for (int line = firstLine; line < endLine; ++line) {
+        const int64_t* before = prefix + lines.prefix(line, k, 0);
+        int64_t* after = prefix + lines.prefix(line, k + 1, 0);
+        const int64_t element = lines.element(line, k, 0);
+        for (int i = 0; i < count; ++i) after[i] = before[i] + value(element + i);
+      }
     }
   }
 };
@@ -212,9 +248,7 @@ struct WindowAlongLines {
   int64_t* packedOut;  ///< first pass output (null in the second)
   int32_t* costOut;    ///< second pass output (null in the first)
 
-  TM_HOST_DEVICE void operator()(int64_t index) const {
-    int x, y, i;
-    lines.g.element(index, x, y, i);
+  TM_HOST_DEVICE void element(int x, int y, int i, int64_t index) const {
     const int line = lines.horizontal ? y : x, k = lines.horizontal ? x : y;
     const int before = combinedArm(leftArms, rightArms, lines.horizontal ? kArmLeft : kArmUp, lines.g, x, y, i);
     const int after = combinedArm(leftArms, rightArms, lines.horizontal ? kArmRight : kArmDown, lines.g, x, y, i);
@@ -222,69 +256,83 @@ struct WindowAlongLines {
     if (packedOut) {
       packedOut[index] = window;
     } else {
-      costOut[index] = static_cast<int32_t>(packedSum(window) / packedCount(window));
+      // In 32 bits (see packSumCount): a 64-bit division is several times slower on both backends.
+      costOut[index] = static_cast<int32_t>(packedSum(window)) / static_cast<int32_t>(packedCount(window));
+    }
+  }
+  /// The elements of lines [firstLine, endLine), position by position (the CPU's form; see PrefixAlongLines).
+  void lineBlock(int firstLine, int endLine) const {
+    for (int k = 0; k < lines.lineLength(); ++k) {
+      for (int line = firstLine; line < endLine; ++line) {
+        const int x = lines.horizontal ? k : line, y = lines.horizontal ? line : k;
+        const int64_t first = lines.element(line, k, 0);
+        for (int i = 0; i < lines.g.disparityCount; ++i) element(x, y, i, first + i);
+      }
     }
   }
 };
 
-/// One direction (dx, dy) of the scanline optimisation along one path (a row for dx != 0, a column otherwise):
-/// L(p, d) = C(p, d) + min(L(p-r, d), L(p-r, d +- 1) + P1, min L(p-r) + P2) - min L(p-r), with the penalties
-/// chosen by the grey steps of both images along r (PathPenalties). Adds L into pathCost (or writes it, for the
-/// first direction). scratch: 2 * disparityCount int32 per path.
-struct ScanlinePath {
+/// The scanline optimisation over all four directions: along each direction r,
+/// L(p, d) = C(p, d) + min(L(p-r, d), L(p-r, d +- 1) + P1, min L(p-r) + P2) - min L(p-r), with the penalties chosen
+/// by the grey steps of both images along r (PathPenalties); pathCost receives the sum of the four L. Each backend
+/// has its own launcher (computeScanlinePathsCpu: a thread per path; computeScanlinePathsCuda: a warp per path, the
+/// disparities across its lanes), both built from the element rules below.
+struct ScanlineInputs {
   VolumeGeometry g;
   ImageView<const uint8_t> leftGrey, rightGrey;
   const int32_t* cost;
   int32_t* pathCost;
-  int32_t* scratch;
   PathPenalties penalties;
-  int dx, dy;
   int edgeGrey;  ///< a grey step of this much or more is an edge
-  bool first;
+};
 
-  TM_HOST_DEVICE static int absolute(int v) { return v < 0 ? -v : v; }
+constexpr int kScanlineDirectionCount = 4;
 
-  TM_HOST_DEVICE void operator()(int64_t path) const {
-    const int D = g.disparityCount;
-    int32_t* previous = scratch + path * 2 * D;
-    int32_t* current = previous + D;
-    const int length = dx != 0 ? g.width : g.height;
-    int32_t previousMin = 0;
-    for (int s = 0; s < length; ++s) {
-      const int step = (dx > 0 || dy > 0) ? s : length - 1 - s;
-      const int x = dx != 0 ? step : static_cast<int>(path), y = dx != 0 ? static_cast<int>(path) : step;
-      const int64_t base = (static_cast<int64_t>(y) * g.width + x) * D;
-      int32_t currentMin = 0x7fffffff;
-      if (s == 0) {
-        for (int i = 0; i < D; ++i) {
-          current[i] = cost[base + i];
-          currentMin = current[i] < currentMin ? current[i] : currentMin;
-        }
-      } else {
-        const int px = x - dx, py = y - dy;
-        const bool leftEdge = absolute(leftGrey.at(x, y) - leftGrey.at(px, py)) >= edgeGrey;
-        for (int i = 0; i < D; ++i) {
-          const int xr = x - (g.minDisparity + i), pxr = px - (g.minDisparity + i);
-          const bool inside = xr >= 0 && xr < g.width && pxr >= 0 && pxr < g.width;
-          const bool rightEdge = !inside || absolute(rightGrey.at(xr, y) - rightGrey.at(pxr, py)) >= edgeGrey;
-          const int edges = (leftEdge ? 1 : 0) + (rightEdge ? 1 : 0);
-          const int32_t small = penalties.small[edges], large = penalties.large[edges];
-          int32_t best = previous[i];
-          if (i > 0 && previous[i - 1] + small < best) best = previous[i - 1] + small;
-          if (i + 1 < D && previous[i + 1] + small < best) best = previous[i + 1] + small;
-          if (previousMin + large < best) best = previousMin + large;
-          current[i] = cost[base + i] + best - previousMin;
-          currentMin = current[i] < currentMin ? current[i] : currentMin;
-        }
-      }
-      for (int i = 0; i < D; ++i) pathCost[base + i] = first ? current[i] : pathCost[base + i] + current[i];
-      previousMin = currentMin;
-      int32_t* swap = previous;
-      previous = current;
-      current = swap;
-    }
+/// Scanline direction k (0: left to right, 1: right to left, 2: top to bottom, 3: bottom to top). Its paths are
+/// image rows for horizontal directions and columns otherwise; step s + 1 of a path lies at step s + (dx, dy).
+struct ScanlineDirection {
+  int dx, dy;
+  TM_HOST_DEVICE static ScanlineDirection number(int k) {
+    return {k == 0 ? 1 : (k == 1 ? -1 : 0), k == 2 ? 1 : (k == 3 ? -1 : 0)};
+  }
+  TM_HOST_DEVICE int pathCount(const VolumeGeometry& g) const { return dx != 0 ? g.height : g.width; }
+  TM_HOST_DEVICE int length(const VolumeGeometry& g) const { return dx != 0 ? g.width : g.height; }
+  /// The pixel of a path's first step.
+  TM_HOST_DEVICE void start(const VolumeGeometry& g, int path, int& x, int& y) const {
+    x = dx > 0 ? 0 : (dx < 0 ? g.width - 1 : path);
+    y = dy > 0 ? 0 : (dy < 0 ? g.height - 1 : path);
   }
 };
+
+/// Whether the grey step between two pixels of one image is an edge.
+TM_HOST_DEVICE inline bool greyEdge(ImageView<const uint8_t> grey, int x, int y, int px, int py, int edgeGrey) {
+  const int step = grey.at(x, y) - grey.at(px, py);
+  return (step < 0 ? -step : step) >= edgeGrey;
+}
+
+/// How many of the two images have an edge along the step from (px, py) to (x, y) at disparity index i (the index
+/// into PathPenalties): the left image's step is given; the right image's is taken at x - d, and counts as an edge
+/// where either end leaves the image.
+TM_HOST_DEVICE inline int pathEdges(const ScanlineInputs& in, bool leftEdge, int x, int y, int px, int py, int i) {
+  const int d = in.g.minDisparity + i, xr = x - d, pxr = px - d;
+  const bool inside = xr >= 0 && xr < in.g.width && pxr >= 0 && pxr < in.g.width;
+  const bool rightEdge = !inside || greyEdge(in.rightGrey, xr, y, pxr, py, in.edgeGrey);
+  return (leftEdge ? 1 : 0) + (rightEdge ? 1 : 0);
+}
+
+/// Stands for L(p-r, d +- 1) beyond the disparity range: above any path cost plus P1 (costs are at most
+/// 2 * kAdCensusCostUnit and the penalties at most 100 * kAdCensusCostUnit), and far from overflow.
+constexpr int32_t kPathUnreachable = 1 << 29;
+
+/// One element of the recurrence: L(p, d) from C(p, d), the previous step's L at d - 1, d, d + 1 and its minimum.
+TM_HOST_DEVICE inline int32_t pathCostStep(int32_t cost, int32_t lower, int32_t same, int32_t upper,
+                                           int32_t previousMin, int32_t small, int32_t large) {
+  int32_t best = same;
+  if (lower + small < best) best = lower + small;
+  if (upper + small < best) best = upper + small;
+  if (previousMin + large < best) best = previousMin + large;
+  return cost + best - previousMin;
+}
 
 /// Left winners (lowest disparity on ties) with the parabola's sub-pixel offset through the neighbouring costs,
 /// and right-view winners along the volume's diagonal (x = xr + d inside the image).

@@ -660,7 +660,7 @@ void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs) {
 }
 
 void runStereoPipelineCpu(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings) {
-  runStereoPipeline<CpuBackend>(workspace, parameters, timings, computeZnccVolumeCpu);
+  runStereoPipeline<CpuBackend>(workspace, parameters, timings, {computeZnccVolumeCpu, computeScanlinePathsCpu});
 }
 
 }  // namespace tissuemosaic::stereo

@@ -190,7 +190,7 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs) {
 }
 
 void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings) {
-  runStereoPipeline<CudaBackend>(workspace, parameters, timings, computeZnccVolumeCuda);
+  runStereoPipeline<CudaBackend>(workspace, parameters, timings, {computeZnccVolumeCuda, computeScanlinePathsCuda});
 }
 
 }  // namespace tissuemosaic::stereo

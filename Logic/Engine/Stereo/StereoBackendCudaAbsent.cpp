@@ -6,6 +6,8 @@ namespace tissuemosaic::stereo {
 
 void computeZnccVolumeCuda(const ZnccVolumeInputs&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
 
+void computeScanlinePathsCuda(const ScanlineInputs&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
+
 void runStereoPipelineCuda(StereoWorkspace&, const StereoParameters&, StereoTimingsMs&) {
   throw Error("this build of TissueMosaic has no CUDA backend");
 }

@@ -12,27 +12,36 @@ namespace tissuemosaic {
 
 namespace stereo {
 
-StereoWorkspace::StereoWorkspace(Device device_, int width_, int height_, int disparityCount_)
-    : device(device_), width(width_), height(height_), disparityCount(disparityCount_),
-      leftGreyStaging(device, device == Device::Cuda ? static_cast<std::size_t>(width) * height : 0),
-      rightGreyStaging(device, device == Device::Cuda ? static_cast<std::size_t>(width) * height : 0),
+namespace {
+
+/// Pixels of the buffers that only the paper's method uses (0 under AD-Census), and of those only one backend uses.
+std::size_t pixelsIf(bool used, int width, int height) { return used ? static_cast<std::size_t>(width) * height : 0; }
+
+}  // namespace
+
+StereoWorkspace::StereoWorkspace(Device device_, StereoMethod method_, int width_, int height_, int disparityCount_)
+    : device(device_), method(method_), width(width_), height(height_), disparityCount(disparityCount_),
+      leftGreyStaging(device, pixelsIf(device == Device::Cuda, width, height)),
+      rightGreyStaging(device, pixelsIf(device == Device::Cuda, width, height)),
       leftGrey(device, width, height), rightGrey(device, width, height),
       left(device, width, height), right(device, width, height),
-      columnEven(device, width, height), columnOdd(device, width, height),
-      columnEvenSq(device, width, height), columnOddSq(device, width, height),
-      sumLeft(device, width, height), inverseNormLeft(device, width, height),
-      sumRight(device, width, height), inverseNormRight(device, width, height),
-      volume(device, static_cast<std::size_t>(disparityCount) * width * height, HostPages::Huge),
+      columnEven(device, paperWidth(), height), columnOdd(device, paperWidth(), height),
+      columnEvenSq(device, paperWidth(), height), columnOddSq(device, paperWidth(), height),
+      sumLeft(device, paperWidth(), height), inverseNormLeft(device, paperWidth(), height),
+      sumRight(device, paperWidth(), height), inverseNormRight(device, paperWidth(), height),
+      volume(device, static_cast<std::size_t>(disparityCount) * pixelsIf(paper(), width, height), HostPages::Huge),
       znccDisparity(device, width, height), rightZnccDisparity(device, width, height),
-      rightWinnerKeys(device, device == Device::Cuda ? static_cast<std::size_t>(width) * height : 0), discrete(device, width, height), discreteScratch(device, width, height),
+      rightWinnerKeys(device, pixelsIf(paper() && device == Device::Cuda, width, height)),
+      discrete(device, width, height), discreteScratch(device, paperWidth(), height),
       filledDisparity(device, width, height),
-      smoothed(device, width, height), smoothedPrevious(device, width, height), correction(device, width, height),
+      smoothed(device, width, height), smoothedPrevious(device, paperWidth(), height), correction(device, width, height),
       leftSpecularMask(device, width, height), rightSpecularMask(device, width, height),
-      radialHitDistance(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
-      radialHitValue(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
-      rayPasses(device, device == Device::Cpu ? 8 * static_cast<std::size_t>(width) * height : 0),
+      radialHitDistance(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
+      radialHitValue(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
+      rayPasses(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       rowSum(device, static_cast<std::size_t>(width) * height), rowCount(device, static_cast<std::size_t>(width) * height) {
   rightWinnerKeys.setZero();  // the GPU launcher leaves them zero after each frame
+  if (!paper()) adCensus = std::make_unique<AdCensusWorkspace>(device, width, height, disparityCount);
 }
 
 AdCensusWorkspace::AdCensusWorkspace(Device device, int width, int height, int disparityCount)
@@ -43,8 +52,7 @@ AdCensusWorkspace::AdCensusWorkspace(Device device, int width, int height, int d
       cost(device, static_cast<std::size_t>(width) * height * disparityCount),
       packedWindows(device, static_cast<std::size_t>(width) * height * disparityCount),
       prefix(device, static_cast<std::size_t>(width + 1) * (height + 1) * disparityCount),
-      pathCost(device, static_cast<std::size_t>(width) * height * disparityCount),
-      pathScratch(device, 2 * static_cast<std::size_t>(std::max(width, height)) * disparityCount) {}
+      pathCost(device, static_cast<std::size_t>(width) * height * disparityCount) {}
 
 }  // namespace stereo
 
@@ -92,10 +100,10 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
   require(leftRectified.cols >= minimumSide && leftRectified.rows >= minimumSide,
           "the images are smaller than the ZNCC window (" + std::to_string(minimumSide) + " px)");
   auto& workspace = impl_->workspace;
-  if (!workspace || workspace->width != leftRectified.cols || workspace->height != leftRectified.rows ||
-      workspace->disparityCount != p.disparityCount()) {
-    workspace = std::make_unique<stereo::StereoWorkspace>(impl_->device, leftRectified.cols, leftRectified.rows,
-                                                          p.disparityCount());
+  if (!workspace || workspace->width != leftRectified.cols || workspace->height != leftRectified.rows) {
+    // The parameters (method, range) are the matcher's for its lifetime; only the image size can change.
+    workspace = std::make_unique<stereo::StereoWorkspace>(impl_->device, p.method, leftRectified.cols,
+                                                          leftRectified.rows, p.disparityCount());
   }
   // 8-bit grey: a quarter of the float image's bytes to upload; the pipeline widens it on the device. On CUDA each
   // image is converted into page-locked memory and its upload queued at once, so the left image travels while the

@@ -7,6 +7,7 @@
 #include "Core/Buffer.h"
 #include "Core/Image.h"
 #include "Core/PinnedHostBuffer.h"
+#include "AdCensusKernels.h"
 #include "StereoKernels.h"
 #include "StereoMatcher.h"
 #include "StereoParameters.h"
@@ -15,7 +16,7 @@
 
 namespace tissuemosaic::stereo {
 
-/// The working set of the AD-Census method (StereoParameters::method; AdCensusKernels.h), made on its first frame.
+/// The working set of the AD-Census method (StereoParameters::method; AdCensusKernels.h).
 /// Volumes are pixel-major, width x height x disparityCount elements.
 struct AdCensusWorkspace {
   AdCensusWorkspace(Device device, int width, int height, int disparityCount);
@@ -25,16 +26,22 @@ struct AdCensusWorkspace {
   Buffer<int64_t> packedWindows;        ///< first pass of an aggregation round: packed (sum, count)
   Buffer<int64_t> prefix;               ///< prefix sums along rows or columns (one more entry per line)
   Buffer<int32_t> pathCost;             ///< the four scanline directions summed
-  Buffer<int32_t> pathScratch;          ///< two cost rows per path
 };
 
+/// The working set of one matcher: sized for its images, disparity range and method. The buffers that only the
+/// paper's method uses are empty under AD-Census (the ZNCC volume alone is about 100 MB at 960x540), and the
+/// AD-Census working set exists only under AD-Census.
 struct StereoWorkspace {
-  StereoWorkspace(Device device, int width, int height, int disparityCount);
+  StereoWorkspace(Device device, StereoMethod method, int width, int height, int disparityCount);
   VolumeLayout volumeLayout() const {
     return device == Device::Cpu ? VolumeLayout::rowMajor(width, disparityCount) : VolumeLayout::sliceMajor(width, height);
   }
 
+  bool paper() const { return method == StereoMethod::Paper; }
+  int paperWidth() const { return paper() ? width : 0; }  ///< width of the images only the paper's method uses
+
   Device device;
+  StereoMethod method;
   int width, height, disparityCount;
   /// CUDA: the host side of leftGrey and rightGrey, page-locked, where the grey conversion writes and the upload
   /// reads while the host converts the other image (empty on the CPU, where the conversion writes leftGrey itself).
@@ -55,7 +62,7 @@ struct StereoWorkspace {
   Buffer<uint8_t> rayPasses;  ///< CPU outlier test: 1 where a pixel's ray of direction k passes [8][pixels]
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)
   Buffer<int> rowCount;
-  std::unique_ptr<AdCensusWorkspace> adCensus;  ///< made by the first AD-Census frame
+  std::unique_ptr<AdCensusWorkspace> adCensus;  ///< AD-Census only
 };
 
 /// Runs the whole of section II on workspace.left/right; the result is workspace.smoothed (NaN = none).
@@ -78,6 +85,9 @@ struct ReselectDiscreteRows {
 /// right-view winners are found in the same pass (rightBestDisparity).
 void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs);
 void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);
+/// Backend-specific launchers of AD-Census's scanline optimisation (ScanlineInputs): the same pathCost, bit for bit.
+void computeScanlinePathsCpu(const ScanlineInputs& inputs);
+void computeScanlinePathsCuda(const ScanlineInputs& inputs);
 /// The CPU launcher of the window statistics (banded and vectorised; the same sums as WindowColumnSums +
 /// WindowStatistics, which the GPU runs).
 void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,

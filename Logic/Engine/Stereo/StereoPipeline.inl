@@ -1,5 +1,6 @@
 // The section II pipeline, written once and instantiated per backend (included by StereoBackendCpu.cpp and
 // StereoBackendCuda.cu only).
+#include "Core/Error.h"
 #include "Core/ParallelFor.h"
 #include "Core/StageClock.h"
 #include "AdCensusKernels.h"
@@ -8,12 +9,19 @@
 #include "BoxFilterCuda.cuh"
 #endif
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <type_traits>
 #include <vector>
 
 namespace tissuemosaic::stereo {
+
+/// The steps whose loop structure differs by backend (StereoPipeline.h's compute*Cpu and compute*Cuda).
+struct BackendLaunchers {
+  void (*znccVolume)(const ZnccVolumeInputs&);
+  void (*scanlinePaths)(const ScanlineInputs&);
+};
 
 namespace {
 
@@ -40,10 +48,15 @@ PathPenalties makePathPenalties(const StereoParameters& p) {
   return penalties;
 }
 
+/// Columns per CPU task of AD-Census's vertical aggregation passes (their prefix sums, 16 x 541 x 101 x 8 bytes at
+/// 960x540, stay in cache for the windows that read them).
+constexpr int kCpuAggregationColumnBlock = 16;
+
 template <class Backend>
 struct PipelineSteps {
   StereoWorkspace& w;
   const StereoParameters& p;
+  const BackendLaunchers& launch;
   int64_t pixels() const { return static_cast<int64_t>(w.width) * w.height; }
 
   void windowStatistics(Image<float>& image, Image<float>& sum, Image<float>& inverseNorm) {
@@ -168,12 +181,19 @@ struct PipelineSteps {
 
   // AD-Census (AdCensusKernels.h): cost and aggregation; scanline optimisation and winners; median, left-right
   // check and highlights.
+  /// An AD-Census element functor over the whole volume: by rows on the CPU, by elements on the GPU.
+  template <class ElementFunctor>
+  void forEachVolumeElement(const VolumeGeometry& g, const ElementFunctor& f) {
+    if constexpr (std::is_same_v<Backend, CpuBackend>) {
+      parallelFor<Backend>(g.height, VolumeRows<ElementFunctor>{g, f}, 1);
+    } else {
+      parallelFor<Backend>(g.elementCount(), VolumeElements<ElementFunctor>{g, f});
+    }
+  }
+
   VolumeGeometry adCensusGeometry() const { return {w.width, w.height, p.minDisparityPx, p.disparityCount()}; }
 
   void adCensusCostAndAggregation() {
-    // The matcher makes a new StereoWorkspace whenever the size or the disparity range changes, so one made here
-    // always fits.
-    if (!w.adCensus) w.adCensus = std::make_unique<AdCensusWorkspace>(w.device, w.width, w.height, w.disparityCount);
     AdCensusWorkspace& a = *w.adCensus;
     const VolumeGeometry g = adCensusGeometry();
     const int halfWidth = p.censusWidthPx / 2, halfHeight = p.censusHeightPx / 2;
@@ -183,23 +203,31 @@ struct PipelineSteps {
                                              p.armLimitGrey, p.armLongLimitGrey});
     parallelFor<Backend>(pixels(), CrossArms{w.rightGrey.view(), a.rightArms.data(), p.armMaxPx, p.armLongPx,
                                              p.armLimitGrey, p.armLongLimitGrey});
-    parallelFor<Backend>(g.elementCount(), AdCensusCost{g, w.leftGrey.view(), w.rightGrey.view(), a.leftCensus.data(),
-                                                        a.rightCensus.data(), makeAdCensusCostTables(p), a.cost.data()});
+    forEachVolumeElement(g, AdCensusCost{g, w.leftGrey.view(), w.rightGrey.view(), a.leftCensus.data(),
+                                         a.rightCensus.data(), makeAdCensusCostTables(p), a.cost.data()});
     for (int iteration = 0; iteration < p.aggregationIterations; ++iteration) {
       const bool horizontalFirst = iteration % 2 == 0;  // Mei et al. alternate the order
       for (int pass = 0; pass < 2; ++pass) {
         const AggregationLines lines{g, (pass == 0) == horizontalFirst};
         const PrefixAlongLines prefix{lines, pass == 0 ? a.cost.data() : nullptr,
                                       pass == 0 ? nullptr : a.packedWindows.data(), a.prefix.data()};
+        const WindowAlongLines window{lines, a.leftArms.data(), a.rightArms.data(), a.prefix.data(),
+                                      pass == 0 ? a.packedWindows.data() : nullptr,
+                                      pass == 0 ? nullptr : a.cost.data()};
         if constexpr (std::is_same_v<Backend, CpuBackend>) {
-          parallelFor<Backend>(lines.lineCount(), [prefix](int64_t line) { prefix.line(static_cast<int>(line)); }, 1);
+          // A task's prefix sums, then its windows while those sums are still in cache (the windows read them at
+          // rows and columns that vary with each pixel's arms: from memory they waited on every load). Rows one per
+          // task; columns in blocks, which lie side by side in memory at each row.
+          const int block = lines.horizontal ? 1 : kCpuAggregationColumnBlock;
+          parallelFor<Backend>((lines.lineCount() + block - 1) / block, [prefix, window, block, lines](int64_t task) {
+            const int first = static_cast<int>(task) * block, end = std::min(first + block, lines.lineCount());
+            prefix.lineBlock(first, end);
+            window.lineBlock(first, end);
+          }, 1);
         } else {
           parallelFor<Backend>(static_cast<int64_t>(lines.lineCount()) * g.disparityCount, prefix);
+          forEachVolumeElement(g, window);
         }
-        parallelFor<Backend>(g.elementCount(),
-                             WindowAlongLines{lines, a.leftArms.data(), a.rightArms.data(), a.prefix.data(),
-                                              pass == 0 ? a.packedWindows.data() : nullptr,
-                                              pass == 0 ? nullptr : a.cost.data()});
       }
     }
   }
@@ -207,15 +235,8 @@ struct PipelineSteps {
   void adCensusPathsAndWinners() {
     AdCensusWorkspace& a = *w.adCensus;
     const VolumeGeometry g = adCensusGeometry();
-    const PathPenalties penalties = makePathPenalties(p);
-    const int directions[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-    for (int k = 0; k < 4; ++k) {
-      const int dx = directions[k][0], dy = directions[k][1];
-      parallelFor<Backend>(dx != 0 ? w.height : w.width,
-                           ScanlinePath{g, w.leftGrey.view(), w.rightGrey.view(), a.cost.data(), a.pathCost.data(),
-                                        a.pathScratch.data(), penalties, dx, dy, p.pathEdgeGrey, k == 0},
-                           1);
-    }
+    launch.scanlinePaths(ScanlineInputs{g, w.leftGrey.view(), w.rightGrey.view(), a.cost.data(), a.pathCost.data(),
+                                        makePathPenalties(p), p.pathEdgeGrey});
     parallelFor<Backend>(pixels(), AdCensusWinners{g, a.pathCost.data(), w.znccDisparity.view(),
                                                    w.rightZnccDisparity.view(), w.correction.view()});
   }
@@ -238,8 +259,10 @@ struct PipelineSteps {
 
 template <class Backend>
 void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimingsMs& timings,
-                       void (*znccVolume)(const ZnccVolumeInputs&)) {
-  PipelineSteps<Backend> steps{w, p};
+                       const BackendLaunchers& launch) {
+  require(w.method == p.method && w.disparityCount == p.disparityCount(),
+          "internal: the stereo workspace was made for other parameters");
+  PipelineSteps<Backend> steps{w, p, launch};
   StageClock clock(w.device);
 
   parallelFor<Backend>(steps.pixels(), GreyToFloat{w.leftGrey.view(), w.rightGrey.view(), w.left.view(), w.right.view()});
@@ -257,10 +280,10 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
     steps.windowStatistics(w.left, w.sumLeft, w.inverseNormLeft);
     steps.windowStatistics(w.right, w.sumRight, w.inverseNormRight);
     const ImageView<const float> left = w.left.view(), right = w.right.view();
-    znccVolume(ZnccVolumeInputs{left, right, w.sumLeft.view(), w.inverseNormLeft.view(), w.sumRight.view(),
-                                w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx, p.disparityCount(),
-                                w.volume.data(), w.volumeLayout(), w.znccDisparity.view(), w.rightZnccDisparity.view(),
-                                w.rightWinnerKeys.data()});
+    launch.znccVolume(ZnccVolumeInputs{left, right, w.sumLeft.view(), w.inverseNormLeft.view(), w.sumRight.view(),
+                                       w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx,
+                                       p.disparityCount(), w.volume.data(), w.volumeLayout(), w.znccDisparity.view(),
+                                       w.rightZnccDisparity.view(), w.rightWinnerKeys.data()});
     clock.mark();
 
     steps.outliersAndHoles();
