@@ -255,6 +255,35 @@ TEST(StereoAdCensus, RecoversAKnownShift) {
   EXPECT_GE(double(within) / estimated, 0.98);
 }
 
+TEST(StereoAdCensus, WorkspaceHoldsOnlyItsMethodsBuffers) {
+  // The paper's ZNCC volume (about 100 MB at 960x540) and its other buffers are not made for AD-Census, and the
+  // AD-Census volumes are not made for the paper's method.
+  const int width = 64, height = 48, count = 21;
+  const std::size_t elements = static_cast<std::size_t>(width) * height * count;
+  const StereoWorkspace adCensus(Device::Cpu, StereoMethod::AdCensus, width, height, count);
+  EXPECT_EQ(adCensus.volume.size(), 0u);
+  EXPECT_EQ(adCensus.columnEven.width(), 0);
+  EXPECT_EQ(adCensus.rayPasses.size(), 0u);
+  ASSERT_NE(adCensus.adCensus, nullptr);
+  EXPECT_EQ(adCensus.adCensus->cost.size(), elements);
+  EXPECT_EQ(adCensus.adCensus->pathCost.size(), elements);
+  EXPECT_EQ(adCensus.smoothed.width(), width) << "the output map serves both methods";
+
+  const StereoWorkspace paper(Device::Cpu, StereoMethod::Paper, width, height, count);
+  EXPECT_EQ(paper.volume.size(), elements);
+  EXPECT_EQ(paper.columnEven.width(), width);
+  EXPECT_EQ(paper.adCensus, nullptr);
+
+  // A pipeline run with parameters of another method than its workspace's is refused, not misread.
+  StereoParameters parameters;
+  parameters.minDisparityPx = 0;
+  parameters.maxDisparityPx = count - 1;
+  StereoWorkspace workspace(Device::Cpu, StereoMethod::Paper, width, height, count);
+  parameters.method = StereoMethod::AdCensus;
+  StereoTimingsMs timings;
+  EXPECT_THROW(runStereoPipelineCpu(workspace, parameters, timings), Error);
+}
+
 TEST(StereoAdCensus, MethodNamesAndParameterChecks) {
   EXPECT_EQ(parseStereoMethod("ad-census"), StereoMethod::AdCensus);
   EXPECT_EQ(parseStereoMethod("paper"), StereoMethod::Paper);
