@@ -99,8 +99,13 @@ int runStereo(const Words& words) {
   std::printf("disparity %dx%d on %s: %d of %d pixels estimated (%.1f%%), written to %s\n", disparity.cols,
               disparity.rows, deviceDescription(device).c_str(), estimated, disparity.rows * disparity.cols,
               100.0 * estimated / (disparity.rows * disparity.cols), outPath.c_str());
-  std::printf("time: zncc %.2f ms, outliers+holes %.2f ms, refinement %.2f ms, total %.2f ms\n", timings.zncc,
-              timings.outliersHoles, timings.refinement, timings.total());
+  if (parameters.method == StereoMethod::AdCensus) {
+    std::printf("time: cost+aggregation %.2f ms, paths+winners %.2f ms, median+checks %.2f ms, total %.2f ms\n",
+                timings.zncc, timings.outliersHoles, timings.refinement, timings.total());
+  } else {
+    std::printf("time: zncc %.2f ms, outliers+holes %.2f ms, refinement %.2f ms, total %.2f ms\n", timings.zncc,
+                timings.outliersHoles, timings.refinement, timings.total());
+  }
 
   if (arguments.has("cloud")) {
     const ColoredPointCloud cloud = disparityToPointCloud(disparity, left, rectifier->geometry());

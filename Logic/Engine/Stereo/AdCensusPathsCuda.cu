@@ -50,8 +50,8 @@ __global__ void __launch_bounds__(kWarpsPerBlock * kWarpLanes) scanlinePathsKern
   direction.start(g, path, x, y);
   // The next step's costs are loaded one step ahead, so that their latency overlaps the current step's update.
   int32_t upcoming[kSlots];
-  const auto loadCosts = [&](int px, int py) {
-    const int32_t* cost = in.cost + (static_cast<int64_t>(py) * g.width + px) * D;
+  const auto loadCosts = [&](int atX, int atY) {
+    const int32_t* cost = in.cost + (static_cast<int64_t>(atY) * g.width + atX) * D;
 #pragma unroll
     for (int j = 0; j < kSlots; ++j) {
       const int i = lane + j * kWarpLanes;

@@ -15,6 +15,8 @@ namespace tissuemosaic {
 struct StereoTimingsMs {
   double grey = 0;           ///< host: colour to 8-bit grey of both images
   double upload = 0;         ///< host to device copy of the grey pair (CUDA: queuing it; it runs beside the conversion)
+  // The three stages of the paper's method; under AD-Census (StereoParameters::method) they hold its three stages:
+  // census, arms, cost and aggregation; scanline optimisation and winners; median and checks.
   double zncc = 0;           ///< window statistics, cost volume, best ZNCC disparity
   double outliersHoles = 0;  ///< outlier removal alternating with both hole fillings
   double refinement = 0;     ///< improved Laplacian smoothing with o_i re-selection
