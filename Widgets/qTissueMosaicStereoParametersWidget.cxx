@@ -19,6 +19,8 @@
 #include <QSpinBox>
 #include <QVBoxLayout>
 
+#include <algorithm>
+#include <iterator>
 #include <map>
 #include <vector>
 
@@ -163,6 +165,13 @@ struct MethodChoice {
 };
 const MethodChoice methodChoices[] = {{StereoMethod::Paper, "Paper: ZNCC, outliers, Laplacian (section II)"},
                                       {StereoMethod::AdCensus, "AD-Census (Mei et al. 2011)"}};
+
+/// The method's item in the method combo box.
+int methodIndex(StereoMethod method) {
+  const auto* choice = std::find_if(std::begin(methodChoices), std::end(methodChoices),
+                                    [method](const MethodChoice& c) { return c.method == method; });
+  return static_cast<int>(choice - std::begin(methodChoices));
+}
 
 bool sameParameters(const StereoParameters& a, const StereoParameters& b) {
   if (a.method != b.method) return false;
@@ -414,10 +423,9 @@ void qTissueMosaicStereoParametersWidget::setPresetControlsVisible(bool visible)
 void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {
   Q_D(qTissueMosaicStereoParametersWidget);
   const StereoParameters& parameters = d->current();
-  for (int i = 0; i < d->methodComboBox->count(); ++i) {
-    if (methodChoices[i].method != parameters.method) continue;
+  {
     const QSignalBlocker blocker(d->methodComboBox);
-    d->methodComboBox->setCurrentIndex(i);
+    d->methodComboBox->setCurrentIndex(methodIndex(parameters.method));
   }
   d->enableMethodGroups(parameters.method);
   for (std::size_t i = 0; i < d->intSpinBoxes.size(); ++i) {

@@ -99,13 +99,11 @@ int runStereo(const Words& words) {
   std::printf("disparity %dx%d on %s: %d of %d pixels estimated (%.1f%%), written to %s\n", disparity.cols,
               disparity.rows, deviceDescription(device).c_str(), estimated, disparity.rows * disparity.cols,
               100.0 * estimated / (disparity.rows * disparity.cols), outPath.c_str());
-  if (parameters.method == StereoMethod::AdCensus) {
-    std::printf("time: cost+aggregation %.2f ms, paths+winners %.2f ms, median+checks %.2f ms, total %.2f ms\n",
-                timings.zncc, timings.outliersHoles, timings.refinement, timings.total());
-  } else {
-    std::printf("time: zncc %.2f ms, outliers+holes %.2f ms, refinement %.2f ms, total %.2f ms\n", timings.zncc,
-                timings.outliersHoles, timings.refinement, timings.total());
-  }
+  // The timing fields are shared; AD-Census's three stages are named by what they are.
+  const bool adCensus = parameters.method == StereoMethod::AdCensus;
+  std::printf("time: %s %.2f ms, %s %.2f ms, %s %.2f ms, total %.2f ms\n", adCensus ? "cost+aggregation" : "zncc",
+              timings.zncc, adCensus ? "paths+winners" : "outliers+holes", timings.outliersHoles,
+              adCensus ? "median+checks" : "refinement", timings.refinement, timings.total());
 
   if (arguments.has("cloud")) {
     const ColoredPointCloud cloud = disparityToPointCloud(disparity, left, rectifier->geometry());

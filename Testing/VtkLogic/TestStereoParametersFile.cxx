@@ -1,4 +1,5 @@
 // Parameter files: every field survives a write/read round trip; presets parse; invalid files are refused.
+#include "StereoParametersTestFields.h"
 #include "vtkTissueMosaicStereoLogic.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,8 @@
 #include <fstream>
 
 using tissuemosaic::StereoParameters;
+using tissuemosaic::test::expectSameParameters;
+using tissuemosaic::test::unusualParameters;
 
 namespace {
 
@@ -17,61 +20,20 @@ std::string outputPath(const std::string& name) {
   return std::string(TM_TEST_OUTPUT_DIR) + "/" + name;
 }
 
-void expectSameParameters(const StereoParameters& a, const StereoParameters& b) {
-  EXPECT_EQ(a.minDisparityPx, b.minDisparityPx);
-  EXPECT_EQ(a.maxDisparityPx, b.maxDisparityPx);
-  EXPECT_EQ(a.znccWindowPx, b.znccWindowPx);
-  EXPECT_FLOAT_EQ(a.minWindowStdDev, b.minWindowStdDev);
-  EXPECT_EQ(a.outlierIterations, b.outlierIterations);
-  EXPECT_EQ(a.outlierRadiusStartPx, b.outlierRadiusStartPx);
-  EXPECT_EQ(a.outlierRadiusStepPx, b.outlierRadiusStepPx);
-  EXPECT_FLOAT_EQ(a.outlierSmoothnessPx, b.outlierSmoothnessPx);
-  EXPECT_EQ(a.holeRadialRadiusPx, b.holeRadialRadiusPx);
-  EXPECT_EQ(a.holeRadialMinLines, b.holeRadialMinLines);
-  EXPECT_EQ(a.holeDiscRadiusPx, b.holeDiscRadiusPx);
-  EXPECT_FLOAT_EQ(a.holeDiscMinValidFraction, b.holeDiscMinValidFraction);
-  EXPECT_EQ(a.refineIterations, b.refineIterations);
-  EXPECT_EQ(a.refineRadiusPx, b.refineRadiusPx);
-  EXPECT_FLOAT_EQ(a.refineAlpha, b.refineAlpha);
-  EXPECT_FLOAT_EQ(a.refineEta, b.refineEta);
-  EXPECT_EQ(a.refineSearchPx, b.refineSearchPx);
-}
-
-/// Every field differs from the default.
-StereoParameters unusualParameters() {
-  StereoParameters p;
-  p.minDisparityPx = -7;
-  p.maxDisparityPx = 57;
-  p.znccWindowPx = 9;
-  p.minWindowStdDev = 2.25f;
-  p.outlierIterations = 5;
-  p.outlierRadiusStartPx = 12;
-  p.outlierRadiusStepPx = 6;
-  p.outlierSmoothnessPx = 1.75f;
-  p.holeRadialRadiusPx = 44;
-  p.holeRadialMinLines = 3;
-  p.holeDiscRadiusPx = 17;
-  p.holeDiscMinValidFraction = 0.35f;
-  p.refineIterations = 7;
-  p.refineRadiusPx = 11;
-  p.refineAlpha = 0.3f;
-  p.refineEta = 0.025f;
-  p.refineSearchPx = 4;
-  return p;
-}
-
 }  // namespace
 
 TEST(StereoParametersFile, RoundTripKeepsEveryField) {
+  StereoParameters written = unusualParameters();
+  written.method = tissuemosaic::StereoMethod::AdCensus;  // the method too
   for (const char* name : {"round-trip.yml", "round-trip.xml"}) {
     vtkNew<vtkTissueMosaicStereoLogic> writer;
-    ASSERT_TRUE(writer->SetStereoParameters(unusualParameters())) << writer->GetLastErrorText();
+    ASSERT_TRUE(writer->SetStereoParameters(written)) << writer->GetLastErrorText();
     const std::string path = outputPath(name);
     ASSERT_TRUE(writer->WriteParametersFile(path)) << writer->GetLastErrorText();
 
     vtkNew<vtkTissueMosaicStereoLogic> reader;
     ASSERT_TRUE(reader->ReadParametersFile(path)) << reader->GetLastErrorText();
-    expectSameParameters(reader->GetStereoParameters(), unusualParameters());
+    expectSameParameters(reader->GetStereoParameters(), written);
   }
 }
 
@@ -94,15 +56,9 @@ TEST(StereoParametersFile, PaperDefaultsPresetIsTheStructDefault) {
   ASSERT_TRUE(
       vtkTissueMosaicStereoLogic::ReadStereoParametersFile(TM_PRESETS_DIR "/ad-census.yml", parameters, errorText))
       << errorText;
-  EXPECT_EQ(parameters.method, tissuemosaic::StereoMethod::AdCensus);
-  const StereoParameters defaults;
-  EXPECT_EQ(parameters.minDisparityPx, defaults.minDisparityPx);
-  EXPECT_EQ(parameters.maxDisparityPx, defaults.maxDisparityPx);
-  EXPECT_EQ(parameters.censusWidthPx, defaults.censusWidthPx);
-  EXPECT_EQ(parameters.censusHeightPx, defaults.censusHeightPx);
-  EXPECT_EQ(parameters.armMaxPx, defaults.armMaxPx);
-  EXPECT_EQ(parameters.aggregationIterations, defaults.aggregationIterations);
-  EXPECT_FLOAT_EQ(parameters.pathPenaltyLarge, defaults.pathPenaltyLarge);
+  StereoParameters adCensusDefaults;
+  adCensusDefaults.method = tissuemosaic::StereoMethod::AdCensus;
+  expectSameParameters(parameters, adCensusDefaults);
 }
 
 TEST(StereoParametersFile, ParsesTextInMemoryAndKeepsDefaultsForMissingKeys) {

@@ -1,6 +1,7 @@
 // qTissueMosaicStereoParametersWidget: panel <-> parameters round trips, invalid edits refused with a visible
 // message, presets, and editing a logic's parameters.
 #include "qTissueMosaicStereoParametersWidget.h"
+#include "StereoParametersTestFields.h"
 #include "vtkTissueMosaicStereoLogic.h"
 
 #include <gtest/gtest.h>
@@ -18,89 +19,11 @@
 #include <filesystem>
 
 using tissuemosaic::StereoParameters;
+using tissuemosaic::test::StereoParameterFields;
+using tissuemosaic::test::expectSameParameters;
+using tissuemosaic::test::unusualParameters;
 
 namespace {
-
-/// Every field differs from the default (and is exactly representable in the spin boxes' decimals).
-StereoParameters unusualParameters() {
-  StereoParameters p;
-  p.minDisparityPx = -7;
-  p.maxDisparityPx = 57;
-  p.znccWindowPx = 9;
-  p.minWindowStdDev = 2.25f;
-  p.outlierIterations = 5;
-  p.outlierRadiusStartPx = 12;
-  p.outlierRadiusStepPx = 6;
-  p.outlierSmoothnessPx = 1.75f;
-  p.holeRadialRadiusPx = 44;
-  p.holeRadialMinLines = 3;
-  p.holeDiscRadiusPx = 17;
-  p.holeDiscMinValidFraction = 0.35f;
-  p.refineIterations = 7;
-  p.refineRadiusPx = 11;
-  p.refineAlpha = 0.3f;
-  p.refineEta = 0.025f;
-  p.refineSearchPx = 4;
-  p.leftRightMaxDifferencePx = 3;
-  p.refineMaxDeviationPx = 1.5f;
-  p.holeMaxEdgeDifferencePx = -1.0f;
-  p.specularMinGrey = 250.0f;
-  p.specularMarginPx = 9;
-  p.specularMinPixels = 30;
-  p.censusWidthPx = 7;
-  p.censusHeightPx = 5;
-  p.censusLambda = 25.0f;
-  p.absoluteDifferenceLambda = 12.5f;
-  p.armMaxPx = 30;
-  p.armLongPx = 15;
-  p.armLimitGrey = 18;
-  p.armLongLimitGrey = 5;
-  p.aggregationIterations = 3;
-  p.pathPenaltySmall = 1.25f;
-  p.pathPenaltyLarge = 3.5f;
-  p.pathEdgeGrey = 12;
-  return p;
-}
-
-struct Fields {
-  std::vector<std::pair<const char*, int StereoParameters::*>> ints = {
-      {"minDisparityPx", &StereoParameters::minDisparityPx},
-      {"maxDisparityPx", &StereoParameters::maxDisparityPx},
-      {"znccWindowPx", &StereoParameters::znccWindowPx},
-      {"outlierIterations", &StereoParameters::outlierIterations},
-      {"outlierRadiusStartPx", &StereoParameters::outlierRadiusStartPx},
-      {"outlierRadiusStepPx", &StereoParameters::outlierRadiusStepPx},
-      {"holeRadialRadiusPx", &StereoParameters::holeRadialRadiusPx},
-      {"holeRadialMinLines", &StereoParameters::holeRadialMinLines},
-      {"holeDiscRadiusPx", &StereoParameters::holeDiscRadiusPx},
-      {"refineIterations", &StereoParameters::refineIterations},
-      {"refineRadiusPx", &StereoParameters::refineRadiusPx},
-      {"refineSearchPx", &StereoParameters::refineSearchPx},
-      {"leftRightMaxDifferencePx", &StereoParameters::leftRightMaxDifferencePx},
-      {"specularMarginPx", &StereoParameters::specularMarginPx},
-      {"specularMinPixels", &StereoParameters::specularMinPixels},
-      {"censusWidthPx", &StereoParameters::censusWidthPx},
-      {"censusHeightPx", &StereoParameters::censusHeightPx},
-      {"armMaxPx", &StereoParameters::armMaxPx},
-      {"armLongPx", &StereoParameters::armLongPx},
-      {"armLimitGrey", &StereoParameters::armLimitGrey},
-      {"armLongLimitGrey", &StereoParameters::armLongLimitGrey},
-      {"aggregationIterations", &StereoParameters::aggregationIterations},
-      {"pathEdgeGrey", &StereoParameters::pathEdgeGrey}};
-  std::vector<std::pair<const char*, float StereoParameters::*>> reals = {
-      {"minWindowStdDev", &StereoParameters::minWindowStdDev},
-      {"outlierSmoothnessPx", &StereoParameters::outlierSmoothnessPx},
-      {"holeDiscMinValidFraction", &StereoParameters::holeDiscMinValidFraction},
-      {"refineAlpha", &StereoParameters::refineAlpha},
-      {"refineEta", &StereoParameters::refineEta},
-      {"refineMaxDeviationPx", &StereoParameters::refineMaxDeviationPx},
-      {"holeMaxEdgeDifferencePx", &StereoParameters::holeMaxEdgeDifferencePx},
-      {"specularMinGrey", &StereoParameters::specularMinGrey},
-      {"censusLambda", &StereoParameters::censusLambda},
-      {"absoluteDifferenceLambda", &StereoParameters::absoluteDifferenceLambda},
-      {"pathPenaltySmall", &StereoParameters::pathPenaltySmall},
-      {"pathPenaltyLarge", &StereoParameters::pathPenaltyLarge}};
-};
 
 QSpinBox* intBox(QWidget& widget, const char* key) {
   return widget.findChild<QSpinBox*>(QString(key) + "SpinBox");
@@ -109,24 +32,15 @@ QDoubleSpinBox* realBox(QWidget& widget, const char* key) {
   return widget.findChild<QDoubleSpinBox*>(QString(key) + "SpinBox");
 }
 
-void expectSameParameters(const StereoParameters& a, const StereoParameters& b) {
-  EXPECT_EQ(a.method, b.method);
-  const Fields fields;
-  for (const auto& field : fields.ints) EXPECT_EQ(a.*field.second, b.*field.second) << field.first;
-  for (const auto& field : fields.reals) EXPECT_FLOAT_EQ(a.*field.second, b.*field.second) << field.first;
-}
-
 }  // namespace
 
 TEST(StereoParametersWidget, ObjectToPanelShowsEveryField) {
   qTissueMosaicStereoParametersWidget widget;
-  const Fields fields;
+  const StereoParameterFields fields;
   // The 35 numeric fields of StereoParameters, each with its own spin box and a tooltip (the method has its combo
-  // box). Counted from the struct's size, so that a field added to StereoParameters and not here fails this test.
-  ASSERT_EQ(fields.ints.size() + fields.reals.size(), 35u);
-  static_assert(sizeof(StereoParameters) == sizeof(tissuemosaic::StereoMethod) + 35 * sizeof(int) &&
-                    sizeof(int) == sizeof(float),
-                "a StereoParameters field is missing from this test (and perhaps from the panel)");
+  // box). The list is checked against the struct's size (StereoParametersTestFields.h), so that a field added to
+  // StereoParameters and not listed fails to compile.
+  ASSERT_EQ(fields.ints.size() + fields.reals.size(), tissuemosaic::test::kStereoParameterNumericFields);
   ASSERT_TRUE(widget.setParameters(unusualParameters())) << widget.errorText().toStdString();
   const StereoParameters expected = unusualParameters();
   for (const auto& field : fields.ints) {
@@ -147,7 +61,7 @@ TEST(StereoParametersWidget, PanelToObjectRoundTrip) {
   qTissueMosaicStereoParametersWidget widget;
   QSignalSpy changed(&widget, &qTissueMosaicStereoParametersWidget::parametersChanged);
   const StereoParameters target = unusualParameters();
-  const Fields fields;
+  const StereoParameterFields fields;
   // Edit as a user would, one spin box at a time; every intermediate state is valid.
   for (const auto& field : fields.ints) intBox(widget, field.first)->setValue(target.*field.second);
   for (const auto& field : fields.reals) realBox(widget, field.first)->setValue(target.*field.second);
