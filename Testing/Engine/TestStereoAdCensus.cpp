@@ -312,3 +312,27 @@ TEST(StereoAdCensus, MethodNamesAndParameterChecks) {
   EXPECT_EQ(read.method, StereoMethod::AdCensus);
   EXPECT_EQ(read.armMaxPx, 20);
 }
+
+TEST(StereoAdCensus, SmallestImageIsTheMethodsOwnWindow) {
+  // Each method refuses images smaller than its own matching window and names that window: AD-Census its 9x7
+  // census window, the paper's method its 11x11 ZNCC window.
+  StereoParameters parameters;
+  parameters.minDisparityPx = 0;
+  parameters.maxDisparityPx = 3;
+  parameters.method = StereoMethod::AdCensus;
+  const auto messageFor = [](const StereoParameters& p, int width, int height) -> std::string {
+    const cv::Mat image = test::randomTexture(width, height, 3);
+    try {
+      StereoMatcher(Device::Cpu, p).computeDisparity(image, image);
+    } catch (const Error& error) {
+      return error.what();
+    }
+    return "";
+  };
+  EXPECT_NE(messageFor(parameters, 8, 40).find("census window (9x7 px)"), std::string::npos);
+  EXPECT_NE(messageFor(parameters, 40, 6).find("census window (9x7 px)"), std::string::npos);
+  EXPECT_EQ(messageFor(parameters, 10, 10), "") << "a 10x10 image is larger than the census window";
+  parameters.method = StereoMethod::Paper;
+  EXPECT_NE(messageFor(parameters, 10, 10).find("ZNCC window (11x11 px)"), std::string::npos);
+  EXPECT_EQ(messageFor(parameters, 11, 11), "");
+}

@@ -273,8 +273,8 @@ struct SweepBand {
 /// order that visits p + delta before p gives every ray walk's answer at O(1) per pixel.
 /// A task is one direction and one band of rows, so that more than 8 threads have work. A band of a direction that
 /// steps across rows starts its sweep `radius` rows early (knowing nothing before that): a hit is never farther than
-/// radius, so the band's own rows come out exactly as from one sweep over the image. Rows outside the band are kept
-/// in two row buffers and never written.
+/// radius, so the band's own rows come out exactly as from one sweep over the image. The band's rows are swept
+/// straight into the maps; the rows before them go to scratch rows and never into the maps.
 struct NearestAlongRay {
   ImageView<const int16_t> input;
   int radius;
@@ -291,16 +291,20 @@ struct NearestAlongRay {
     int16_t* __restrict distance = hitDistance + offset;
     int16_t* __restrict value = hitValue + offset;
     const SweepBand sweep(height, band, rowBands, radius, dy);
-    std::vector<int16_t> rows(4 * static_cast<std::size_t>(width));
-    int16_t* previousDistance = rows.data();  // the row swept before (the neighbours' row when dy != 0)
-    int16_t* previousValue = previousDistance + width;
-    int16_t* rowDistance = previousValue + width;
-    int16_t* rowValue = rowDistance + width;
-    std::fill(previousDistance, previousDistance + width, int16_t{0});  // nothing known before the first step
+    // The band's own rows are swept straight into the maps; the rows before them (the overlap) into two scratch
+    // rows taken in turn, and a row of "nothing known" stands before the first step.
+    std::vector<int16_t> scratch(6 * static_cast<std::size_t>(width), int16_t{0});
+    const auto scratchRow = [&](int slot) { return scratch.data() + static_cast<std::size_t>(slot) * width; };
+    const int16_t* previousDistance = scratchRow(4);  // the row swept before (the neighbours' row when dy != 0)
+    const int16_t* previousValue = scratchRow(5);
     std::vector<int16_t> reversedStore(dy == 0 ? 3 * static_cast<std::size_t>(width) : 0);
     for (int step = sweep.first; step < sweep.end; ++step) {
       const int y = sweep.row(step);
       const int16_t* row = &input.at(0, y);
+      const int64_t rowStart = static_cast<int64_t>(y) * width;
+      const bool kept = step >= sweep.begin;
+      int16_t* rowDistance = kept ? distance + rowStart : scratchRow(2 * (step & 1));
+      int16_t* rowValue = kept ? value + rowStart : scratchRow(2 * (step & 1) + 1);
       if (dy == 0) {
         nearestAlongRow(row, rowDistance, rowValue, width, dx, radius, reversedStore.data());
       } else if (step == 0) {  // the neighbours' row is outside the image
@@ -309,13 +313,8 @@ struct NearestAlongRay {
         nearestRowAcross(&input.at(0, y + dy), previousDistance, previousValue, rowDistance, rowValue, width, dx,
                          radius);
       }
-      if (step >= sweep.begin) {
-        const int64_t rowStart = static_cast<int64_t>(y) * width;
-        std::copy(rowDistance, rowDistance + width, distance + rowStart);
-        std::copy(rowValue, rowValue + width, value + rowStart);
-      }
-      std::swap(previousDistance, rowDistance);
-      std::swap(previousValue, rowValue);
+      previousDistance = rowDistance;
+      previousValue = rowValue;
     }
   }
 
@@ -359,8 +358,8 @@ struct NearestAlongRay {
                                const int16_t* __restrict previousValue, int16_t* __restrict rowDistance,
                                int16_t* __restrict rowValue, int width, int dx, int radius) {
     const int xBegin = dx < 0 ? 1 : 0, xEnd = dx > 0 ? width - 1 : width;  // the neighbour inside the image
-    if (dx < 0) rowDistance[0] = 0;
-    if (dx > 0) rowDistance[width - 1] = 0;
+    if (dx < 0) rowDistance[0] = rowValue[0] = 0;  // no neighbour: no hit
+    if (dx > 0) rowDistance[width - 1] = rowValue[width - 1] = 0;
     for (int x = xBegin; x < xEnd; ++x) {
       // Bit masks instead of selects: GCC sees no control flow, so it vectorises.
       const int neighbour = neighbourRow[x + dx], carried = previousDistance[x + dx], carriedValue = previousValue[x + dx];

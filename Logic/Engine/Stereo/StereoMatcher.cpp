@@ -96,9 +96,14 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
   StereoTimingsMs& t = timings ? *timings : local;
   requireGrey8Convertible(leftRectified, "the left image");
   requireGrey8Convertible(rightRectified, "the right image");
-  const int minimumSide = p.znccWindowPx;
-  require(leftRectified.cols >= minimumSide && leftRectified.rows >= minimumSide,
-          "the images are smaller than the ZNCC window (" + std::to_string(minimumSide) + " px)");
+  // The smallest image is the method's own matching window: a window's sums need that many pixels of image.
+  const bool adCensus = p.method == StereoMethod::AdCensus;
+  const int minimumWidth = adCensus ? p.censusWidthPx : p.znccWindowPx;
+  const int minimumHeight = adCensus ? p.censusHeightPx : p.znccWindowPx;
+  require(leftRectified.cols >= minimumWidth && leftRectified.rows >= minimumHeight,
+          "the images (" + std::to_string(leftRectified.cols) + "x" + std::to_string(leftRectified.rows) +
+              ") are smaller than the " + (adCensus ? "census" : "ZNCC") + " window (" +
+              std::to_string(minimumWidth) + "x" + std::to_string(minimumHeight) + " px)");
   auto& workspace = impl_->workspace;
   if (!workspace || workspace->width != leftRectified.cols || workspace->height != leftRectified.rows) {
     // The parameters (method, range) are the matcher's for its lifetime; only the image size can change.
