@@ -1,5 +1,6 @@
 #include "qTissueMosaicReconstructionParametersWidget.h"
 
+#include "qTissueMosaicPresetControls.h"
 #include "qTissueMosaicStereoParametersWidget.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
 
@@ -8,16 +9,11 @@
 #include <vtkSmartPointer.h>
 
 #include <QComboBox>
-#include <QDir>
 #include <QDoubleSpinBox>
-#include <QFile>
-#include <QFileDialog>
-#include <QFileInfo>
 #include <QFormLayout>
 #include <QGroupBox>
 #include <QHBoxLayout>
 #include <QLabel>
-#include <QPushButton>
 #include <QSignalBlocker>
 #include <QSpinBox>
 #include <QStandardItemModel>
@@ -31,12 +27,11 @@
 #include <type_traits>
 #include <vector>
 
-static void initReconstructionPresetResources() { Q_INIT_RESOURCE(Presets); }
-
 namespace {
 
 using tissuemosaic::ReconstructionParameters;
 using Parameters = ReconstructionParameters;
+namespace widgets = tissuemosaic::widgets;
 
 enum Group { Tracking, KeyFrames, Refinement, Fusion };
 
@@ -124,8 +119,6 @@ std::string canonicalText(const Parameters& p) {
   return storage.releaseAndGetString();
 }
 
-const char* const customPresetLabel = "(custom)";
-
 }  // namespace
 
 class qTissueMosaicReconstructionParametersWidgetPrivate {
@@ -136,7 +129,6 @@ public:
       : q_ptr(&object) {}
   void setupUi();
   void loadPresets();
-  void showError(const QString& message);
   void selectMatchingPreset();
   const Parameters& current() const { return logic ? logic->GetParameters() : ownParameters; }
   bool store(const Parameters& parameters);
@@ -148,7 +140,7 @@ public:
   qTissueMosaicStereoParametersWidget* stereoPanel = nullptr;
   std::vector<QAbstractSpinBox*> spinBoxes;  ///< parallel to fields()
   std::map<QString, Parameters> presets;
-  QComboBox* presetComboBox = nullptr;
+  widgets::PresetRow presetRow;
   QComboBox* deviceComboBox = nullptr;
   QLabel* errorLabel = nullptr;
 };
@@ -158,22 +150,15 @@ void qTissueMosaicReconstructionParametersWidgetPrivate::setupUi() {
   auto* layout = new QVBoxLayout(q);
   layout->setContentsMargins(0, 0, 0, 0);
 
-  auto* presetRow = new QHBoxLayout();
-  presetRow->addWidget(new QLabel(QObject::tr("Preset:"), q));
-  presetComboBox = new QComboBox(q);
-  presetComboBox->setObjectName("reconstructionPresetComboBox");
-  presetComboBox->setToolTip(QObject::tr("Replace all values with a preset from Resources/Presets."));
-  presetRow->addWidget(presetComboBox, 1);
-  auto* loadButton = new QPushButton(QObject::tr("Load..."), q);
-  loadButton->setObjectName("reconstructionLoadButton");
-  loadButton->setToolTip(QObject::tr("Read a YAML/XML parameter file (nodes stereo, features, tracking, refinement, "
-                                     "fusion; missing keys keep the defaults)."));
-  auto* saveButton = new QPushButton(QObject::tr("Save..."), q);
-  saveButton->setObjectName("reconstructionSaveButton");
-  saveButton->setToolTip(QObject::tr("Write every parameter to a YAML file (for `tissuemosaic reconstruct --params`)."));
-  presetRow->addWidget(loadButton);
-  presetRow->addWidget(saveButton);
-  layout->addLayout(presetRow);
+  presetRow = widgets::addPresetRow(
+      q, layout,
+      {"reconstruction",
+       QObject::tr("Read a YAML/XML parameter file (nodes stereo, features, tracking, refinement, fusion; missing "
+                   "keys keep the defaults)."),
+       QObject::tr("Write every parameter to a YAML file (for `tissuemosaic reconstruct --params`)."),
+       QObject::tr("Load reconstruction parameters"), QObject::tr("Save reconstruction parameters"),
+       [q](const QString& path) { q->loadParametersFile(path); },
+       [q](const QString& path) { q->saveParametersFile(path); }});
 
   auto* deviceRow = new QHBoxLayout();
   deviceRow->addWidget(new QLabel(QObject::tr("Device:"), q));
@@ -237,12 +222,7 @@ void qTissueMosaicReconstructionParametersWidgetPrivate::setupUi() {
     spinBoxes.push_back(box);
   }
 
-  errorLabel = new QLabel(q);
-  errorLabel->setObjectName("reconstructionErrorLabel");
-  errorLabel->setWordWrap(true);
-  errorLabel->setStyleSheet("QLabel { color: #c00000; font-weight: bold; }");
-  errorLabel->hide();
-  layout->addWidget(errorLabel);
+  errorLabel = widgets::addErrorLabel(q, layout, "reconstruction");
   layout->addStretch(1);
 
   QObject::connect(stereoPanel, &qTissueMosaicStereoParametersWidget::parametersChanged, q,
@@ -251,76 +231,36 @@ void qTissueMosaicReconstructionParametersWidgetPrivate::setupUi() {
     Q_Q(qTissueMosaicReconstructionParametersWidget);
     q->setDeviceChoice(deviceComboBox->itemData(index).toInt());
   });
-  QObject::connect(presetComboBox, QOverload<int>::of(&QComboBox::activated), q, [this](int index) {
+  QObject::connect(presetRow.comboBox, QOverload<int>::of(&QComboBox::activated), q, [this](int index) {
     Q_Q(qTissueMosaicReconstructionParametersWidget);
-    q->applyPreset(presetComboBox->itemText(index));
-  });
-  QObject::connect(loadButton, &QPushButton::clicked, q, [q] {
-    const QString path = QFileDialog::getOpenFileName(q, QObject::tr("Load reconstruction parameters"), QString(),
-                                                      QObject::tr("Parameter files (*.yml *.yaml *.xml)"));
-    if (!path.isEmpty()) q->loadParametersFile(path);
-  });
-  QObject::connect(saveButton, &QPushButton::clicked, q, [q] {
-    const QString path = QFileDialog::getSaveFileName(q, QObject::tr("Save reconstruction parameters"), QString(),
-                                                      QObject::tr("Parameter files (*.yml *.yaml *.xml)"));
-    if (!path.isEmpty()) q->saveParametersFile(path);
+    q->applyPreset(presetRow.comboBox->itemText(index));
   });
 }
 
 void qTissueMosaicReconstructionParametersWidgetPrivate::loadPresets() {
-  initReconstructionPresetResources();
-  const QDir directory(":/Presets");
-  for (const QFileInfo& file : directory.entryInfoList({"*.yml"}, QDir::Files, QDir::Name)) {
-    QFile resource(file.absoluteFilePath());
-    Parameters parameters;
-    std::string errorText;
-    if (!resource.open(QIODevice::ReadOnly) ||
-        !vtkTissueMosaicReconstructionLogic::ParseReconstructionParameters(resource.readAll().toStdString(),
-                                                                           parameters, errorText)) {
-      qWarning("reconstruction preset %s is unusable: %s", qPrintable(file.fileName()), errorText.c_str());
-      continue;
-    }
-    presets[file.completeBaseName().replace('-', ' ')] = parameters;
-  }
-  presetComboBox->addItem(customPresetLabel);
-  if (presets.count("paper defaults")) presetComboBox->addItem("paper defaults");
-  for (const auto& preset : presets) {
-    if (preset.first != "paper defaults") presetComboBox->addItem(preset.first);
-  }
-}
-
-void qTissueMosaicReconstructionParametersWidgetPrivate::showError(const QString& message) {
-  errorLabel->setText(message);
-  errorLabel->setVisible(!message.isEmpty());
+  presets = widgets::readPresets<Parameters>("reconstruction",
+                                             &vtkTissueMosaicReconstructionLogic::ParseReconstructionParameters);
+  QStringList names;
+  for (const auto& preset : presets) names << preset.first;
+  widgets::fillPresetComboBox(presetRow.comboBox, names);
 }
 
 void qTissueMosaicReconstructionParametersWidgetPrivate::selectMatchingPreset() {
-  const QSignalBlocker blocker(presetComboBox);
   const std::string now = canonicalText(current());
-  int index = 0;
-  for (const auto& preset : presets) {
-    if (canonicalText(preset.second) == now) index = presetComboBox->findText(preset.first);
-  }
-  presetComboBox->setCurrentIndex(index);
+  const auto sameAsNow = [&now](const Parameters& preset, const Parameters&) { return canonicalText(preset) == now; };
+  widgets::selectPreset(presetRow.comboBox, widgets::matchingPreset(presets, current(), sameAsNow));
 }
 
 bool qTissueMosaicReconstructionParametersWidgetPrivate::store(const Parameters& parameters) {
-  try {
-    parameters.validate();
-  } catch (const std::exception& error) {
-    showError(QObject::tr("Not applied: %1").arg(QString::fromStdString(error.what())));
-    return false;
-  }
-  if (logic) {
-    if (!logic->SetParameters(parameters)) {
-      showError(QObject::tr("Not applied: %1").arg(QString::fromStdString(logic->GetLastErrorText())));
-      return false;
+  return widgets::storeValidated(parameters, errorLabel, [this](const Parameters& valid, std::string& reason) {
+    if (!logic) {
+      ownParameters = valid;
+      return true;
     }
-  } else {
-    ownParameters = parameters;
-  }
-  showError(QString());
-  return true;
+    if (logic->SetParameters(valid)) return true;
+    reason = logic->GetLastErrorText();
+    return false;
+  });
 }
 
 qTissueMosaicReconstructionParametersWidget::qTissueMosaicReconstructionParametersWidget(QWidget* parent)
@@ -371,9 +311,7 @@ void qTissueMosaicReconstructionParametersWidget::setDeviceChoice(int choice) {
 
 QStringList qTissueMosaicReconstructionParametersWidget::presetNames() const {
   Q_D(const qTissueMosaicReconstructionParametersWidget);
-  QStringList names;
-  for (int i = 1; i < d->presetComboBox->count(); ++i) names << d->presetComboBox->itemText(i);
-  return names;
+  return widgets::presetNames(d->presetRow.comboBox);
 }
 
 QString qTissueMosaicReconstructionParametersWidget::errorText() const {
@@ -400,7 +338,7 @@ void qTissueMosaicReconstructionParametersWidget::updateGUIFromParameters() {
     const QSignalBlocker blocker(d->deviceComboBox);
     d->deviceComboBox->setCurrentIndex(d->deviceComboBox->findData(deviceChoice()));
   }
-  d->showError(QString());
+  widgets::showError(d->errorLabel, QString());
   d->selectMatchingPreset();
 }
 
@@ -424,7 +362,7 @@ bool qTissueMosaicReconstructionParametersWidget::applyPreset(const QString& nam
   Q_D(qTissueMosaicReconstructionParametersWidget);
   const auto preset = d->presets.find(name);
   if (preset == d->presets.end()) {
-    if (name != customPresetLabel) d->showError(tr("Unknown preset '%1'").arg(name));
+    if (name != widgets::kCustomPresetLabel) widgets::showError(d->errorLabel, tr("Unknown preset '%1'").arg(name));
     return false;
   }
   if (!setParameters(preset->second)) return false;
@@ -438,7 +376,7 @@ bool qTissueMosaicReconstructionParametersWidget::loadParametersFile(const QStri
   std::string errorText;
   if (!vtkTissueMosaicReconstructionLogic::ReadReconstructionParametersFile(path.toStdString(), parameters,
                                                                             errorText)) {
-    d->showError(tr("Not loaded: %1").arg(QString::fromStdString(errorText)));
+    widgets::showError(d->errorLabel, tr("Not loaded: %1").arg(QString::fromStdString(errorText)));
     return false;
   }
   if (!setParameters(parameters)) return false;
@@ -451,7 +389,7 @@ bool qTissueMosaicReconstructionParametersWidget::saveParametersFile(const QStri
   std::string errorText;
   if (!vtkTissueMosaicReconstructionLogic::WriteReconstructionParametersFile(path.toStdString(), d->current(),
                                                                              errorText)) {
-    d->showError(tr("Not saved: %1").arg(QString::fromStdString(errorText)));
+    widgets::showError(d->errorLabel, tr("Not saved: %1").arg(QString::fromStdString(errorText)));
     return false;
   }
   return true;

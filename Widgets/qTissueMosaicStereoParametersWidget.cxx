@@ -1,20 +1,15 @@
 #include "qTissueMosaicStereoParametersWidget.h"
 
+#include "qTissueMosaicPresetControls.h"
 #include "vtkTissueMosaicStereoLogic.h"
 
 #include <vtkSmartPointer.h>
 
 #include <QComboBox>
-#include <QDir>
 #include <QDoubleSpinBox>
-#include <QFile>
-#include <QFileDialog>
-#include <QFileInfo>
 #include <QFormLayout>
 #include <QGroupBox>
-#include <QHBoxLayout>
 #include <QLabel>
-#include <QPushButton>
 #include <QSignalBlocker>
 #include <QSpinBox>
 #include <QVBoxLayout>
@@ -24,14 +19,11 @@
 #include <map>
 #include <vector>
 
-// Q_INIT_RESOURCE must be called outside any namespace; the resources live in a static library, so nothing
-// registers them unless we do.
-static void initPresetResources() { Q_INIT_RESOURCE(Presets); }
-
 namespace {
 
 using tissuemosaic::StereoMethod;
 using tissuemosaic::StereoParameters;
+namespace widgets = tissuemosaic::widgets;
 
 /// Matching: what both methods use; Zncc, Outliers and Refinement: the paper's method (section II); AdCensus: the
 /// optional second method. The groups of the method not chosen are disabled.
@@ -184,8 +176,6 @@ bool sameParameters(const StereoParameters& a, const StereoParameters& b) {
   return true;
 }
 
-const char* const customPresetLabel = "(custom)";
-
 }  // namespace
 
 class qTissueMosaicStereoParametersWidgetPrivate {
@@ -195,7 +185,6 @@ public:
   explicit qTissueMosaicStereoParametersWidgetPrivate(qTissueMosaicStereoParametersWidget& object) : q_ptr(&object) {}
   void setupUi();
   void loadPresets();
-  void showError(const QString& message);
   void selectMatchingPreset();
   /// Enables the groups of the method in use and disables the other method's.
   void enableMethodGroups(StereoMethod method);
@@ -211,31 +200,19 @@ public:
   std::map<QString, StereoParameters> presets;
   QComboBox* methodComboBox = nullptr;  ///< items parallel to methodChoices
   QGroupBox* groupBoxes[GroupCount] = {};
-  QComboBox* presetComboBox = nullptr;
+  widgets::PresetRow presetRow;
   QLabel* errorLabel = nullptr;
 };
 
 void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
   Q_Q(qTissueMosaicStereoParametersWidget);
   auto* layout = new QVBoxLayout(q);
-
-  auto* presetRow = new QHBoxLayout();
-  auto* presetLabel = new QLabel(QObject::tr("Preset:"), q);
-  presetLabel->setObjectName("presetLabel");
-  presetRow->addWidget(presetLabel);
-  presetComboBox = new QComboBox(q);
-  presetComboBox->setObjectName("presetComboBox");
-  presetComboBox->setToolTip(QObject::tr("Replace all values with a preset from Resources/Presets."));
-  presetRow->addWidget(presetComboBox, 1);
-  auto* loadButton = new QPushButton(QObject::tr("Load..."), q);
-  loadButton->setObjectName("loadButton");
-  loadButton->setToolTip(QObject::tr("Read the 'stereo' map of a YAML/XML parameter file."));
-  auto* saveButton = new QPushButton(QObject::tr("Save..."), q);
-  saveButton->setObjectName("saveButton");
-  saveButton->setToolTip(QObject::tr("Write the current parameters to a YAML parameter file."));
-  presetRow->addWidget(loadButton);
-  presetRow->addWidget(saveButton);
-  layout->addLayout(presetRow);
+  presetRow = widgets::addPresetRow(
+      q, layout,
+      {"", QObject::tr("Read the 'stereo' map of a YAML/XML parameter file."),
+       QObject::tr("Write the current parameters to a YAML parameter file."), QObject::tr("Load stereo parameters"),
+       QObject::tr("Save stereo parameters"), [q](const QString& path) { q->loadParametersFile(path); },
+       [q](const QString& path) { q->saveParametersFile(path); }});
 
   const char* const groupTitles[GroupCount] = {"Matching", "ZNCC matching (paper II.A)",
                                                "Outlier removal and hole filling (II.B)",
@@ -283,51 +260,20 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
     realSpinBoxes.push_back(spinBox);
   }
 
-  errorLabel = new QLabel(q);
-  errorLabel->setObjectName("errorLabel");
-  errorLabel->setWordWrap(true);
-  errorLabel->setStyleSheet("QLabel { color: #c00000; font-weight: bold; }");
-  errorLabel->hide();
-  layout->addWidget(errorLabel);
+  errorLabel = widgets::addErrorLabel(q, layout, "");
   layout->addStretch(1);
 
-  QObject::connect(presetComboBox, QOverload<int>::of(&QComboBox::activated), q, [this](int index) {
+  QObject::connect(presetRow.comboBox, QOverload<int>::of(&QComboBox::activated), q, [this](int index) {
     Q_Q(qTissueMosaicStereoParametersWidget);
-    q->applyPreset(presetComboBox->itemText(index));
-  });
-  QObject::connect(loadButton, &QPushButton::clicked, q, [q] {
-    const QString path = QFileDialog::getOpenFileName(q, QObject::tr("Load stereo parameters"), QString(),
-                                                      QObject::tr("Parameter files (*.yml *.yaml *.xml)"));
-    if (!path.isEmpty()) q->loadParametersFile(path);
-  });
-  QObject::connect(saveButton, &QPushButton::clicked, q, [q] {
-    const QString path = QFileDialog::getSaveFileName(q, QObject::tr("Save stereo parameters"), QString(),
-                                                      QObject::tr("Parameter files (*.yml *.yaml *.xml)"));
-    if (!path.isEmpty()) q->saveParametersFile(path);
+    q->applyPreset(presetRow.comboBox->itemText(index));
   });
 }
 
 void qTissueMosaicStereoParametersWidgetPrivate::loadPresets() {
-  initPresetResources();
-  const QDir directory(":/Presets");
-  for (const QFileInfo& file : directory.entryInfoList({"*.yml"}, QDir::Files, QDir::Name)) {
-    QFile resource(file.absoluteFilePath());
-    StereoParameters parameters;
-    std::string errorText;
-    if (!resource.open(QIODevice::ReadOnly) ||
-        !vtkTissueMosaicStereoLogic::ParseStereoParameters(resource.readAll().toStdString(), parameters,
-                                                           errorText)) {
-      qWarning("stereo preset %s is unusable: %s", qPrintable(file.fileName()), errorText.c_str());
-      continue;
-    }
-    presets[file.completeBaseName().replace('-', ' ')] = parameters;
-  }
-  // "paper defaults" first: it is what a new user should see.
-  presetComboBox->addItem(customPresetLabel);
-  if (presets.count("paper defaults")) presetComboBox->addItem("paper defaults");
-  for (const auto& preset : presets) {
-    if (preset.first != "paper defaults") presetComboBox->addItem(preset.first);
-  }
+  presets = widgets::readPresets<StereoParameters>("stereo", &vtkTissueMosaicStereoLogic::ParseStereoParameters);
+  QStringList names;
+  for (const auto& preset : presets) names << preset.first;
+  widgets::fillPresetComboBox(presetRow.comboBox, names);
 }
 
 void qTissueMosaicStereoParametersWidgetPrivate::enableMethodGroups(StereoMethod method) {
@@ -336,37 +282,20 @@ void qTissueMosaicStereoParametersWidgetPrivate::enableMethodGroups(StereoMethod
   groupBoxes[AdCensus]->setEnabled(!paper);
 }
 
-void qTissueMosaicStereoParametersWidgetPrivate::showError(const QString& message) {
-  errorLabel->setText(message);
-  errorLabel->setVisible(!message.isEmpty());
-}
-
 void qTissueMosaicStereoParametersWidgetPrivate::selectMatchingPreset() {
-  const QSignalBlocker blocker(presetComboBox);
-  int index = 0;
-  for (const auto& preset : presets) {
-    if (sameParameters(preset.second, current())) index = presetComboBox->findText(preset.first);
-  }
-  presetComboBox->setCurrentIndex(index);
+  widgets::selectPreset(presetRow.comboBox, widgets::matchingPreset(presets, current(), sameParameters));
 }
 
 bool qTissueMosaicStereoParametersWidgetPrivate::store(const StereoParameters& parameters) {
-  try {
-    parameters.validate();
-  } catch (const std::exception& error) {
-    showError(QObject::tr("Not applied: %1").arg(QString::fromStdString(error.what())));
-    return false;
-  }
-  if (logic) {
-    if (!logic->SetStereoParameters(parameters)) {
-      showError(QObject::tr("Not applied: %1").arg(QString::fromStdString(logic->GetLastErrorText())));
-      return false;
+  return widgets::storeValidated(parameters, errorLabel, [this](const StereoParameters& valid, std::string& reason) {
+    if (!logic) {
+      ownParameters = valid;
+      return true;
     }
-  } else {
-    ownParameters = parameters;
-  }
-  showError(QString());
-  return true;
+    if (logic->SetStereoParameters(valid)) return true;
+    reason = logic->GetLastErrorText();
+    return false;
+  });
 }
 
 qTissueMosaicStereoParametersWidget::qTissueMosaicStereoParametersWidget(QWidget* parent)
@@ -404,9 +333,7 @@ vtkTissueMosaicStereoLogic* qTissueMosaicStereoParametersWidget::stereoLogic() c
 
 QStringList qTissueMosaicStereoParametersWidget::presetNames() const {
   Q_D(const qTissueMosaicStereoParametersWidget);
-  QStringList names;
-  for (int i = 1; i < d->presetComboBox->count(); ++i) names << d->presetComboBox->itemText(i);
-  return names;
+  return widgets::presetNames(d->presetRow.comboBox);
 }
 
 QString qTissueMosaicStereoParametersWidget::errorText() const {
@@ -415,9 +342,8 @@ QString qTissueMosaicStereoParametersWidget::errorText() const {
 }
 
 void qTissueMosaicStereoParametersWidget::setPresetControlsVisible(bool visible) {
-  for (const char* name : {"presetLabel", "presetComboBox", "loadButton", "saveButton"}) {
-    if (QWidget* control = findChild<QWidget*>(name)) control->setVisible(visible);
-  }
+  Q_D(qTissueMosaicStereoParametersWidget);
+  widgets::setPresetRowVisible(d->presetRow, visible);
 }
 
 void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {
@@ -436,7 +362,7 @@ void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {
     const QSignalBlocker blocker(d->realSpinBoxes[i]);
     d->realSpinBoxes[i]->setValue(parameters.*realFields[i].member);
   }
-  d->showError(QString());
+  widgets::showError(d->errorLabel, QString());
   d->selectMatchingPreset();
 }
 
@@ -461,7 +387,7 @@ bool qTissueMosaicStereoParametersWidget::applyPreset(const QString& name) {
   Q_D(qTissueMosaicStereoParametersWidget);
   const auto preset = d->presets.find(name);
   if (preset == d->presets.end()) {
-    if (name != customPresetLabel) d->showError(tr("Unknown preset '%1'").arg(name));
+    if (name != widgets::kCustomPresetLabel) widgets::showError(d->errorLabel, tr("Unknown preset '%1'").arg(name));
     return false;
   }
   if (!setParameters(preset->second)) return false;
@@ -474,7 +400,7 @@ bool qTissueMosaicStereoParametersWidget::loadParametersFile(const QString& path
   StereoParameters parameters;
   std::string errorText;
   if (!vtkTissueMosaicStereoLogic::ReadStereoParametersFile(path.toStdString(), parameters, errorText)) {
-    d->showError(tr("Not loaded: %1").arg(QString::fromStdString(errorText)));
+    widgets::showError(d->errorLabel, tr("Not loaded: %1").arg(QString::fromStdString(errorText)));
     return false;
   }
   if (!setParameters(parameters)) return false;
@@ -486,7 +412,7 @@ bool qTissueMosaicStereoParametersWidget::saveParametersFile(const QString& path
   Q_D(qTissueMosaicStereoParametersWidget);
   std::string errorText;
   if (!vtkTissueMosaicStereoLogic::WriteStereoParametersFile(path.toStdString(), d->current(), errorText)) {
-    d->showError(tr("Not saved: %1").arg(QString::fromStdString(errorText)));
+    widgets::showError(d->errorLabel, tr("Not saved: %1").arg(QString::fromStdString(errorText)));
     return false;
   }
   return true;

@@ -222,6 +222,35 @@ TEST(ReconstructionParametersWidget, PresetsAndFilesRoundTrip) {
   EXPECT_TRUE(other.errorText().startsWith("Not loaded")) << other.errorText().toStdString();
 }
 
+TEST(ReconstructionParametersWidget, OnePresetRowShowsTheStereoPanelsIsHidden) {
+  // The reconstruction panel offers presets and files for everything; the stereo panel inside it hides its own
+  // row, which a stand-alone stereo panel shows. Both list "(custom)" first, then "paper defaults".
+  qTissueMosaicReconstructionParametersWidget panel;
+  panel.show();
+  for (const char* name : {"reconstructionPresetLabel", "reconstructionPresetComboBox", "reconstructionLoadButton",
+                           "reconstructionSaveButton"}) {
+    auto* control = panel.findChild<QWidget*>(name);
+    ASSERT_NE(control, nullptr) << name;
+    EXPECT_TRUE(control->isVisible()) << name;
+  }
+  for (const char* name : {"presetLabel", "presetComboBox", "loadButton", "saveButton"}) {
+    auto* control = panel.stereoPanel()->findChild<QWidget*>(name);
+    ASSERT_NE(control, nullptr) << name;
+    EXPECT_FALSE(control->isVisible()) << name;
+  }
+  qTissueMosaicStereoParametersWidget standAlone;
+  standAlone.show();
+  EXPECT_TRUE(standAlone.findChild<QWidget*>("presetComboBox")->isVisible());
+  for (auto* comboBox : {panel.findChild<QComboBox*>("reconstructionPresetComboBox"),
+                         standAlone.findChild<QComboBox*>("presetComboBox")}) {
+    ASSERT_GE(comboBox->count(), 3);
+    EXPECT_EQ(comboBox->itemText(0), "(custom)");
+    EXPECT_EQ(comboBox->itemText(1), "paper defaults");
+  }
+  EXPECT_EQ(panel.findChild<QComboBox*>("reconstructionPresetComboBox")->currentText(), "paper defaults")
+      << "the defaults match the paper-defaults preset";
+}
+
 TEST(ReconstructionVideoPanel, ShowsFramesInRgbOrder) {
   cv::Mat bgr(30, 40, CV_8UC3, cv::Scalar(10, 20, 200));  // B G R: a red picture
   const QImage image = qTissueMosaicVideoPanel::toQImage(bgr);
