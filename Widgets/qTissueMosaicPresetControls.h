@@ -3,9 +3,10 @@
 /// @brief What the parameter panels (stereo, reconstruction) share: the row "Preset: [presets] Load... Save...",
 /// the red line that says why an edit was refused, the presets compiled in from Resources/Presets/*.yml, and the
 /// rule that an edit is stored only when validate() and the logic both accept it.
-#include <QLabel>
+#include <QObject>
 #include <QString>
 #include <QStringList>
+#include <QtGlobal>
 
 #include <exception>
 #include <functional>
@@ -16,6 +17,7 @@
 
 class QBoxLayout;
 class QComboBox;
+class QLabel;
 class QPushButton;
 class QWidget;
 
@@ -57,6 +59,13 @@ std::vector<std::pair<QString, std::string>> presetTexts();
 /// Fills the preset combo box: kCustomPresetLabel, then "paper defaults" (what a new user should see), then the
 /// other names in order.
 void fillPresetComboBox(QComboBox* comboBox, const QStringList& names);
+/// The same with the names of a preset map (readPresets).
+template <class Parameters>
+void fillPresetComboBox(QComboBox* comboBox, const std::map<QString, Parameters>& presets) {
+  QStringList names;
+  for (const auto& preset : presets) names << preset.first;
+  fillPresetComboBox(comboBox, names);
+}
 /// The preset names of a combo box filled by fillPresetComboBox (kCustomPresetLabel left out).
 QStringList presetNames(const QComboBox* comboBox);
 /// Selects `name` in the combo box without emitting a signal (kCustomPresetLabel when empty).
@@ -79,12 +88,12 @@ std::map<QString, Parameters> readPresets(const char* what, Parse parse) {
   return presets;
 }
 
-/// The name of the last preset equal to current by same(a, b), or an empty string.
-template <class Parameters, class Same>
-QString matchingPreset(const std::map<QString, Parameters>& presets, const Parameters& current, Same same) {
+/// The name of the last preset for which isCurrent(preset) holds, or an empty string.
+template <class Parameters, class IsCurrent>
+QString matchingPreset(const std::map<QString, Parameters>& presets, IsCurrent isCurrent) {
   QString match;
   for (const auto& preset : presets) {
-    if (same(preset.second, current)) match = preset.first;
+    if (isCurrent(preset.second)) match = preset.first;
   }
   return match;
 }

@@ -240,15 +240,14 @@ void qTissueMosaicReconstructionParametersWidgetPrivate::setupUi() {
 void qTissueMosaicReconstructionParametersWidgetPrivate::loadPresets() {
   presets = widgets::readPresets<Parameters>("reconstruction",
                                              &vtkTissueMosaicReconstructionLogic::ParseReconstructionParameters);
-  QStringList names;
-  for (const auto& preset : presets) names << preset.first;
-  widgets::fillPresetComboBox(presetRow.comboBox, names);
+  widgets::fillPresetComboBox(presetRow.comboBox, presets);
 }
 
 void qTissueMosaicReconstructionParametersWidgetPrivate::selectMatchingPreset() {
   const std::string now = canonicalText(current());
-  const auto sameAsNow = [&now](const Parameters& preset, const Parameters&) { return canonicalText(preset) == now; };
-  widgets::selectPreset(presetRow.comboBox, widgets::matchingPreset(presets, current(), sameAsNow));
+  widgets::selectPreset(presetRow.comboBox, widgets::matchingPreset(presets, [&now](const Parameters& preset) {
+                          return canonicalText(preset) == now;
+                        }));
 }
 
 bool qTissueMosaicReconstructionParametersWidgetPrivate::store(const Parameters& parameters) {

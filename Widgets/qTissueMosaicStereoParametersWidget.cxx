@@ -271,9 +271,7 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
 
 void qTissueMosaicStereoParametersWidgetPrivate::loadPresets() {
   presets = widgets::readPresets<StereoParameters>("stereo", &vtkTissueMosaicStereoLogic::ParseStereoParameters);
-  QStringList names;
-  for (const auto& preset : presets) names << preset.first;
-  widgets::fillPresetComboBox(presetRow.comboBox, names);
+  widgets::fillPresetComboBox(presetRow.comboBox, presets);
 }
 
 void qTissueMosaicStereoParametersWidgetPrivate::enableMethodGroups(StereoMethod method) {
@@ -283,7 +281,9 @@ void qTissueMosaicStereoParametersWidgetPrivate::enableMethodGroups(StereoMethod
 }
 
 void qTissueMosaicStereoParametersWidgetPrivate::selectMatchingPreset() {
-  widgets::selectPreset(presetRow.comboBox, widgets::matchingPreset(presets, current(), sameParameters));
+  widgets::selectPreset(presetRow.comboBox, widgets::matchingPreset(presets, [this](const StereoParameters& preset) {
+                          return sameParameters(preset, current());
+                        }));
 }
 
 bool qTissueMosaicStereoParametersWidgetPrivate::store(const StereoParameters& parameters) {
