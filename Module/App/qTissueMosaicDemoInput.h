@@ -1,6 +1,6 @@
 #pragma once
 /// @class qTissueMosaicDemoInput
-/// @brief The bundled demo input: a synthetic stereo-endoscope scan of liver-like tissue (Testing/Synthetic,
+/// @brief The bundled demo input: a synthetic stereo-endoscope scan of liver-like tissue (Logic/Synthetic,
 /// exact ground truth), written as rectified frame folders + rig.yml (+ groundtruth/) into a folder, on a worker
 /// thread so that the interface stays live. Progress and the end are reported by signals on the GUI thread.
 #include <QObject>
