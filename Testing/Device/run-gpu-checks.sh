@@ -4,7 +4,9 @@
 # It runs the CUDA-vs-CPU tests and the benchmarks (stereo, ORB, PnP, tracking three times, the 300-frame reconstruction;
 # with LONG=1 also the 5-minute scan, 9000 frames rendered 100 at a time, about 7 minutes) and leaves logs and JSON in $OUT
 # (or ./gpu-checks), one bench-*.json per run: Resources/scripts/benchmark-report.py turns them into docs/BENCHMARKS.md's tables.
+# The exit status is non-zero when a CUDA test failed, or skipped (check-cuda-log.sh): here every one must run.
 set -uo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 bundle=${BUNDLE:-.device-bundle}
 out=${OUT:-gpu-checks}
 bench="$bundle/run tissuemosaic-bench bench"
@@ -12,6 +14,8 @@ mkdir -p "$out"
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.max.sm --format=csv | tee "$out/gpu.txt"
 "$bundle/run" TissueMosaicCudaTests 2>&1 | tee "$out/cuda-tests.log" | grep -E "^\[  (PASSED|FAILED|SKIPPED)"
 tests_status=${PIPESTATUS[0]}
+"$here/check-cuda-log.sh" "$out/cuda-tests.log" | tee "$out/cuda-tests-verdict.txt"
+verdict_status=${PIPESTATUS[0]}
 $bench stereo --device cuda --repeats ${REPEATS:-200} 2>/dev/null | tee "$out/bench-stereo-cuda.json"
 $bench stereo --device cpu --repeats 5 2>/dev/null > "$out/bench-stereo-cpu.json"
 $bench stereo --device cuda --method ad-census 2>/dev/null > "$out/bench-stereo-adcensus-cuda.json"
@@ -24,5 +28,5 @@ if [ "${LONG:-0}" = 1 ]; then
   $bench reconstruct --device cuda --frames 9000 --stream --chunk 100 --supersampling 1 2>/dev/null |
     tee "$out/bench-reconstruct-cuda-9000.json"
 fi
-echo "CUDA tests exit status: $tests_status"
-exit "$tests_status"
+echo "CUDA tests exit status: $tests_status; verdict: $(tail -n 1 "$out/cuda-tests-verdict.txt")"
+[ "$tests_status" -eq 0 ] && [ "$verdict_status" -eq 0 ]

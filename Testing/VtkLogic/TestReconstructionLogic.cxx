@@ -31,7 +31,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <filesystem>
+#include <functional>
+#include <mutex>
 #include <thread>
 
 using tissuemosaic::CameraPose;
@@ -390,11 +393,102 @@ TEST_F(ReconstructionLogicScan, PauseResumeStopAndReset) {
   EXPECT_EQ(logic->GetKeyFrameFrusta()->GetNumberOfPoints(), 0);
   EXPECT_TRUE(logic->GetLeftFrame().empty());
   EXPECT_TRUE(logic->CanChangeParameters());
-  // A reset while running returns at once; the old worker finishes its frame in the background.
-  ASSERT_TRUE(logic->Start());
-  const auto before = std::chrono::steady_clock::now();
-  logic->Reset();
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count(), 0.05);
+}
+
+namespace {
+
+/// A gate the test opens: frame reads wait at it, so the worker is certainly inside a frame until the test lets it
+/// go. A watchdog opens it after `limitS` whatever happens, so that a call which waits for the worker ends the test
+/// with a failure instead of a hang.
+class Gate {
+public:
+  void open() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      open_ = true;
+    }
+    changed_.notify_all();
+  }
+  bool isOpen() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return open_;
+  }
+  void waitUntilOpen() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    entered_ = true;
+    changed_.notify_all();
+    changed_.wait(lock, [this] { return open_; });
+  }
+  /// True once a reader waits at the gate (within limitS).
+  bool waitForReader(double limitS) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return changed_.wait_for(lock, std::chrono::duration<double>(limitS), [this] { return entered_; });
+  }
+  /// Runs `call` with a watchdog that opens the gate after limitS; true when the call returned while the gate was
+  /// still shut, i.e. without waiting for whoever waits at it.
+  bool returnsWhileShut(const std::function<void()>& call, double limitS) {
+    std::thread watchdog([this, limitS] {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (!changed_.wait_for(lock, std::chrono::duration<double>(limitS), [this] { return open_ || callDone_; })) {
+        open_ = true;
+        changed_.notify_all();
+      }
+    });
+    call();
+    const bool shut = !isOpen();
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      callDone_ = true;
+    }
+    changed_.notify_all();
+    watchdog.join();
+    return shut;
+  }
+
+private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool open_ = false, entered_ = false, callDone_ = false;
+};
+
+/// The scan's frames, each read held at the gate until it opens.
+class GatedSource : public tissuemosaic::StereoFrameSource {
+public:
+  GatedSource(std::shared_ptr<const tissuemosaic::synthetic::SyntheticScan> scan, std::shared_ptr<Gate> gate)
+      : inner_(std::move(scan)), gate_(std::move(gate)) {}
+  bool next(tissuemosaic::StereoFrame& frame) override {
+    gate_->waitUntilOpen();
+    return inner_.next(frame);
+  }
+  int frameCount() const override { return inner_.frameCount(); }
+  cv::Size frameSize() const override { return inner_.frameSize(); }
+  std::string description() const override { return "gated"; }
+
+private:
+  SyntheticScanFrameSource inner_;
+  std::shared_ptr<Gate> gate_;
+};
+
+}  // namespace
+
+// A reset while running returns at once; the old worker finishes its frame in the background. Checked by events, not
+// by the clock: the worker is held inside a frame read, and Reset must return while it still is.
+TEST_F(ReconstructionLogicScan, ResetWhileRunningDoesNotWaitForTheWorker) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  setUp(logic);
+  auto scan = scan_;
+  auto gate = std::make_shared<Gate>();
+  ASSERT_TRUE(logic->SetFrameSourceFactory([scan, gate] { return std::make_unique<GatedSource>(scan, gate); }));
+  ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+  ASSERT_TRUE(gate->waitForReader(60.0)) << "the worker never started reading frames";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Reset(); }, 20.0)) << "Reset waited for the worker's frame";
+  gate->open();  // the old worker finishes its frame and ends in the background
+  EXPECT_EQ(logic->GetScanState(), vtkTissueMosaicReconstructionLogic::StateIdle);
+  EXPECT_TRUE(logic->CanChangeParameters());
+
+  // Negative control: a call that does wait for the worker (here: for the gate itself) fails the same check.
+  Gate shut;
+  EXPECT_FALSE(shut.returnsWhileShut([&shut] { shut.waitUntilOpen(); }, 0.2));
 }
 
 namespace {

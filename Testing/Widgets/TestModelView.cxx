@@ -20,6 +20,9 @@
 #include <vtkSmartPointer.h>
 #include <vtkRenderWindow.h>
 
+#include <algorithm>
+#include <cstdio>
+
 namespace {
 
 /// A flat, striped sheet of `columns` x `rows` points 100 mm in front of the world origin.
@@ -102,13 +105,20 @@ TEST_F(SmallModelView, RenderLeavesTheWindowRepaintToALaterEventLoopPass) {
 
 // A render timer that falls due while another long event runs (on software OpenGL, the window's composition: tens of
 // milliseconds) gives way once, so that the timers and input waiting behind that event run before the render does:
-// otherwise the two long events make one stall.
+// otherwise the two long events make one stall. The test's times follow the measured render, so that it means the
+// same on a fast or a loaded machine: the render falls due (at most max(33 ms, twice the render) after it) before
+// the waiting timer does (40 ms later), and both fall due while the long event (80 ms longer still) holds the loop.
 TEST_F(SmallModelView, RenderDueDuringALongEventLetsTheWaitingTimersRunFirst) {
   QElapsedTimer clock;
   clock.start();
   view.render();  // the next requested render waits max(33 ms, twice this render) from now
   const qint64 renderMs = clock.elapsed();
-  if (renderMs > 40) GTEST_SKIP() << "a 1200-point render took " << renderMs << " ms: too slow to time the test";
+  const qint64 renderDueMs = std::max<qint64>(33, 2 * renderMs);
+  const qint64 waitingTimerMs = std::max<qint64>(120, renderDueMs + 40);
+  const qint64 longEventMs = std::max<qint64>(200, waitingTimerMs + 80);
+  std::printf("[ measured ] a 1200-point render took %lld ms: timer at %lld ms, long event %lld ms\n",
+              static_cast<long long>(renderMs), static_cast<long long>(waitingTimerMs),
+              static_cast<long long>(longEventMs));
 
   struct RenderStart {
     const QElapsedTimer* clock;
@@ -123,22 +133,22 @@ TEST_F(SmallModelView, RenderDueDuringALongEventLetsTheWaitingTimersRunFirst) {
   const unsigned long observer = view.renderWindow()->AddObserver(vtkCommand::StartEvent, onRender);
 
   clock.restart();
-  view.requestRender();  // due within 80 ms
+  view.requestRender();  // due within renderDueMs
   qint64 waitingTimerAtMs = -1;
-  QTimer::singleShot(0, [] {  // the long event, over the render's due time and the waiting timer's
+  QTimer::singleShot(0, [longEventMs] {  // the long event, over the render's due time and the waiting timer's
     QElapsedTimer busy;
     busy.start();
-    while (busy.elapsed() < 200) {
+    while (busy.elapsed() < longEventMs) {
     }
   });
-  QTimer::singleShot(120, [&] { waitingTimerAtMs = clock.elapsed(); });
-  while ((renderStart.atMs < 0 || waitingTimerAtMs < 0) && clock.elapsed() < 3000) {
+  QTimer::singleShot(static_cast<int>(waitingTimerMs), [&] { waitingTimerAtMs = clock.elapsed(); });
+  while ((renderStart.atMs < 0 || waitingTimerAtMs < 0) && clock.elapsed() < 3000 + 2 * longEventMs) {
     QCoreApplication::processEvents(QEventLoop::AllEvents, 5);
   }
   view.renderWindow()->RemoveObserver(observer);
   ASSERT_GE(renderStart.atMs, 0) << "the requested render never came";
   ASSERT_GE(waitingTimerAtMs, 0) << "the waiting timer never fired";
-  EXPECT_GE(waitingTimerAtMs, 200) << "the long event did not hold the loop";
+  EXPECT_GE(waitingTimerAtMs, longEventMs) << "the long event did not hold the loop";
   EXPECT_LE(waitingTimerAtMs, renderStart.atMs)
       << "the render ran straight after the long event, before the timer that had waited behind it";
 }
