@@ -208,7 +208,6 @@ TEST(ReconstructionLogic, RefusesToStartWithoutInputAndInvalidParameters) {
   EXPECT_FALSE(logic->HasInput());
 }
 
-
 class ReconstructionLogicScan : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
@@ -397,11 +396,12 @@ TEST_F(ReconstructionLogicScan, PauseResumeStopAndReset) {
 
 namespace {
 
-/// A gate the test opens: frame reads wait at it, so the worker is certainly inside a frame until the test lets it
-/// go. A watchdog opens it after `limitS` whatever happens, so that a call which waits for the worker ends the test
-/// with a failure instead of a hang.
+/// A gate the test opens: frame reads wait at it (after the first `freePasses`), so the worker is certainly inside
+/// a frame until the test lets it go. A watchdog opens it after `limitS` whatever happens, so that a call which waits
+/// for the worker ends the test with a failure instead of a hang.
 class Gate {
 public:
+  explicit Gate(int freePasses = 0) : freePasses_(freePasses) {}
   void open() {
     {
       const std::lock_guard<std::mutex> lock(mutex_);
@@ -415,6 +415,10 @@ public:
   }
   void waitUntilOpen() {
     std::unique_lock<std::mutex> lock(mutex_);
+    if (freePasses_ > 0) {
+      --freePasses_;
+      return;
+    }
     entered_ = true;
     changed_.notify_all();
     changed_.wait(lock, [this] { return open_; });
@@ -427,6 +431,10 @@ public:
   /// Runs `call` with a watchdog that opens the gate after limitS; true when the call returned while the gate was
   /// still shut, i.e. without waiting for whoever waits at it.
   bool returnsWhileShut(const std::function<void()>& call, double limitS) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      callDone_ = false;
+    }
     std::thread watchdog([this, limitS] {
       std::unique_lock<std::mutex> lock(mutex_);
       if (!changed_.wait_for(lock, std::chrono::duration<double>(limitS), [this] { return open_ || callDone_; })) {
@@ -448,6 +456,7 @@ public:
 private:
   std::mutex mutex_;
   std::condition_variable changed_;
+  int freePasses_;
   bool open_ = false, entered_ = false, callDone_ = false;
 };
 
@@ -491,50 +500,28 @@ TEST_F(ReconstructionLogicScan, ResetWhileRunningDoesNotWaitForTheWorker) {
   EXPECT_FALSE(shut.returnsWhileShut([&shut] { shut.waitUntilOpen(); }, 0.2));
 }
 
-namespace {
-
-/// Frames that take long to read: the worker spends its time inside next(), as it would inside a slow frame.
-class SlowSource : public tissuemosaic::StereoFrameSource {
-public:
-  explicit SlowSource(std::shared_ptr<const tissuemosaic::synthetic::SyntheticScan> scan) : inner_(std::move(scan)) {}
-  bool next(tissuemosaic::StereoFrame& frame) override {
-    std::this_thread::sleep_for(std::chrono::milliseconds(400));
-    return inner_.next(frame);
-  }
-  int frameCount() const override { return inner_.frameCount(); }
-  cv::Size frameSize() const override { return inner_.frameSize(); }
-  std::string description() const override { return "slow"; }
-
-private:
-  SyntheticScanFrameSource inner_;
-};
-
-}  // namespace
-
+// Every call the GUI makes returns while the worker is busy: checked by events, not by the clock. The first frame
+// goes through (the worker makes progress while the owner polls), then the worker is held at the next frame read,
+// and each call must return while it still is.
 TEST_F(ReconstructionLogicScan, OwnerNeverWaitsForTheWorker) {
   vtkNew<vtkTissueMosaicReconstructionLogic> logic;
   setUp(logic);
   auto scan = scan_;
-  ASSERT_TRUE(logic->SetFrameSourceFactory([scan] { return std::make_unique<SlowSource>(scan); }));
+  auto gate = std::make_shared<Gate>(1);
+  ASSERT_TRUE(logic->SetFrameSourceFactory([scan, gate] { return std::make_unique<GatedSource>(scan, gate); }));
   logic->SetRectifiedGeometry(scan_->geometry());
-  // Every call the GUI makes returns at once while the worker is busy (here: 400 ms inside each frame read).
-  using Clock = std::chrono::steady_clock;
-  double slowestMs = 0;
-  const auto timed = [&](auto&& call) {
-    const auto start = Clock::now();
-    call();
-    slowestMs = std::max(slowestMs, std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-  };
-  timed([&] { ASSERT_TRUE(logic->Start()); });
-  for (int i = 0; i < 40; ++i) {  // 1.2 s of 30 Hz polling, across several frames
-    timed([&] { logic->UpdateOutputs(); });
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+  ASSERT_TRUE(gate->waitForReader(120.0)) << "the worker never came to its second frame";
+  bool processed = false;
+  for (int poll = 0; poll < 6000 && !processed; ++poll) {  // the first frame's results reach the owner
+    EXPECT_TRUE(gate->returnsWhileShut([&] { logic->UpdateOutputs(); }, 20.0)) << "UpdateOutputs waited";
+    processed = logic->GetStatus().framesProcessed >= 1;
+    if (!processed) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  EXPECT_GE(logic->GetStatus().framesProcessed, 1);
-  timed([&] { logic->Pause(); });
-  timed([&] { ASSERT_TRUE(logic->Start()); });
-  timed([&] { logic->Stop(); });
-  timed([&] { logic->Reset(); });
-  std::cout << "[ measured ] slowest owner-thread call while the worker was busy: " << slowestMs << " ms\n";
-  EXPECT_LT(slowestMs, 100.0);
+  EXPECT_TRUE(processed) << "the first frame never reached the owner";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Pause(); }, 20.0)) << "Pause waited for the worker";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { EXPECT_TRUE(logic->Start()); }, 20.0)) << "resuming waited";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Stop(); }, 20.0)) << "Stop waited for the worker";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Reset(); }, 20.0)) << "Reset waited for the worker";
+  gate->open();
 }
