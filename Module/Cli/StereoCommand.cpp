@@ -80,7 +80,8 @@ int runStereo(const Words& words) {
 
   std::unique_ptr<StereoRectifier> rectifier;
   if (arguments.has("calib")) {
-    const StereoCalibration calibration = StereoCalibration::read(arguments.required("calib"));
+    StereoCalibration calibration = StereoCalibration::read(arguments.required("calib"));
+    calibration.adoptFrameSize(left.size(), "'" + leftPath + "'");
     rectifier = std::make_unique<StereoRectifier>(calibration);
     cv::Mat leftRectified, rightRectified;
     rectifier->rectify(left, right, leftRectified, rightRectified);

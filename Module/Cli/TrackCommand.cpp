@@ -32,7 +32,7 @@ with the previous tracked frame, histogram voting, DynamicR1PPnP, key-frame deci
 input:
   --left-frames DIR        left frames (PNG/JPEG/..., taken in file-name order)
   --right-frames DIR       right frames, as many as left ones, paired in file-name order
-  --calib rig.yml          OpenCV stereo calibration (K1 D1 K2 D2 R T imageSize) of the unrectified rig
+  --calib rig.yml          stereo calibration of the unrectified rig (any layout of docs/CALIBRATION.md)
   --rectified              the frames are already rectified (as StereoRectifier makes them from --calib, e.g. the
                            output of `tissuemosaic synth scan`); otherwise they are rectified first
 output:
@@ -89,7 +89,8 @@ int runTrack(const Words& words) {
   require(leftFrames.size() == rightFrames.size(), "--left-frames has " + std::to_string(leftFrames.size()) +
                                                        " images but --right-frames has " +
                                                        std::to_string(rightFrames.size()) + ": they must pair up");
-  const StereoCalibration calibration = StereoCalibration::read(arguments.required("calib"));
+  StereoCalibration calibration = StereoCalibration::read(arguments.required("calib"));
+  calibration.adoptFrameSize(loadImage(leftFrames.front().string()).size(), "'" + arguments.required("left-frames") + "'");
   const std::string out = arguments.required("out");
   const bool rectified = arguments.has("rectified");
   const bool quiet = arguments.has("quiet");
