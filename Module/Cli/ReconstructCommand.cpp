@@ -2,13 +2,16 @@
 // paper's runtime table (sections II-III end to end).
 #include "Arguments.h"
 #include "Commands.h"
+#include "IgtLinkOptions.h"
 #include "ModelOutput.h"
 #include "ProgressBar.h"
+#include "StopSignal.h"
 
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
 #include "Core/Stopwatch.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
@@ -23,6 +26,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <set>
 
 namespace tissuemosaic::cli {
 
@@ -36,11 +40,22 @@ timing table (median and mean milliseconds per key frame and per other frame) an
 
 INPUT, one of:
   --left-frames DIR --right-frames DIR   two folders of frames (PNG/JPEG/..., paired in file-name order)
-  --left-video L --right-video R         two video files
-  --video SBS                            one side-by-side video (left eye in the left half)
+  --left-video L --right-video R         two videos
+  --video V [--video-layout sbs|sbs-half|tb|tb-half|rows]
+                           one 3D video with both eyes in each frame (default sbs: left eye in the left half)
+  --igtl-input HOST:PORT (--igtl-left NAME --igtl-right NAME | --igtl-sbs NAME)
+                           IMAGE messages from an OpenIGTLink server such as PLUS: two streams paired by time
+                           stamp, or one packed stream (--video-layout applies)
+  A video is a file, a V4L2 device (/dev/videoN) or a GStreamer pipeline ending in appsink. Devices, pipelines and
+  OpenIGTLink are live: read in real time, the newest frame first; frames the reconstruction is too slow for are
+  dropped and counted. Ctrl-C or SIGTERM stops the scan cleanly and writes the outputs.
 Geometry, one of:
-  --calib rig.yml          OpenCV YAML/XML stereo calibration (K1 D1 K2 D2 R T, image size): frames are rectified
-  --calib rig.yml --rectified   frames already rectified as StereoRectifier makes them from rig.yml
+  --calib FILE             stereo calibration, recognised by its keys (docs/CALIBRATION.md): OpenCV
+                           stereoCalibrate, stereo_calib sample / SCARED / SurgT, Kalibr, MATLAB; frames are
+                           rectified with it. Without an image size in the file, the frames give it.
+    --calib-extrinsics E   the stereo_calib sample's extrinsics.yml beside --calib intrinsics.yml
+    --calib-right R        ROS camera_info: --calib is the left eye's file, R the right eye's
+  --calib FILE --rectified frames already rectified as StereoRectifier makes them from FILE
   --focal-px F --baseline-mm B [--cx-px X] [--cy-px Y] [--doffs-px D]
                            frames already rectified, with this geometry (cx, cy default to the image centre)
 Outputs:
@@ -60,20 +75,32 @@ Options:
   --start-tum T.txt        the first frame's pose: the first pose of this TUM file (e.g. a ground truth)
   --min-disparity A --max-disparity B   override the stereo disparity range
   --quiet                  no progress bar
+OpenIGTLink server (3D Slicer; docs/OPENIGTLINK.md):
+  --igtl-port P            send TRANSFORM LeftCameraToModel per tracked frame, POLYDATA TissueModel after key
+                           frames, STATUS TissueMosaic (Lost, Relocalised, Finished) to every client (0: any port)
+  --igtl-wait-client S     hold processing up to S seconds for a first client
+  --igtl-send-video        also IMAGE LeftVideo, the rectified left frame
+  --igtl-model-rate HZ     POLYDATA messages per second at most (default 2)
+  --igtl-model-points N    points per POLYDATA at most (default 500000)
 )";
 
 std::unique_ptr<StereoFrameSource> openSource(const Arguments& arguments, double fps) {
   const bool folders = arguments.has("left-frames") || arguments.has("right-frames");
   const bool videos = arguments.has("left-video") || arguments.has("right-video");
-  const bool sideBySide = arguments.has("video");
-  require(folders + videos + sideBySide == 1,
-          "give exactly one input: --left-frames/--right-frames, --left-video/--right-video or --video");
+  const bool packed = arguments.has("video");
+  const bool igtl = hasIgtLinkInput(arguments);
+  require(folders + videos + packed + igtl == 1, "give exactly one input: --left-frames/--right-frames, "
+                                                 "--left-video/--right-video, --video or --igtl-input");
+  require(!arguments.has("video-layout") || packed || arguments.has("igtl-sbs"),
+          "--video-layout applies to --video and --igtl-sbs");
+  const VideoLayout layout = parseVideoLayout(arguments.text("video-layout", "sbs"));
   if (folders) {
     return StereoFrameSource::openFrameFolders(arguments.required("left-frames"), arguments.required("right-frames"),
                                                fps);
   }
   if (videos) return StereoFrameSource::openVideoPair(arguments.required("left-video"), arguments.required("right-video"));
-  return StereoFrameSource::openSideBySideVideo(arguments.required("video"));
+  if (igtl) return openIgtLinkInput(arguments, layout);
+  return StereoFrameSource::openStereoVideo(arguments.required("video"), layout);
 }
 
 /// The geometry of already rectified frames given on the command line.
@@ -106,10 +133,13 @@ int runReconstruct(const Words& words) {
     return 0;
   }
   const Arguments arguments(words);
-  arguments.allowOnly({"left-frames", "right-frames", "left-video", "right-video", "video", "calib", "rectified",
-                       "focal-px", "baseline-mm", "cx-px", "cy-px", "doffs-px", "out", "trajectory",
-                       "frames-trajectory", "timing-json", "snapshot", "params", "device", "fps", "max-frames",
-                       "start-tum", "min-disparity", "max-disparity", "quiet"});
+  std::set<std::string> known = {"left-frames", "right-frames", "left-video", "right-video", "video",
+                                  "video-layout", "calib", "calib-extrinsics", "calib-right", "rectified", "focal-px",
+                                  "baseline-mm", "cx-px", "cy-px", "doffs-px", "out", "trajectory",
+                                  "frames-trajectory", "timing-json", "snapshot", "params", "device", "fps",
+                                  "max-frames", "start-tum", "min-disparity", "max-disparity", "quiet"};
+  known.insert(kIgtLinkOptionNames, kIgtLinkOptionNames + kIgtLinkOptionCount);
+  arguments.allowOnly(known);
   const std::string out = arguments.required("out");
   checkModelOutputPath(out);
   if (arguments.has("snapshot")) checkSnapshotAvailable();
@@ -132,17 +162,20 @@ int runReconstruct(const Words& words) {
     T_world_start = start.front().T_world_camera;
   }
 
+  for (const char* name : {"calib-extrinsics", "calib-right"})
+    require(!arguments.has(name) || arguments.has("calib"), std::string("--") + name + " needs --calib");
   std::unique_ptr<StereoFrameSource> source = openSource(arguments, fps);
   const cv::Size frameSize = source->frameSize();
   std::unique_ptr<ReconstructionPipeline> pipeline;
+  std::string calibrationLine;
   const bool hasFocal = arguments.has("focal-px") || arguments.has("baseline-mm");
   if (arguments.has("calib")) {
     require(!hasFocal, "give either --calib or --focal-px/--baseline-mm, not both");
-    const StereoCalibration calibration = StereoCalibration::read(arguments.required("calib"));
-    require(calibration.imageSize == frameSize,
-            "the calibration is for " + std::to_string(calibration.imageSize.width) + "x" +
-                std::to_string(calibration.imageSize.height) + " but the frames of " + source->description() +
-                " are " + std::to_string(frameSize.width) + "x" + std::to_string(frameSize.height));
+    const CalibrationFileContent content = readCalibrationFiles(CalibrationFiles{
+        arguments.required("calib"), arguments.text("calib-extrinsics", ""), arguments.text("calib-right", "")});
+    StereoCalibration calibration = content.calibration;
+    calibrationLine = "calibration: " + content.layout + (calibration.imageSize.empty() ? ", image size from the frames" : "");
+    calibration.adoptFrameSize(frameSize, source->description());
     if (arguments.has("rectified")) {
       pipeline = std::make_unique<ReconstructionPipeline>(StereoRectifier(calibration).geometry(), parameters, device,
                                                           T_world_start);
@@ -155,6 +188,9 @@ int runReconstruct(const Words& words) {
                                                         T_world_start);
   }
 
+  const std::unique_ptr<IgtLinkSender> igtl = startIgtLinkSender(arguments, std::cerr);
+  StereoFrameSource* const sourceToStop = source.get();
+  const StopOnSignal stop([sourceToStop] { sourceToStop->interrupt(); });
   const bool quiet = arguments.has("quiet");
   const int total = maxFrames > 0 && (source->frameCount() < 0 || maxFrames < source->frameCount())
                         ? maxFrames : source->frameCount();
@@ -165,9 +201,11 @@ int runReconstruct(const Words& words) {
   int lost = 0;
   bool budgetWarned = false;
   StereoFrame frame;
-  for (int index = 0; maxFrames < 0 || index < maxFrames; ++index) {
+  double lastTimeS = 0;
+  for (int index = 0; (maxFrames < 0 || index < maxFrames) && !stop.requested(); ++index) {
     const auto readStart = std::chrono::steady_clock::now();
     if (!source->next(frame)) break;
+    lastTimeS = frame.timeS;
     const double readMs = millisecondsSince(readStart);
     FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
     result.timesMs.videoReading += readMs;
@@ -183,6 +221,11 @@ int runReconstruct(const Words& words) {
       framesLog += "frame " + std::to_string(frame.index) + " lost: " + result.trackingMessage + "\n";
       progress.message("frame " + std::to_string(frame.index) + " lost: " + result.trackingMessage);
     }
+    if (igtl) {
+      igtl->frameProcessed(frame.index, frame.timeS, result.tracked, result.T_world_camera, result.trackingMessage,
+                           result.leftRectified);
+      if (result.keyFrame && igtl->modelDue()) igtl->modelUpdated(pipeline->modelSnapshot().cloud, frame.timeS);
+    }
     if (result.pointBudgetReached && !budgetWarned) {
       budgetWarned = true;
       progress.message("the model reached its point budget (" + std::to_string(parameters.fusion.maxPoints) +
@@ -197,6 +240,11 @@ int runReconstruct(const Words& words) {
   require(frames == 1 || lost < frames - 1, "tracking was lost on every frame after the first: no reconstruction");
 
   const ModelPoints model = pipeline->modelSnapshot();
+  if (igtl) {
+    igtl->finished(model.cloud, lastTimeS,
+                   std::to_string(frames) + " frames, " + std::to_string(model.size()) + " model points" +
+                       (stop.requested() ? " (stopped by a signal)" : ""));
+  }
   require(model.size() > 0, "the reconstruction produced no model points (tracking never started?)");
   writeModelFile(out, model.cloud, "TissueMosaic reconstruct: world frame = first left rectified camera, mm");
   if (arguments.has("trajectory")) {
@@ -228,12 +276,23 @@ int runReconstruct(const Words& words) {
             << cv::format("peak memory: host %.0f MiB (resident), device %.0f MiB (in use, with the CUDA context)\n",
                           hostMb, deviceMb);
   if (!snapshotLine.empty()) std::cout << snapshotLine << "\n";
+  if (!calibrationLine.empty()) std::cout << calibrationLine << "\n";
+  if (source->isLive()) {
+    std::cout << "live source: " << frames << " frames reconstructed, " << source->droppedFrames()
+              << " dropped (newer frames came while one was reconstructed)"
+              << (stop.requested() ? "; stopped by a signal" : "") << "\n";
+  } else if (stop.requested()) {
+    std::cout << "stopped by a signal after " << frames << " frames\n";
+  }
+  if (igtl) std::cout << igtl->summary() << "\n";
   if (arguments.has("timing-json")) {
     std::ofstream json(arguments.required("timing-json"));
     require(json.good(), "cannot write '" + arguments.required("timing-json") + "'");
     json << "{\"device\": \"" << deviceDescription(device) << "\", \"width\": " << frameSize.width
          << ", \"height\": " << frameSize.height << ", \"frames\": " << frames << ", \"lost\": " << lost
          << ", \"key_frames\": " << pipeline->keyFrames().size() << ", \"model_points\": " << model.size()
+         << ", \"live\": " << (source->isLive() ? "true" : "false") << ", \"dropped_frames\": "
+         << source->droppedFrames() << ", \"stopped_by_signal\": " << (stop.requested() ? "true" : "false")
          << ", \"peak_host_mib\": " << cv::format("%.1f", hostMb) << ", \"peak_device_mib\": "
          << cv::format("%.1f", deviceMb) << ", \"timing\": " << timing.toJson() << "}\n";
     require(json.good(), "cannot write '" + arguments.required("timing-json") + "' (disk full?)");
