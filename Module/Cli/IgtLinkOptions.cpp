@@ -8,31 +8,14 @@
 #include "IgtLinkVideoSource.h"
 #endif
 
-#include <cmath>
-
 namespace tissuemosaic::cli {
-
-const char* const kIgtLinkOptionNames[] = {"igtl-port",         "igtl-wait-client", "igtl-send-video",
-                                           "igtl-model-rate",   "igtl-model-points", "igtl-input",
-                                           "igtl-left",         "igtl-right",        "igtl-sbs"};
-const int kIgtLinkOptionCount = sizeof(kIgtLinkOptionNames) / sizeof(kIgtLinkOptionNames[0]);
-
-bool hasIgtLinkInput(const Arguments& arguments) { return arguments.has("igtl-input"); }
 
 namespace {
 
-void checkSenderOptionsNeedPort(const Arguments& arguments) {
-  for (const char* name : {"igtl-wait-client", "igtl-send-video", "igtl-model-rate", "igtl-model-points"})
-    require(!arguments.has(name) || arguments.has("igtl-port"), std::string("--") + name + " needs --igtl-port");
-}
-
-void checkInputOptionsNeedInput(const Arguments& arguments) {
-  for (const char* name : {"igtl-left", "igtl-right", "igtl-sbs"})
-    require(!arguments.has(name) || arguments.has("igtl-input"), std::string("--") + name + " needs --igtl-input");
-}
+const char* const kNoIgtLink =
+    "this build has no OpenIGTLink: install libopenigtlink-dev (Resources/scripts/setup.sh) and configure again";
 
 #if defined(TM_WITH_IGTLINK)
-
 class PublisherSender : public IgtLinkSender {
 public:
   PublisherSender(int port, const igtlink::IgtLinkPublisherOptions& options)
@@ -57,67 +40,75 @@ public:
   }
 
 private:
-  igtlink::IgtLinkServer server_;
+  igtlink::IgtLinkServer server_;  // declared first: the publisher stops before the server
   igtlink::IgtLinkPublisher publisher_;
 };
-
 #endif
 
 }  // namespace
 
-std::unique_ptr<IgtLinkSender> startIgtLinkSender(const Arguments& arguments, std::ostream& log) {
-  checkSenderOptionsNeedPort(arguments);
-  if (!arguments.has("igtl-port")) return nullptr;
-  const int port = arguments.integer("igtl-port", 0);
-  require(port >= 0 && port <= 65535, "--igtl-port must be in 0..65535 (Slicer's default is 18944; 0: any free port)");
-  const double waitS = arguments.number("igtl-wait-client", 0);
-  require(waitS >= 0 && std::isfinite(waitS), "--igtl-wait-client must be a number of seconds >= 0");
+void addIgtLinkServerOptions(CLI::App& command, IgtLinkServerOptions& options) {
+  CLI::Option* port = command.add_option(
+      "--igtl-port", options.port,
+      "OpenIGTLink server for 3D Slicer: TRANSFORM LeftCameraToModel per tracked frame, POLYDATA TissueModel after "
+      "key frames, STATUS TissueMosaic (Slicer's default port is 18944; 0: any free port)");
+  port->check(CLI::Range(0, 65535))->type_name("P");
+  CLI::Option* wait = command.add_option("--igtl-wait-client", options.waitClientS,
+                                         "hold processing up to S seconds for a first OpenIGTLink client");
+  wait->check(CLI::NonNegativeNumber)->type_name("S");
+  CLI::Option* video = command.add_flag("--igtl-send-video", options.sendVideo,
+                                        "also send IMAGE LeftVideo, the rectified left frame");
+  CLI::Option* rate = command.add_option("--igtl-model-rate", options.modelRateHz,
+                                         "POLYDATA messages per second at most");
+  rate->check(positiveNumber("per second"))->type_name("HZ")->capture_default_str();
+  CLI::Option* points = command.add_option("--igtl-model-points", options.modelPoints,
+                                           "points per POLYDATA at most (spread over the model)");
+  points->check(CLI::PositiveNumber)->type_name("N")->capture_default_str();
+  for (CLI::Option* option : {wait, video, rate, points}) option->needs(port);
+  for (CLI::Option* option : {port, wait, video, rate, points}) option->group(heading::output);
+}
+
+std::unique_ptr<IgtLinkSender> startIgtLinkSender(const IgtLinkServerOptions& options, std::ostream& log) {
+  if (!options.port) return nullptr;
 #if defined(TM_WITH_IGTLINK)
-  igtlink::IgtLinkPublisherOptions options;
-  options.sendVideo = arguments.has("igtl-send-video");
-  options.maxModelRateHz = arguments.number("igtl-model-rate", options.maxModelRateHz);
-  const int points = arguments.integer("igtl-model-points", static_cast<int>(options.modelPointBudget));
-  require(points > 0, "--igtl-model-points must be positive");
-  options.modelPointBudget = static_cast<std::size_t>(points);
-  try {
-    options.validate();
-  } catch (const Error& e) {
-    throw Error(std::string("--igtl-model-rate: ") + e.what());
-  }
-  auto sender = std::make_unique<PublisherSender>(port, options);
+  igtlink::IgtLinkPublisherOptions publisher;
+  publisher.sendVideo = options.sendVideo;
+  publisher.maxModelRateHz = options.modelRateHz;
+  publisher.modelPointBudget = static_cast<std::size_t>(options.modelPoints);
+  auto sender = std::make_unique<PublisherSender>(*options.port, publisher);
   log << "OpenIGTLink server listening on port " << sender->server().port() << std::endl;
-  if (waitS > 0) {
-    log << "waiting up to " << waitS << " s for an OpenIGTLink client..." << std::endl;
-    if (!sender->server().waitForClient(waitS)) log << "no OpenIGTLink client came: reconstructing anyway" << std::endl;
+  if (options.waitClientS > 0) {
+    log << "waiting up to " << options.waitClientS << " s for an OpenIGTLink client..." << std::endl;
+    if (!sender->server().waitForClient(options.waitClientS)) {
+      log << "no OpenIGTLink client came: reconstructing anyway" << std::endl;
+    }
   }
   return sender;
 #else
   (void)log;
-  throw Error("this build has no OpenIGTLink (--igtl-port): install libopenigtlink-dev (Resources/scripts/setup.sh) "
-              "and configure again");
+  throw Error(std::string("--igtl-port: ") + kNoIgtLink);
 #endif
 }
 
-std::unique_ptr<StereoFrameSource> openIgtLinkInput(const Arguments& arguments, VideoLayout layout) {
-  checkInputOptionsNeedInput(arguments);
+std::unique_ptr<StereoFrameSource> openIgtLinkInput(const InputOptions& input, VideoLayout layout) {
 #if defined(TM_WITH_IGTLINK)
-  igtlink::IgtLinkVideoInput input;
-  igtlink::IgtLinkVideoInput::parseAddress(arguments.required("igtl-input"), input.host, input.port);
-  const bool pair = arguments.has("igtl-left") || arguments.has("igtl-right");
-  require(pair != arguments.has("igtl-sbs"),
-          "--igtl-input needs either --igtl-left NAME --igtl-right NAME (two IMAGE streams) or --igtl-sbs NAME");
-  if (pair) {
-    input.leftName = arguments.required("igtl-left");
-    input.rightName = arguments.required("igtl-right");
+  igtlink::IgtLinkVideoInput source;
+  igtlink::IgtLinkVideoInput::parseAddress(input.igtlInput, source.host, source.port);
+  if (!input.igtlSbs.empty()) {
+    source.packedName = input.igtlSbs;
+    source.layout = layout;
+  } else if (!input.igtlLeft.empty()) {
+    source.leftName = input.igtlLeft;
+    source.rightName = input.igtlRight;
   } else {
-    input.packedName = arguments.required("igtl-sbs");
-    input.layout = layout;
+    throw UsageError("--igtl-input needs either --igtl-left NAME --igtl-right NAME (two IMAGE streams) or "
+                     "--igtl-sbs NAME");
   }
-  return igtlink::openIgtLinkVideo(input);
+  return igtlink::openIgtLinkVideo(source);
 #else
+  (void)input;
   (void)layout;
-  throw Error("this build has no OpenIGTLink (--igtl-input): install libopenigtlink-dev (Resources/scripts/setup.sh) "
-              "and configure again");
+  throw Error(std::string("--igtl-input: ") + kNoIgtLink);
 #endif
 }
 

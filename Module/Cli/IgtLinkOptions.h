@@ -1,9 +1,10 @@
 #pragma once
 /// @file IgtLinkOptions.h
-/// @brief reconstruct's OpenIGTLink options (docs/OPENIGTLINK.md): the server that sends the scan to 3D Slicer
-/// (--igtl-port, --igtl-wait-client, --igtl-send-video, --igtl-model-rate, --igtl-model-points) and the input from
-/// a PLUS server (--igtl-input with --igtl-left/--igtl-right or --igtl-sbs). Builds without OpenIGTLink refuse them.
-#include "Arguments.h"
+/// @brief The OpenIGTLink options (docs/OPENIGTLINK.md): reconstruct's server that sends the scan to 3D Slicer
+/// (--igtl-port, --igtl-wait-client, --igtl-send-video, --igtl-model-rate, --igtl-model-points), and the input from
+/// a PLUS server that the input group declares (--igtl-input with --igtl-left/--igtl-right or --igtl-sbs). Builds
+/// without OpenIGTLink refuse them with the reason.
+#include "CommonOptions.h"
 
 #include "IO/StereoFrameSource.h"
 
@@ -21,9 +22,15 @@ struct ColoredPointCloud;
 
 namespace tissuemosaic::cli {
 
-/// The option names, for Arguments::allowOnly.
-extern const char* const kIgtLinkOptionNames[];
-extern const int kIgtLinkOptionCount;
+struct IgtLinkServerOptions {
+  std::optional<int> port;
+  double waitClientS = 0;
+  bool sendVideo = false;
+  double modelRateHz = 2.0;
+  int modelPoints = 500000;
+};
+/// Declares the server options (help heading "Output": they are where the scan goes).
+void addIgtLinkServerOptions(CLI::App& command, IgtLinkServerOptions& options);
 
 /// The sending side of a reconstruct run; every call returns at once.
 class IgtLinkSender {
@@ -34,16 +41,15 @@ public:
   virtual bool modelDue() const = 0;
   virtual void modelUpdated(const ColoredPointCloud& model, double timeS) = 0;
   virtual void finished(const ColoredPointCloud& model, double timeS, const std::string& text) = 0;
-  /// "OpenIGTLink: N clients, M messages sent, K models" for the summary.
+  /// "OpenIGTLink on port P: N client(s), M messages sent (K models), D dropped for slow clients".
   virtual std::string summary() const = 0;
 };
 
 /// nullptr without --igtl-port. With it: listens, then waits up to --igtl-wait-client seconds for a first client
 /// (telling `log` what it does).
-std::unique_ptr<IgtLinkSender> startIgtLinkSender(const Arguments& arguments, std::ostream& log);
+std::unique_ptr<IgtLinkSender> startIgtLinkSender(const IgtLinkServerOptions& options, std::ostream& log);
 
-/// True when --igtl-input is given.
-bool hasIgtLinkInput(const Arguments& arguments);
-std::unique_ptr<StereoFrameSource> openIgtLinkInput(const Arguments& arguments, VideoLayout layout);
+/// The input from --igtl-input (openInput calls it).
+std::unique_ptr<StereoFrameSource> openIgtLinkInput(const InputOptions& input, VideoLayout layout);
 
 }  // namespace tissuemosaic::cli
