@@ -26,8 +26,12 @@ done
 wait "$pid"; status=$?
 cat "$out/reconstruct.txt"
 echo "exit status $status"
-awk -v q="$((seconds / 4))" '$1 >= q {if (min == "" || $2 < min) min = $2; if ($2 > max) max = $2}
-     END {printf "resident memory after %.1f s: %.0f to %.0f MiB\n", q, min / 1024, max / 1024}' "$out/rss.txt"
+# Memory over the run: the resident size at each quarter of it (flat once the model stops growing much).
+awk -v s="$seconds" '{t[NR] = $1; m[NR] = $2} END {
+  printf "resident memory (MiB) at"; for (q = 1; q <= 4; ++q) { best = 0
+    for (i = 1; i <= NR; ++i) if (t[i] <= q * s / 4) best = i
+    if (best) printf " %.0f s: %.0f", t[best], m[best] / 1024 }
+  printf "\n" }' "$out/rss.txt"
 ok=1
 [ "$status" = 0 ] || { echo "FAIL: exit status $status"; ok=0; }
 [ -s "$out/model.ply" ] || { echo "FAIL: no model written"; ok=0; }
