@@ -34,14 +34,17 @@ namespace tissuemosaic::cli {
 namespace {
 
 const char* const details = R"(Renders a synthetic scan (before timing), then runs the whole reconstruction on it (stereo, tracking, key-frame
-refinement, TSDF fusion) starting from the true first pose, and prints one JSON object: the median and mean
-milliseconds per stage for key frames and for the other frames (the paper's runtime table; video_reading is 0:
+refinement, TSDF fusion) starting from the true first pose, and prints one JSON object: the median, mean and 99th
+percentile milliseconds per stage for key frames and for the other frames (the paper's runtime table under "timing",
+each with "median_ms", "mean_ms" and "p99_ms"; video_reading is 0:
 the frames are in memory), the key-frame position error against the ground truth (no alignment), the model's distances to the true
 surface (RMSE, 95th percentile, shares beyond 1, 5 and 50 mm), the share of the key frames' stereo estimates
 that are gross errors (> 3 px from the truth, or where the truth has no surface), the model size
-and the peak host and device memory. "stereo_parts_median_ms" and "tracking_parts_median_ms" split the stereo
-and ORB + voting stages over all frames (host grey conversion and copies beside the GPU's stages; extraction,
-matching, sub-pixel refinement, voting).
+and the peak host and device memory. "stereo_parts_*_ms" and "tracking_parts_*_ms" split the stereo and ORB +
+voting stages over all frames (host grey conversion and copies beside the GPU's stages; extraction, matching,
+sub-pixel refinement, voting), "refinement_parts_*_ms" the key frames' refinement. "disparity_range_px" is the range
+searched (see --disparities) and "key_frame_true_disparity_px" the key frames' true disparities: the scan keeps its
+field of view and working distance at every size, so its disparities grow with the width.
 
 --stream renders each frame just before it is processed (outside the timed stages) instead of all of them first,
 so that the peak host memory is the pipeline's own: for long runs (a 5-minute scan at 30 fps is --frames 9000).
@@ -59,7 +62,7 @@ DIR/groundtruth/surface.ply (the surface both eyes saw) and DIR/groundtruth/traj
 
 struct BenchReconstructOptions {
   int width = 960, height = 540, frames = 60, seed = 1;
-  std::optional<int> supersampling, chunk, threads;
+  std::optional<int> supersampling, chunk, threads, disparities;
   std::optional<std::string> params, out;
   bool stream = false;
   DeviceOption device;
@@ -123,6 +126,8 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   }
   ReconstructionParameters parameters;
   if (settings.params) parameters = ReconstructionParameters::readFile(*settings.params);
+  applyBenchDisparityRange(parameters.stereo, options.width, settings.disparities, settings.params.has_value());
+  parameters.validate();
 
   const synthetic::SyntheticScan scan(options);
   std::vector<synthetic::SyntheticScanFrame> rendered;
@@ -166,6 +171,8 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   // Stereo against the truth on the key frames (what fusion receives): the worst share of gross errors (> 3 px).
   double worstKeyFrameGross = 0, keyFrameGrossSum = 0;
   int worstKeyFrame = -1, keyFramesScored = 0;
+  // The true disparities of the key frames: whether the range searched held the scene.
+  float trueDisparityMin = INFINITY, trueDisparityMax = -INFINITY;
   for (int k = 0; k < scan.frameCount(); ++k) {
     if (stream && k % chunk == 0) {  // the next chunk, rendered before any of it is processed
       rendered.clear();
@@ -201,6 +208,10 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
       for (int y = 0; y < frame.disparityPx.rows; ++y) {
         for (int x = 0; x < frame.disparityPx.cols; ++x) {
           const float estimate = result.disparityPx.at<float>(y, x), truth = frame.disparityPx.at<float>(y, x);
+          if (std::isfinite(truth)) {
+            trueDisparityMin = std::min(trueDisparityMin, truth);
+            trueDisparityMax = std::max(trueDisparityMax, truth);
+          }
           if (!std::isfinite(estimate)) continue;
           ++estimates;
           gross += !std::isfinite(truth) || std::abs(estimate - truth) > 3;
@@ -267,6 +278,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
+  const auto meanOf = [](const std::vector<double>& values) { return mean(values); };
   std::string memoryJson = "[";
   for (std::size_t i = 0; i < memory.size(); ++i) {
     memoryJson += cv::format("%s{\"frame\": %d, \"host_resident_mib\": %.1f, \"peak_device_mib\": %.1f, \"model_points\": %zu}",
@@ -277,18 +289,26 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   std::printf("{\"command\": \"bench reconstruct\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d, \"key_frames\": %zu, "
               "\"model_points\": %zu, \"key_frame_position_rmse_mm\": %.4f, \"model_rmse_mm\": %.4f, \"model_p95_mm\": %.4f, \"peak_host_mib\": %.1f, "
-              "\"peak_device_mib\": %.1f,\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
+              "\"peak_device_mib\": %.1f, \"disparity_range_px\": [%d, %d], \"key_frame_true_disparity_px\": [%.1f, "
+              "%.1f],\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
               "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
               "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": %s,\n "
-              "\"refinement_parts_max_ms\": %s,\n \"stereo_parts_median_ms\": %s,\n \"tracking_parts_median_ms\": %s,\n \"refinement_matching\": {\"key_frames_matched\": %d, "
+              "\"refinement_parts_max_ms\": %s,\n \"refinement_parts_mean_ms\": %s,\n \"refinement_parts_p99_ms\": %s,\n "
+              "\"stereo_parts_median_ms\": %s,\n \"stereo_parts_mean_ms\": %s,\n \"stereo_parts_p99_ms\": %s,\n "
+              "\"tracking_parts_median_ms\": %s,\n \"tracking_parts_mean_ms\": %s,\n \"tracking_parts_p99_ms\": %s,\n "
+              "\"refinement_matching\": {\"key_frames_matched\": %d, "
               "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
-              usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
+              usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), parameters.stereo.minDisparityPx,
+              parameters.stereo.maxDisparityPx, trueDisparityMin, trueDisparityMax, shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
               memoryJson.c_str(), refinementParts.json(median).c_str(), refinementParts.json(largest).c_str(),
-              stereoParts.json(median).c_str(), trackingParts.json(median).c_str(),
+              refinementParts.json(meanOf).c_str(), refinementParts.json(percentile99).c_str(),
+              stereoParts.json(median).c_str(), stereoParts.json(meanOf).c_str(), stereoParts.json(percentile99).c_str(),
+              trackingParts.json(median).c_str(), trackingParts.json(meanOf).c_str(),
+              trackingParts.json(percentile99).c_str(),
               keyFramesMatched, keyFramesGuided, intermediateFrames,
               intermediateFramesGuided, keyFramesJson.c_str(), timing.toJson().c_str());
 }
@@ -315,6 +335,7 @@ void setupBenchReconstruct(CLI::App& bench) {
       ->group(heading::options);
   command->add_option("--threads", options->threads, "cap on the engine's CPU threads (default all cores)")
       ->group(heading::options);
+  addBenchDisparitiesOption(*command, options->disparities);
   addDeviceOption(*command, options->device);
   addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
   command->callback([options] { runBenchReconstruct(*options); });

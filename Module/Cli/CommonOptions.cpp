@@ -186,4 +186,23 @@ void addImageSizeOptions(CLI::App& command, int& width, int& height) {
   command.add_option("--height", height, "image height in pixels")->capture_default_str()->group(heading::options);
 }
 
+void addBenchDisparitiesOption(CLI::App& command, std::optional<int>& disparities) {
+  command.add_option("--disparities", disparities,
+                     "disparities searched (default: the paper's 101, -20..80 px, scaled by width / 960)")
+      ->check(CLI::Range(2, 1024))
+      ->group(heading::options);
+}
+
+void applyBenchDisparityRange(StereoParameters& parameters, int widthPx, const std::optional<int>& disparities,
+                              bool fromParametersFile) {
+  if (fromParametersFile && !disparities) return;
+  const double scale = widthPx / 960.0;  // the synthetic scene's focal length grows with the width
+  const StereoParameters paper;
+  if (!fromParametersFile) {
+    parameters.minDisparityPx = static_cast<int>(std::lround(paper.minDisparityPx * scale));
+    parameters.maxDisparityPx = static_cast<int>(std::lround(paper.maxDisparityPx * scale));
+  }
+  if (disparities) parameters.maxDisparityPx = parameters.minDisparityPx + *disparities - 1;
+}
+
 }  // namespace tissuemosaic::cli

@@ -105,6 +105,15 @@ void addQuietFlag(CLI::App& command, bool& quiet, const std::string& description
 /// --width W --height H of rendered synthetic images.
 void addImageSizeOptions(CLI::App& command, int& width, int& height);
 
+/// --disparities N of the bench commands that render a synthetic scan (`bench track`, `bench reconstruct`).
+void addBenchDisparitiesOption(CLI::App& command, std::optional<int>& disparities);
+/// The disparity range those benches search. The synthetic scan keeps its field of view and working distance at
+/// every size, so its disparities grow with the width: without a parameters file the paper's range (-20..80 px at
+/// 960 px wide) is scaled by widthPx / 960 (-40..160 at 1920); `disparities` keeps the range's start and sets the
+/// count (the parameters file's start when one was read).
+void applyBenchDisparityRange(StereoParameters& parameters, int widthPx, const std::optional<int>& disparities,
+                              bool fromParametersFile);
+
 /// A validator for positive finite numbers; its message reads after the option's name, which CLI11 puts first:
 /// "--focal-px: must be a positive number of pixels, got '-3'".
 CLI::Validator positiveNumber(const std::string& unit);

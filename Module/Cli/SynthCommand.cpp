@@ -33,8 +33,11 @@ void override(T& value, const std::optional<T>& given) {
 void runSynthPair(const SynthPairOptions& given) {
   require(given.preset == "default" || given.preset == "wide",
           "--preset must be 'default' or 'wide', got '" + given.preset + "'");
+  const synthetic::SyntheticStereoOptions defaults;
   synthetic::SyntheticStereoOptions options =
-      given.preset == "wide" ? synthetic::SyntheticStereoOptions::wideDisparity() : synthetic::SyntheticStereoOptions();
+      given.preset == "wide" ? synthetic::SyntheticStereoOptions::wideDisparity(given.width.value_or(defaults.width),
+                                                                                given.height.value_or(defaults.height))
+                             : defaults;
   if (given.seed) {
     require(*given.seed >= 0, "--seed must be a non-negative integer");
     options.seed = static_cast<uint32_t>(*given.seed);
