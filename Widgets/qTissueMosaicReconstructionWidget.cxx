@@ -7,6 +7,10 @@
 #include <vtkPolyData.h>
 
 #include <QCheckBox>
+#include <QComboBox>
+#include <QHBoxLayout>
+#include <QInputDialog>
+#include <QLineEdit>
 #include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -64,6 +68,7 @@ public:
   QLabel* messageLabel = nullptr;
   QGroupBox* parametersBox = nullptr;
   QCheckBox* rectifiedCheckBox = nullptr;
+  QComboBox* layoutComboBox = nullptr;
   QPushButton *startButton = nullptr, *pauseButton = nullptr, *stopButton = nullptr, *resetButton = nullptr;
   QPushButton *exportModelButton = nullptr, *exportTrajectoryButton = nullptr;
   QTimer pollTimer;
@@ -89,11 +94,24 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
                                q);
   auto* videoButton = button(QObject::tr("Two videos..."), "openVideoPairButton",
                              QObject::tr("A left and a right video file, read in lock step."), q);
-  auto* sideBySideButton = button(QObject::tr("Side-by-side video..."), "openSideBySideButton",
-                                  QObject::tr("One video with the left eye in the left half of each frame."), q);
+  auto* sideBySideButton = button(QObject::tr("3D video..."), "openSideBySideButton",
+                                  QObject::tr("One video with both eyes in each frame, packed as the layout beside "
+                                              "says (sbs: the left eye in the left half)."),
+                                  q);
+  layoutComboBox = new QComboBox(q);
+  layoutComboBox->setObjectName("videoLayoutComboBox");
+  layoutComboBox->setToolTip(QObject::tr("How the 3D video packs the eyes: side by side, squeezed side by side, top "
+                                         "bottom, squeezed top bottom, row-interlaced (even rows left)"));
+  for (const char* name : {"sbs", "sbs-half", "tb", "tb-half", "rows"}) layoutComboBox->addItem(name);
+  auto* liveButton = button(QObject::tr("Live..."), "openLiveButton",
+                            QObject::tr("A capture device (/dev/video0) or a GStreamer pipeline ending in appsink, "
+                                        "packed as the layout says; read in real time, the newest frame first."),
+                            q);
   auto* calibrationButton = button(QObject::tr("Calibration..."), "loadCalibrationButton",
-                                   QObject::tr("OpenCV stereo calibration (YAML/XML: K1 D1 K2 D2 R T imageSize) of "
-                                               "the raw rig; frames are rectified with it."),
+                                   QObject::tr("Stereo calibration of the raw rig, recognised by its keys: OpenCV, "
+                                               "stereo_calib / SCARED (select intrinsics + extrinsics together), "
+                                               "ROS camera_info (select both eyes), Kalibr or MATLAB. Frames are "
+                                               "rectified with it."),
                                    q);
   rectifiedCheckBox = new QCheckBox(QObject::tr("Frames are already rectified"), q);
   rectifiedCheckBox->setObjectName("rectifiedCheckBox");
@@ -105,7 +123,11 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   inputLayout->addWidget(demoButton, 0, 0);
   inputLayout->addWidget(foldersButton, 0, 1);
   inputLayout->addWidget(videoButton, 1, 0);
-  inputLayout->addWidget(sideBySideButton, 1, 1);
+  auto* packedRow = new QHBoxLayout;
+  packedRow->addWidget(sideBySideButton);
+  packedRow->addWidget(layoutComboBox);
+  packedRow->addWidget(liveButton);
+  inputLayout->addLayout(packedRow, 1, 1);
   inputLayout->addWidget(calibrationButton, 2, 0);
   inputLayout->addWidget(rectifiedCheckBox, 2, 1);
   inputLayout->addWidget(inputLabel, 3, 0, 1, 2);
@@ -208,12 +230,20 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   QObject::connect(sideBySideButton, &QPushButton::clicked, q, [q] {
     const QString video = QFileDialog::getOpenFileName(q, QObject::tr("Side-by-side video"), QString(),
                                                        QObject::tr("Videos (*.mp4 *.avi *.mkv *.mov *.mpg);;All files (*)"));
-    if (!video.isEmpty()) q->openSideBySideVideo(video);
+    if (!video.isEmpty()) q->openStereoVideo(video, q->findChild<QComboBox*>("videoLayoutComboBox")->currentText());
+  });
+  QObject::connect(liveButton, &QPushButton::clicked, q, [q] {
+    bool ok = false;
+    const QString input = QInputDialog::getText(
+        q, QObject::tr("Live video"), QObject::tr("Capture device or GStreamer pipeline ending in appsink:"),
+        QLineEdit::Normal, "/dev/video0", &ok);
+    if (ok && !input.isEmpty()) q->openStereoVideo(input, q->findChild<QComboBox*>("videoLayoutComboBox")->currentText());
   });
   QObject::connect(calibrationButton, &QPushButton::clicked, q, [q] {
-    const QString path = QFileDialog::getOpenFileName(q, QObject::tr("Stereo calibration"), QString(),
-                                                      QObject::tr("Calibration (*.yml *.yaml *.xml);;All files (*)"));
-    if (!path.isEmpty()) q->loadCalibration(path);
+    const QStringList paths = QFileDialog::getOpenFileNames(
+        q, QObject::tr("Stereo calibration (one file, or two: intrinsics + extrinsics, or left + right eye)"), QString(),
+        QObject::tr("Calibration (*.yml *.yaml *.xml *.json);;All files (*)"));
+    if (!paths.isEmpty()) q->loadCalibrationFiles(paths);
   });
   QObject::connect(exportModelButton, &QPushButton::clicked, q, [q] {
     const QString path = QFileDialog::getSaveFileName(q, QObject::tr("Export model"), "model.ply",
@@ -350,17 +380,38 @@ bool qTissueMosaicReconstructionWidget::openVideoPair(const QString& leftVideo, 
 }
 
 bool qTissueMosaicReconstructionWidget::openSideBySideVideo(const QString& video) {
+  return this->openStereoVideo(video, "sbs");
+}
+
+bool qTissueMosaicReconstructionWidget::openStereoVideo(const QString& video, const QString& layout) {
   Q_D(qTissueMosaicReconstructionWidget);
-  const bool ok = d->logic->OpenSideBySideVideo(video.toStdString());
+  tissuemosaic::VideoLayout parsed;
+  try {
+    parsed = tissuemosaic::parseVideoLayout(layout.toStdString());
+  } catch (const std::exception& e) {
+    d->show(QString::fromStdString(e.what()), true);
+    return false;
+  }
+  const bool ok = d->logic->OpenStereoVideo(video.toStdString(), parsed);
   emit outputsUpdated();
   return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())));
 }
 
 bool qTissueMosaicReconstructionWidget::loadCalibration(const QString& path) {
+  return this->loadCalibrationFiles({path});
+}
+
+bool qTissueMosaicReconstructionWidget::loadCalibrationFiles(const QStringList& paths) {
   Q_D(qTissueMosaicReconstructionWidget);
-  const bool ok = d->logic->LoadCalibration(path.toStdString());
+  std::vector<std::string> files;
+  QStringList names;
+  for (const QString& path : paths) {
+    files.push_back(path.toStdString());
+    names << QFileInfo(path).fileName();
+  }
+  const bool ok = d->logic->LoadCalibrationFiles(files);
   emit outputsUpdated();
-  return d->report(ok, tr("Calibration %1 loaded").arg(QFileInfo(path).fileName()));
+  return d->report(ok, tr("Calibration %1 loaded").arg(names.join(" + ")));
 }
 
 void qTissueMosaicReconstructionWidget::setInputRectified(bool rectified) {

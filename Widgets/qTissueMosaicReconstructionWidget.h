@@ -6,6 +6,7 @@
 /// engine runs on the logic's worker thread, the GUI thread only takes over finished results, so the interface
 /// never waits for a frame. Views (3D, video) connect to outputsUpdated().
 #include <QScopedPointer>
+#include <QStringList>
 #include <QWidget>
 
 class QTableWidget;
@@ -33,7 +34,12 @@ public slots:
   bool openFrameFolders(const QString& leftFolder, const QString& rightFolder, double fps = 30.0);
   bool openVideoPair(const QString& leftVideo, const QString& rightVideo);
   bool openSideBySideVideo(const QString& video);
+  /// A 3D video file, device or GStreamer pipeline with the eyes packed as `layout` (sbs, sbs-half, tb, tb-half,
+  /// rows).
+  bool openStereoVideo(const QString& video, const QString& layout);
   bool loadCalibration(const QString& path);
+  /// One or two files in any order (intrinsics + extrinsics, or each eye's ROS camera_info).
+  bool loadCalibrationFiles(const QStringList& paths);
   void setInputRectified(bool rectified);
   bool start();
   void pause();

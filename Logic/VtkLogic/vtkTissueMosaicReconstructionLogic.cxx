@@ -1,4 +1,6 @@
 #include "vtkTissueMosaicReconstructionLogic.h"
+
+#include "IO/Calibration/CalibrationFile.h"
 #include "vtkTissueMosaicRunCatching.h"
 
 #include "vtkTissueMosaicFrusta.h"
@@ -7,6 +9,7 @@
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/Stopwatch.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
@@ -105,6 +108,7 @@ struct vtkTissueMosaicReconstructionLogic::Session {
   tissuemosaic::Device device = tissuemosaic::Device::Cpu;
   int maximumFrames = -1;
   int workerNiceIncrement = 0;
+  ScanObserver observer;
 
   std::mutex mutex;
   std::condition_variable wake;
@@ -123,11 +127,12 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
   lowerThisThreadsPriority(workerNiceIncrement);
   std::string errorText;
   int endState = StateFinished;
+  std::unique_ptr<ReconstructionPipeline> pipeline;
+  double lastTimeS = 0;
   const bool ranToEnd = runCatching(
       [&] {
-        std::unique_ptr<ReconstructionPipeline> pipeline =
-            geometry ? std::make_unique<ReconstructionPipeline>(*geometry, parameters, device)
-                     : std::make_unique<ReconstructionPipeline>(*calibration, parameters, device);
+        pipeline = geometry ? std::make_unique<ReconstructionPipeline>(*geometry, parameters, device)
+                            : std::make_unique<ReconstructionPipeline>(*calibration, parameters, device);
         {
           const std::lock_guard<std::mutex> lock(mutex);
           published.geometry = pipeline->geometry();
@@ -148,11 +153,17 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           if (maximumFrames >= 0 && processed >= maximumFrames) return;
           const Clock::time_point start = Clock::now();
           tissuemosaic::StereoFrame frame;
-          if (!source->next(frame)) return;
+          if (!source->next(frame)) {
+            const std::lock_guard<std::mutex> lock(mutex);
+            if (stopRequested) endState = StateStopped;  // a live source's wait was interrupted
+            return;
+          }
           const double readingMs = tissuemosaic::millisecondsSince(start);
           FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
           result.timesMs.videoReading += readingMs;  // the pipeline counts its rectification here
           result.timesMs.total += readingMs;  // the paper's total includes reading the video
+          lastTimeS = frame.timeS;
+          if (observer.frameProcessed) observer.frameProcessed(result, frame.timeS, *pipeline);
 
           std::optional<ModelPoints> model;
           std::optional<std::vector<KeyFramePose>> keyFrames;
@@ -205,6 +216,17 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
         }
       },
       errorText);
+  if (observer.scanEnded) {
+    std::string ignored;
+    runCatching(
+        [&] {
+          const bool any = pipeline && pipeline->frameCount() > 0;
+          const ModelPoints model = any ? pipeline->modelSnapshot() : ModelPoints{};
+          observer.scanEnded(any ? &model : nullptr, lastTimeS,
+                             !ranToEnd ? "failed: " + errorText : endState == StateStopped ? "stopped" : "finished");
+        },
+        ignored);
+  }
   publishEnd(ranToEnd ? endState : StateFailed, errorText);
 }
 
@@ -350,18 +372,27 @@ bool vtkTissueMosaicReconstructionLogic::OpenVideoPair(const std::string& leftVi
 }
 
 bool vtkTissueMosaicReconstructionLogic::OpenSideBySideVideo(const std::string& video) {
-  return this->SetFrameSourceFactory([=] { return StereoFrameSource::openSideBySideVideo(video); });
+  return this->OpenStereoVideo(video, tissuemosaic::VideoLayout::SideBySide);
+}
+
+bool vtkTissueMosaicReconstructionLogic::OpenStereoVideo(const std::string& video, tissuemosaic::VideoLayout layout) {
+  return this->SetFrameSourceFactory([=] { return StereoFrameSource::openStereoVideo(video, layout); });
 }
 
 bool vtkTissueMosaicReconstructionLogic::LoadCalibration(const std::string& path) {
+  return this->LoadCalibrationFiles({path});
+}
+
+bool vtkTissueMosaicReconstructionLogic::LoadCalibrationFiles(const std::vector<std::string>& paths) {
   tissuemosaic::StereoCalibration calibration;
   const bool loaded = runCatching(
       [&] {
-        calibration = tissuemosaic::StereoCalibration::read(path);
-        const tissuemosaic::StereoRectifier check(calibration);  // refuses rigs that cannot be rectified, now
+        calibration = tissuemosaic::readCalibrationFiles(paths).calibration;
+        // Refuses rigs that cannot be rectified, now; a file without image size is checked with the frames.
+        if (!calibration.imageSize.empty()) const tissuemosaic::StereoRectifier check(calibration);
       },
       this->LastErrorText);
-  if (!loaded) return this->Fail(path + ": " + this->LastErrorText);
+  if (!loaded) return this->Fail(this->LastErrorText);
   this->SetCalibration(calibration);
   return true;
 }
@@ -398,7 +429,7 @@ int vtkTissueMosaicReconstructionLogic::GetInputFrameCount() const { return this
 bool vtkTissueMosaicReconstructionLogic::CheckFrameSize(StereoFrameSource& source) {
   const cv::Size expected = this->Geometry ? this->Geometry->imageSize : this->Calibration->imageSize;
   const cv::Size frames = source.frameSize();
-  if (frames == expected) return true;
+  if (frames == expected || expected.empty()) return true;
   return this->Fail("the frames are " + std::to_string(frames.width) + "x" + std::to_string(frames.height) +
                     " px but the calibration is for " + std::to_string(expected.width) + "x" +
                     std::to_string(expected.height) + " px");
@@ -450,16 +481,21 @@ bool vtkTissueMosaicReconstructionLogic::Start() {
         tissuemosaic::require(session->source != nullptr, "the input could not be opened");
         if (this->Geometry) {
           session->geometry = *this->Geometry;
-        } else if (this->InputRectified) {
-          session->geometry = tissuemosaic::StereoRectifier(*this->Calibration).geometry();
         } else {
-          session->calibration = *this->Calibration;
+          tissuemosaic::StereoCalibration calibration = *this->Calibration;  // the frames give a missing size
+          calibration.adoptFrameSize(session->source->frameSize(), session->source->description());
+          if (this->InputRectified) {
+            session->geometry = tissuemosaic::StereoRectifier(calibration).geometry();
+          } else {
+            session->calibration = calibration;
+          }
         }
       },
       this->LastErrorText);
   if (!prepared || !this->CheckFrameSize(*session->source)) return false;
   session->parameters = this->Parameters;
   session->maximumFrames = this->MaximumFrames;
+  session->observer = this->Observer;
   session->workerNiceIncrement = this->WorkerNiceIncrement;
   session->published.status.state = StateRunning;
   session->published.status.framesInInput = this->InputFrameCount;
@@ -491,6 +527,8 @@ void vtkTissueMosaicReconstructionLogic::Stop() {
     this->Current->stopRequested = true;
   }
   this->Current->wake.notify_all();
+  // A live source may be waiting for its next frame: end the wait (the source is thread-safe for this).
+  if (this->Current->source) this->Current->source->interrupt();
   this->Modified();
 }
 

@@ -2,6 +2,9 @@
 
 #include "qTissueMosaicModelView.h"
 #include "qTissueMosaicReconstructionWidget.h"
+#if defined(TM_WITH_IGTLINK)
+#include "qTissueMosaicIgtLinkWidget.h"
+#endif
 #include "qTissueMosaicRegistrationWidget.h"
 #include "qTissueMosaicVideoPanel.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
@@ -61,6 +64,13 @@ qTissueMosaicMainWindow::qTissueMosaicMainWindow(QWidget* parent) : QMainWindow(
   this->Registration->setObjectName("registrationPanel");
   this->Registration->setReconstructedModel(this->Reconstruction->reconstructionLogic()->GetModel());
   this->Modules->addTab(this->Registration, tr("Registration"));
+#if defined(TM_WITH_IGTLINK)
+  // The OpenIGTLink link to 3D Slicer: streams the running scan while its server is on.
+  auto* igtLink = new qTissueMosaicIgtLinkWidget(this);
+  igtLink->setObjectName("igtLinkPanel");
+  this->Reconstruction->reconstructionLogic()->SetScanObserver(igtLink->scanObserver());
+  this->Modules->addTab(igtLink, tr("OpenIGTLink"));
+#endif
   this->Modules->setMinimumWidth(500);
 
   // Views (right): the growing model above the live video.

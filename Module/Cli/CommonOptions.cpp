@@ -2,16 +2,13 @@
 #include "Commands.h"
 
 #include "Core/Error.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "Stereo/StereoParameters.h"
 
 #include <cmath>
 #include <cstdlib>
 
 namespace tissuemosaic::cli {
-
-namespace {
-std::string sizeText(const cv::Size& size) { return std::to_string(size.width) + "x" + std::to_string(size.height); }
-}  // namespace
 
 CLI::App* addCommand(CLI::App& parent, const std::string& name, const std::string& summary,
                      const std::string& details) {
@@ -37,9 +34,32 @@ void addInputOptions(CLI::App& command, InputOptions& input) {
                                                "left frames (PNG/JPEG/BMP/TIFF..., taken in file-name order)");
   CLI::Option* rightFrames = command.add_option("--right-frames", input.rightFrames,
                                                 "right frames, as many as left ones, paired in file-name order");
-  CLI::Option* leftVideo = command.add_option("--left-video", input.leftVideo, "left video file");
-  CLI::Option* rightVideo = command.add_option("--right-video", input.rightVideo, "right video file, in lock step");
-  CLI::Option* video = command.add_option("--video", input.video, "one side-by-side video (left eye in the left half)");
+  CLI::Option* leftVideo = command.add_option(
+      "--left-video", input.leftVideo, "left video: a file, a V4L2 device (/dev/videoN) or a GStreamer pipeline ending "
+                                       "in appsink (live: the newest frame first, docs/INPUT.md)");
+  CLI::Option* rightVideo = command.add_option("--right-video", input.rightVideo,
+                                               "right video, in lock step (files) or its newest frame (live)");
+  CLI::Option* video = command.add_option("--video", input.video, "one 3D video with both eyes in each frame (a file, "
+                                                                  "device or pipeline as above)");
+  CLI::Option* layout =
+      command.add_option("--video-layout", input.videoLayout,
+                         "how --video or --igtl-sbs packs the eyes: side by side, squeezed side by side, top bottom, "
+                         "squeezed top bottom, row-interlaced (even rows left)")
+          ->check(CLI::IsMember({"sbs", "sbs-half", "tb", "tb-half", "rows"}))
+          ->type_name("LAYOUT")
+          ->capture_default_str();
+  CLI::Option* igtlInput = command.add_option("--igtl-input", input.igtlInput,
+                                              "IMAGE messages from an OpenIGTLink server such as PLUS "
+                                              "(docs/OPENIGTLINK.md)");
+  CLI::Option* igtlLeft = command.add_option("--igtl-left", input.igtlLeft, "... the left eye's IMAGE device name");
+  CLI::Option* igtlRight = command.add_option("--igtl-right", input.igtlRight,
+                                              "... the right eye's, paired with the left by time stamp");
+  CLI::Option* igtlSbs = command.add_option("--igtl-sbs", input.igtlSbs,
+                                            "... or one IMAGE stream with both eyes (--video-layout)");
+  igtlInput->type_name("HOST:PORT");
+  igtlLeft->type_name("NAME")->needs(igtlInput)->needs(igtlRight);
+  igtlRight->type_name("NAME")->needs(igtlInput)->needs(igtlLeft);
+  igtlSbs->type_name("NAME")->needs(igtlInput)->excludes(igtlLeft)->excludes(igtlRight);
   leftFrames->type_name("DIR")->needs(rightFrames);
   rightFrames->type_name("DIR")->needs(leftFrames);
   leftVideo->type_name("FILE")->needs(rightVideo);
@@ -48,7 +68,9 @@ void addInputOptions(CLI::App& command, InputOptions& input) {
   command.add_option("--fps", input.fps, "frame rate of frame folders, for their time stamps (videos carry their own)")
       ->check(positiveNumber("of frames per second"))
       ->capture_default_str();
-  for (CLI::Option* option : {leftFrames, rightFrames, leftVideo, rightVideo, video}) option->group(heading::input);
+  for (CLI::Option* option :
+       {leftFrames, rightFrames, leftVideo, rightVideo, video, layout, igtlInput, igtlLeft, igtlRight, igtlSbs})
+    option->group(heading::input);
   command.get_option("--fps")->group(heading::input);
 }
 
@@ -57,7 +79,16 @@ bool GeometryOptions::given() const { return !calib.empty() || focalPx || baseli
 void addGeometryOptions(CLI::App& command, GeometryOptions& geometry) {
   CLI::Option* calib = command.add_option(
       "--calib", geometry.calib,
-      "OpenCV YAML/XML calibration of the unrectified rig (K1 D1 K2 D2 R T imageSize): frames are rectified with it");
+      "calibration of the unrectified rig, recognised by its keys (docs/CALIBRATION.md: OpenCV, stereo_calib / SCARED "
+      "/ SurgT, ROS camera_info, Kalibr, MATLAB): frames are rectified with it; without an image size the frames give "
+      "it");
+  CLI::Option* extrinsics = command.add_option(
+      "--calib-extrinsics", geometry.calibExtrinsics,
+      "with --calib intrinsics.yml: the stereo_calib sample's extrinsics.yml (R T)");
+  CLI::Option* right = command.add_option("--calib-right", geometry.calibRight,
+                                          "ROS camera_info: --calib is the left eye's file, this the right eye's");
+  extrinsics->type_name("FILE")->needs(calib)->excludes(right);
+  right->type_name("FILE")->needs(calib);
   CLI::Option* rectified = command.add_flag(
       "--rectified", geometry.rectified,
       "with --calib: the frames are already rectified as StereoRectifier makes them from it (e.g. synth scan's)");
@@ -68,23 +99,26 @@ void addGeometryOptions(CLI::App& command, GeometryOptions& geometry) {
   CLI::Option* cy = command.add_option("--cy-px", geometry.cyPx, "... principal point y (default: image centre)");
   CLI::Option* doffs = command.add_option("--doffs-px", geometry.doffsPx,
                                           "... cx_right - cx_left (default 0): depth = f B / (d + doffs)");
-  calib->type_name("rig.yml");
+  calib->type_name("FILE");
   rectified->needs(calib);
   focal->check(positiveNumber("of pixels"))->needs(baseline);
   baseline->check(positiveNumber("of mm"))->needs(focal);
   for (CLI::Option* option : {cx, cy, doffs}) option->needs(focal);
   calib->excludes(focal)->excludes(baseline);
-  for (CLI::Option* option : {calib, rectified, focal, baseline, cx, cy, doffs}) option->group(heading::geometry);
+  for (CLI::Option* option : {calib, extrinsics, right, rectified, focal, baseline, cx, cy, doffs})
+    option->group(heading::geometry);
 }
 
 StereoGeometry resolveGeometry(const GeometryOptions& options, const cv::Size& frameSize,
                                const std::string& framesDescription) {
   StereoGeometry geometry;
   if (!options.calib.empty()) {
-    const StereoCalibration calibration = StereoCalibration::read(options.calib);
-    require(calibration.imageSize == frameSize, "the calibration is for " + sizeText(calibration.imageSize) +
-                                                    " but the frames of " + framesDescription + " are " +
-                                                    sizeText(frameSize));
+    const CalibrationFileContent content =
+        readCalibrationFiles(CalibrationFiles{options.calib, options.calibExtrinsics, options.calibRight});
+    StereoCalibration calibration = content.calibration;
+    geometry.calibrationLayout = content.layout;
+    geometry.imageSizeFromFrames = calibration.imageSize.empty();
+    calibration.adoptFrameSize(frameSize, framesDescription);
     auto rectifier = std::make_shared<const StereoRectifier>(calibration);
     geometry.rectified = rectifier->geometry();
     geometry.calibration = calibration;

@@ -38,9 +38,12 @@ public:
   explicit UsageError(const std::string& message) : CLI::ParseError("UsageError", message, 2) {}
 };
 
-/// The stereo video: two folders of frames, two video files, or one side-by-side video (exactly one of them).
+/// The stereo video: two folders of frames, two videos, one 3D video in a layout, or IMAGE messages from an
+/// OpenIGTLink server (exactly one of them). Videos may be files, V4L2 devices or GStreamer pipelines (live).
 struct InputOptions {
   std::string leftFrames, rightFrames, leftVideo, rightVideo, video;
+  std::string videoLayout = "sbs";  ///< how --video (and --igtl-sbs) pack the eyes (IO/StereoVideoLayout.h)
+  std::string igtlInput, igtlLeft, igtlRight, igtlSbs;  ///< HOST:PORT and the IMAGE device names
   double fps = 30;  ///< time stamps of frame folders (videos carry their own)
 };
 void addInputOptions(CLI::App& command, InputOptions& input);
@@ -52,6 +55,7 @@ std::unique_ptr<StereoFrameSource> openInput(const InputOptions& input);
 /// or, for rectified frames, the focal length and baseline with the optional principal point and disparity offset.
 struct GeometryOptions {
   std::string calib;
+  std::string calibExtrinsics, calibRight;  ///< the second file of layouts that come in two (docs/CALIBRATION.md)
   bool rectified = false;
   std::optional<double> focalPx, baselineMm, cxPx, cyPx, doffsPx;
   /// True when any geometry option was given.
@@ -64,9 +68,11 @@ struct StereoGeometry {
   RectifiedGeometry rectified;                       ///< of the rectified frames the engine works on
   std::optional<StereoCalibration> calibration;      ///< the rig, when --calib was given
   std::shared_ptr<const StereoRectifier> rectifier;  ///< set when the frames must be rectified first
+  std::string calibrationLayout;                     ///< the calibration file's layout, e.g. "Kalibr camchain.yaml"
+  bool imageSizeFromFrames = false;                  ///< the calibration file gave no image size
 };
 /// Checks the options (UsageError: none, or both kinds) and that a calibration is for frames of `frameSize`
-/// (Error naming `framesDescription` otherwise).
+/// (Error naming `framesDescription` otherwise); a calibration file without image size takes `frameSize`.
 StereoGeometry resolveGeometry(const GeometryOptions& geometry, const cv::Size& frameSize,
                                const std::string& framesDescription);
 

@@ -2,8 +2,10 @@
 // paper's runtime table (sections II-III end to end).
 #include "CommonOptions.h"
 #include "Commands.h"
+#include "IgtLinkOptions.h"
 #include "ModelOutput.h"
 #include "ProgressBar.h"
+#include "StopSignal.h"
 
 #include "Core/Device.h"
 #include "Core/Error.h"
@@ -32,7 +34,9 @@ const char* const details = R"(Reconstructs a stereo video (paper sections II-II
 refinement (bundle adjustment + point-to-plane ICP) and point-based TSDF fusion. Prints the paper's per-stage
 timing table (median and mean milliseconds per key frame and per other frame) and the peak memory. The model's
 world frame is the first left rectified camera (or --start-tum's pose), in millimetres; .vtp output needs a build
-with VTK, and so does --snapshot (a private Xvfb when there is no display).)";
+with VTK, and so does --snapshot (a private Xvfb when there is no display). Live inputs (devices, pipelines,
+OpenIGTLink) are read in real time, the newest frame first; the summary counts the frames dropped. Ctrl-C or SIGTERM
+stops the scan cleanly and writes the outputs; a second one ends the program at once.)";
 
 struct ReconstructOptions {
   InputOptions input;
@@ -42,6 +46,7 @@ struct ReconstructOptions {
   std::optional<int> maxFrames;
   DisparityRangeOptions range;
   DeviceOption device;
+  IgtLinkServerOptions igtl;
   bool quiet = false;
 };
 
@@ -73,6 +78,9 @@ void runReconstruct(const ReconstructOptions& options) {
   std::unique_ptr<StereoFrameSource> source = openInput(options.input);
   const cv::Size frameSize = source->frameSize();
   const StereoGeometry geometry = resolveGeometry(options.geometry, frameSize, source->description());
+  const std::unique_ptr<IgtLinkSender> igtl = startIgtLinkSender(options.igtl, std::cerr);
+  StereoFrameSource* const sourceToStop = source.get();
+  const StopOnSignal stop([sourceToStop] { sourceToStop->interrupt(); });
   // Raw frames: the pipeline rectifies them itself, from the calibration.
   const std::unique_ptr<ReconstructionPipeline> pipeline =
       geometry.rectifier
@@ -88,9 +96,11 @@ void runReconstruct(const ReconstructOptions& options) {
   int lost = 0;
   bool budgetWarned = false;
   StereoFrame frame;
-  for (int index = 0; maxFrames < 0 || index < maxFrames; ++index) {
+  double lastTimeS = 0;
+  for (int index = 0; (maxFrames < 0 || index < maxFrames) && !stop.requested(); ++index) {
     const auto readStart = std::chrono::steady_clock::now();
     if (!source->next(frame)) break;
+    lastTimeS = frame.timeS;
     const double readMs = millisecondsSince(readStart);
     FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
     result.timesMs.videoReading += readMs;
@@ -106,6 +116,11 @@ void runReconstruct(const ReconstructOptions& options) {
       framesLog += "frame " + std::to_string(frame.index) + " lost: " + result.trackingMessage + "\n";
       progress.message("frame " + std::to_string(frame.index) + " lost: " + result.trackingMessage);
     }
+    if (igtl) {
+      igtl->frameProcessed(frame.index, frame.timeS, result.tracked, result.T_world_camera, result.trackingMessage,
+                           result.leftRectified);
+      if (result.keyFrame && igtl->modelDue()) igtl->modelUpdated(pipeline->modelSnapshot().cloud, frame.timeS);
+    }
     if (result.pointBudgetReached && !budgetWarned) {
       budgetWarned = true;
       progress.message("the model reached its point budget (" + std::to_string(parameters.fusion.maxPoints) +
@@ -120,6 +135,11 @@ void runReconstruct(const ReconstructOptions& options) {
   require(frames == 1 || lost < frames - 1, "tracking was lost on every frame after the first: no reconstruction");
 
   const ModelPoints model = pipeline->modelSnapshot();
+  if (igtl) {
+    igtl->finished(model.cloud, lastTimeS,
+                   std::to_string(frames) + " frames, " + std::to_string(model.size()) + " model points" +
+                       (stop.requested() ? " (stopped by a signal)" : ""));
+  }
   require(model.size() > 0, "the reconstruction produced no model points (tracking never started?)");
   writeModelFile(options.out, model.cloud, "TissueMosaic reconstruct: world frame = first left rectified camera, mm");
   if (options.trajectory) {
@@ -151,12 +171,26 @@ void runReconstruct(const ReconstructOptions& options) {
             << cv::format("peak memory: host %.0f MiB (resident), device %.0f MiB (in use, with the CUDA context)\n",
                           hostMb, deviceMb);
   if (!snapshotLine.empty()) std::cout << snapshotLine << "\n";
+  if (!geometry.calibrationLayout.empty()) {
+    std::cout << "calibration: " << geometry.calibrationLayout
+              << (geometry.imageSizeFromFrames ? ", image size from the frames" : "") << "\n";
+  }
+  if (source->isLive()) {
+    std::cout << "live source: " << frames << " frames reconstructed, " << source->droppedFrames()
+              << " dropped (newer frames came while one was reconstructed)"
+              << (stop.requested() ? "; stopped by a signal" : "") << "\n";
+  } else if (stop.requested()) {
+    std::cout << "stopped by a signal after " << frames << " frames\n";
+  }
+  if (igtl) std::cout << igtl->summary() << "\n";
   if (options.timingJson) {
     std::ofstream json(*options.timingJson);
     require(json.good(), "cannot write '" + *options.timingJson + "'");
     json << "{\"device\": \"" << deviceDescription(device) << "\", \"width\": " << frameSize.width
          << ", \"height\": " << frameSize.height << ", \"frames\": " << frames << ", \"lost\": " << lost
          << ", \"key_frames\": " << pipeline->keyFrames().size() << ", \"model_points\": " << model.size()
+         << ", \"live\": " << (source->isLive() ? "true" : "false") << ", \"dropped_frames\": "
+         << source->droppedFrames() << ", \"stopped_by_signal\": " << (stop.requested() ? "true" : "false")
          << ", \"peak_host_mib\": " << cv::format("%.1f", hostMb) << ", \"peak_device_mib\": "
          << cv::format("%.1f", deviceMb) << ", \"timing\": " << timing.toJson() << "}\n";
     require(json.good(), "cannot write '" + *options.timingJson + "' (disk full?)");
@@ -198,6 +232,7 @@ void setupReconstruct(CLI::App& tool) {
   addDisparityRangeOptions(*command, options->range);
   addDeviceOption(*command, options->device);
   addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
+  addIgtLinkServerOptions(*command, options->igtl);
   addQuietFlag(*command, options->quiet, "no progress bar");
   command->callback([options] { runReconstruct(*options); });
 }

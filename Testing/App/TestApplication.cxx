@@ -66,8 +66,13 @@ TEST(Application, DemoScanEndToEnd) {
   window.show();
   ASSERT_TRUE(runUntil([&] { return window.isVisible(); }, 10));
 
-  // Slicer-like layout: modules on the left (both), views on the right.
+  // Slicer-like layout: modules on the left (both, and the OpenIGTLink link where built), views on the right.
+#if defined(TM_WITH_IGTLINK)
+  EXPECT_EQ(window.moduleTabs()->count(), 3);
+  EXPECT_EQ(window.moduleTabs()->tabText(2), "OpenIGTLink");
+#else
   EXPECT_EQ(window.moduleTabs()->count(), 2);
+#endif
   EXPECT_EQ(window.moduleTabs()->tabText(0), "Reconstruction");
   EXPECT_EQ(window.moduleTabs()->tabText(1), "Registration");
 
