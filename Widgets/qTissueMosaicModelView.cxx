@@ -1,5 +1,6 @@
 #include "qTissueMosaicModelView.h"
 
+#include "qTissueMosaicViewLegends.h"
 #include "vtkTissueMosaicModelScene.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
 
@@ -23,6 +24,7 @@
 #include <QVBoxLayout>
 
 #include <algorithm>
+#include <memory>
 
 class qTissueMosaicModelView::Private {
 public:
@@ -42,6 +44,7 @@ public:
   double msPerPoint = 0;    ///< of the last full render of a large model
   bool live = false;        ///< a scan is running: reduce renders that would be slow
   vtkNew<vtkCallbackCommand> interaction;
+  std::unique_ptr<qTissueMosaicViewLegends> legends;  ///< axes and scale bar
 
   /// The smallest level of detail; also what is drawn while the speed of this view is still unknown.
   static constexpr vtkIdType kSmallestSubsample = 20000;
@@ -90,6 +93,7 @@ qTissueMosaicModelView::qTissueMosaicModelView(QWidget* parent) : QWidget(parent
     style->AddObserver(vtkCommand::StartInteractionEvent, d->interaction);
     style->AddObserver(vtkCommand::EndInteractionEvent, d->interaction);
   }
+  d->legends = std::make_unique<qTissueMosaicViewLegends>(d->renderer, d->widget->interactor());
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addWidget(d->widget);

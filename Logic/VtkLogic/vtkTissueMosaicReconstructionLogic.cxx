@@ -328,6 +328,7 @@ bool vtkTissueMosaicReconstructionLogic::SetFrameSourceFactory(const FrameSource
   this->SourceFactory = nullptr;
   this->InputDescription.clear();
   this->InputFrameCount = 0;
+  this->InputFrameSize = cv::Size();
   if (!factory) return this->Fail("no frame source");
   std::unique_ptr<StereoFrameSource> source;
   if (!runCatching([&] { source = factory(); }, this->LastErrorText)) return false;
@@ -335,6 +336,7 @@ bool vtkTissueMosaicReconstructionLogic::SetFrameSourceFactory(const FrameSource
   this->SourceFactory = factory;
   this->InputDescription = source->description();
   this->InputFrameCount = source->frameCount();
+  this->InputFrameSize = source->frameSize();
   this->Modified();
   return true;
 }
@@ -394,6 +396,23 @@ bool vtkTissueMosaicReconstructionLogic::HasCalibration() const { return this->C
 std::string vtkTissueMosaicReconstructionLogic::GetInputDescription() const { return this->InputDescription; }
 
 int vtkTissueMosaicReconstructionLogic::GetInputFrameCount() const { return this->InputFrameCount; }
+
+std::string vtkTissueMosaicReconstructionLogic::GetStartProblem() const {
+  if (this->Current) return std::string();  // Start() resumes or says why it cannot
+  if (!this->HasInput()) return "no input: open a video, two frame folders or the demo";
+  if (!this->HasCalibration()) return "no calibration: load the stereo calibration of the video";
+  const cv::Size expected = this->Geometry ? this->Geometry->imageSize : this->Calibration->imageSize;
+  if (this->InputFrameSize.area() > 0 && this->InputFrameSize != expected) {
+    return "the calibration is for " + std::to_string(expected.width) + "x" + std::to_string(expected.height) +
+           " px but the frames are " + std::to_string(this->InputFrameSize.width) + "x" +
+           std::to_string(this->InputFrameSize.height) + " px: load the calibration of this video";
+  }
+  return std::string();
+}
+
+const tissuemosaic::RectifiedGeometry* vtkTissueMosaicReconstructionLogic::GetScanGeometry() const {
+  return this->Owned->geometry ? &*this->Owned->geometry : nullptr;
+}
 
 bool vtkTissueMosaicReconstructionLogic::CheckFrameSize(StereoFrameSource& source) {
   const cv::Size expected = this->Geometry ? this->Geometry->imageSize : this->Calibration->imageSize;
