@@ -2,10 +2,16 @@
 
 #include "qTissueMosaicViewLegends.h"
 #include "vtkTissueMosaicModelScene.h"
+#include "vtkTissueMosaicPointCloud.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
 
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkCallbackCommand.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkPoints.h>
+#include <vtkPointData.h>
+#include <vtkFloatArray.h>
+#include <vtkCellArray.h>
 #include <vtkCamera.h>
 #include <vtkInteractorObserver.h>
 #include <vtkInteractorStyle.h>
@@ -33,6 +39,8 @@ public:
   vtkNew<vtkRenderer> renderer;
   vtkNew<vtkTissueMosaicModelScene> scene;
   vtkSmartPointer<vtkPolyData> model;
+  vtkSmartPointer<vtkPolyData> keyFrameFrusta, currentFrustum, trajectory;
+  bool warmedUp = false;  ///< the scene's shaders are compiled
   bool renderPending = false;
   QElapsedTimer sinceRender;  ///< since the last render ended
   qint64 lastRenderMs = 0;
@@ -63,6 +71,47 @@ public:
                    : kSmallestSubsample;
     }
     scene->SetInteractivePointBudget(budget);
+  }
+  /// Draws a three-point model and a line through the scene's actors once, so that OpenGL compiles their shaders
+  /// now, before any scan: the first frame with a model had taken 50 ms of this thread and 400 ms of software
+  /// OpenGL (llvmpipe compiles shaders), a stall in the middle of the scan.
+  void warmUp() {
+    warmedUp = true;
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToFloat();
+    vtkNew<vtkCellArray> vertices, lines;
+    for (vtkIdType i = 0; i < 3; ++i) {
+      points->InsertNextPoint(double(i), 0.0, 100.0);
+      vertices->InsertNextCell(1, &i);
+    }
+    const vtkIdType line[2] = {0, 1};
+    lines->InsertNextCell(2, line);
+    vtkNew<vtkUnsignedCharArray> colours;
+    colours->SetName(tissuemosaic::kPointCloudColorArrayName);
+    colours->SetNumberOfComponents(3);
+    vtkNew<vtkFloatArray> normals;
+    normals->SetName("Normals");
+    normals->SetNumberOfComponents(3);
+    for (int i = 0; i < 3; ++i) {
+      colours->InsertNextTuple3(200, 100, 90);
+      normals->InsertNextTuple3(0, 0, -1);
+    }
+    vtkNew<vtkPolyData> dummyModel, dummyLines;
+    dummyModel->SetPoints(points);
+    dummyModel->SetVerts(vertices);
+    dummyModel->GetPointData()->SetScalars(colours);
+    dummyModel->GetPointData()->SetNormals(normals);
+    dummyLines->SetPoints(points);
+    dummyLines->SetLines(lines);
+    scene->SetModel(dummyModel);
+    scene->SetKeyFrameFrusta(dummyLines);
+    scene->SetCurrentFrustum(dummyLines);
+    scene->SetTrajectory(dummyLines);
+    window->Render();
+    scene->SetModel(model);
+    scene->SetKeyFrameFrusta(keyFrameFrusta);
+    scene->SetCurrentFrustum(currentFrustum);
+    scene->SetTrajectory(trajectory);
   }
   static void onInteraction(vtkObject*, unsigned long event, void* clientData, void*) {
     auto* self = static_cast<Private*>(clientData);
@@ -114,6 +163,9 @@ void qTissueMosaicModelView::setReconstructionLogic(vtkTissueMosaicReconstructio
 void qTissueMosaicModelView::setSceneData(vtkPolyData* model, vtkPolyData* keyFrameFrusta, vtkPolyData* currentFrustum,
                                           vtkPolyData* trajectory) {
   d->model = model;
+  d->keyFrameFrusta = keyFrameFrusta;
+  d->currentFrustum = currentFrustum;
+  d->trajectory = trajectory;
   d->scene->SetModel(model);
   d->scene->SetKeyFrameFrusta(keyFrameFrusta);
   d->scene->SetCurrentFrustum(currentFrustum);
@@ -158,6 +210,7 @@ void qTissueMosaicModelView::renderWhenLoopIsFree(unsigned request, bool mayGive
 
 void qTissueMosaicModelView::render() {
   d->renderPending = false;
+  if (!d->warmedUp && d->widget->isValid()) d->warmUp();
   // The scan starts from nothing and grows: keep it framed until the user takes the camera (resetView() and a
   // new, empty model hand it back).
   if (d->model && d->model->GetNumberOfPoints() == 0) d->userMovedCamera = false;

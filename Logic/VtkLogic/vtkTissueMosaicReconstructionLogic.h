@@ -102,6 +102,8 @@ public:
   std::string GetInputDescription() const;
   /// Frames in the input (-1 when the container does not say, 0 without an input).
   int GetInputFrameCount() const;
+  /// Size of the input's frames (empty without an input).
+  cv::Size GetInputFrameSize() const { return this->InputFrameSize; }
   /// Why Start() would refuse now, in plain words (no input, no calibration, frames of another size than the
   /// calibration's), or empty. Opens nothing: cheap enough for every refresh of a Start button.
   std::string GetStartProblem() const;

@@ -339,7 +339,9 @@ void qTissueMosaicMainWindow::refreshViews() {
     this->ShownFrameIndex = -1;
   } else if (frame != this->ShownFrameIndex) {
     this->ShownFrameIndex = frame;
-    this->VideoPanel->setFrames(logic->GetLeftFrame(), logic->GetRightFrame(), logic->GetDisparityColorImage());
+    const auto& stereo = logic->GetParameters().stereo;
+    this->VideoPanel->setFrames(logic->GetLeftFrame(), logic->GetRightFrame(), logic->GetDisparityPx(),
+                                logic->GetScanGeometry(), stereo.minDisparityPx, stereo.maxDisparityPx);
   }
   this->ModelView->requestRender();
   this->updateStatusBar();

@@ -125,7 +125,7 @@ TEST(Application, DemoScanEndToEnd) {
   EXPECT_EQ(drawn, logic->GetModel()) << "the 3D view draws the logic's model";
   EXPECT_EQ(scene->GetDrawnModelPoints(), status.modelPoints);
   EXPECT_TRUE(scene->GetKeyFrameFrustaActor()->GetVisibility());
-  EXPECT_EQ(window.videoPanel()->leftImage().size(), QSize(320, 180));
+  EXPECT_EQ(window.videoPanel()->frameSize(), QSize(320, 180));
   EXPECT_FALSE(window.videoPanel()->disparityImage().isNull());
   const QString statusText = window.statusText();
   EXPECT_TRUE(statusText.contains(QString("%1 key frames").arg(status.keyFrames))) << statusText.toStdString();

@@ -8,6 +8,7 @@
 #include "vtkTissueMosaicReconstructionLogic.h"
 
 #include "Core/Device.h"
+#include "Core/StereoRig.h"
 #include "IO/StereoFrameSource.h"
 
 #include <gtest/gtest.h>
@@ -23,6 +24,7 @@
 #include <QTableWidget>
 
 #include <filesystem>
+#include <limits>
 
 using tissuemosaic::ReconstructionParameters;
 
@@ -262,11 +264,37 @@ TEST(ReconstructionVideoPanel, ShowsFramesInRgbOrder) {
   EXPECT_TRUE(qTissueMosaicVideoPanel::toQImage(cv::Mat(4, 4, CV_32F)).isNull());
 
   qTissueMosaicVideoPanel panel;
-  panel.setFrames(bgr, grey, bgr);
+  cv::Mat disparity(30, 40, CV_32F, cv::Scalar(20.0f));
+  disparity.at<float>(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  disparity.at<float>(29, 39) = 40.0f;
+  panel.setFrames(bgr, grey, disparity);
   EXPECT_EQ(panel.leftImage().pixelColor(1, 1), QColor(200, 20, 10));
   EXPECT_EQ(panel.rightImage().size(), QSize(40, 30));
+  EXPECT_EQ(panel.frameSize(), QSize(40, 30));
+  EXPECT_EQ(panel.disparityImage().pixelColor(0, 0), QColor(0, 0, 0)) << "no estimate: black";
   panel.clear();
   EXPECT_TRUE(panel.leftImage().isNull());
+}
+
+TEST(ReconstructionVideoPanel, DisparityHasALegendInPixelsAndMillimetres) {
+  // A scene from 50 mm (disparity 40 px) to 100 mm (20 px): f = 400 px, B = 5 mm.
+  cv::Mat disparity(60, 80, CV_32F, cv::Scalar(20.0f));
+  disparity(cv::Rect(0, 0, 40, 60)).setTo(40.0f);
+  tissuemosaic::RectifiedGeometry geometry;
+  geometry.focalPx = 400;
+  geometry.baselineMm = 5;
+  qTissueMosaicVideoPanel panel;
+  panel.setFrames(cv::Mat(), cv::Mat(), disparity, &geometry, -20, 80);
+  const QStringList legend = panel.disparityLegend();
+  ASSERT_EQ(legend.size(), 5);
+  EXPECT_EQ(legend.first(), "40 px = 50 mm");  // near, at the top, red
+  EXPECT_EQ(legend.last(), "20 px = 100 mm");
+  EXPECT_EQ(legend[2], "30 px = 67 mm");
+  const QImage image = panel.disparityImage();
+  EXPECT_GT(image.pixelColor(10, 10).red(), image.pixelColor(10, 10).blue()) << "near is red";
+  EXPECT_GT(image.pixelColor(70, 10).blue(), image.pixelColor(70, 10).red()) << "far is blue";
+  panel.setFrames(cv::Mat(), cv::Mat(), disparity);  // no geometry: pixels only
+  EXPECT_EQ(panel.disparityLegend().first(), "40 px");
 }
 
 TEST(ReconstructionModulePanel, ControlsFollowTheScanState) {
