@@ -18,6 +18,7 @@
 #include <vtkRenderWindowInteractor.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkNew.h>
+#include <vtkOrientationMarkerWidget.h>
 #include <vtkPNGWriter.h>
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
@@ -175,6 +176,8 @@ void qTissueMosaicModelView::setSceneData(vtkPolyData* model, vtkPolyData* keyFr
 }
 
 vtkTissueMosaicModelScene* qTissueMosaicModelView::scene() const { return d->scene; }
+QString qTissueMosaicModelView::scaleBarText() const { return QString::fromStdString(d->legends->scaleBarLabel()); }
+bool qTissueMosaicModelView::axesShown() const { return d->legends->axes()->GetEnabled() != 0; }
 vtkRenderer* qTissueMosaicModelView::renderer() const { return d->renderer; }
 vtkRenderWindow* qTissueMosaicModelView::renderWindow() const { return d->window; }
 QVTKOpenGLNativeWidget* qTissueMosaicModelView::vtkWidget() const { return d->widget; }

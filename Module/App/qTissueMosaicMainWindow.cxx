@@ -313,6 +313,7 @@ void qTissueMosaicMainWindow::openDemo() {
 }
 
 void qTissueMosaicMainWindow::onDemoFinished(bool ok, const QString& directory, const QString& errorText) {
+  this->statusBar()->clearMessage();  // "Generating the demo scan...": done; the panel says what follows
   if (ok) {
     // The synthetic frames are rendered with the rectified cameras of rig.yml: they are already rectified.
     ok = this->Reconstruction->loadCalibration(qTissueMosaicDemoInput::calibrationFile(directory));

@@ -16,6 +16,11 @@
 #include <vtkNew.h>
 
 #include <QComboBox>
+#include <QWheelEvent>
+#include <QTest>
+#include <QRegularExpression>
+#include <QLabel>
+#include <QApplication>
 #include <QDoubleSpinBox>
 #include <QPushButton>
 #include <QSignalSpy>
@@ -24,6 +29,7 @@
 #include <QTableWidget>
 
 #include <filesystem>
+#include <fstream>
 #include <limits>
 
 using tissuemosaic::ReconstructionParameters;
@@ -326,4 +332,114 @@ TEST(ReconstructionModulePanel, ControlsFollowTheScanState) {
   reset->click();
   EXPECT_TRUE(start->isEnabled());
   EXPECT_TRUE(panel.parametersPanel()->isEnabled());
+}
+
+TEST(ReconstructionModulePanel, ARefusedValueIsRedAtItsFieldAndStartSaysWhy) {
+  // Min disparity 100 with max 80: refused at once, shown at the field in red with the reason in its group, and
+  // Start is disabled with the reason beside it, so that no scan runs with other values than those on screen.
+  qTissueMosaicReconstructionWidget panel;
+  vtkTissueMosaicReconstructionLogic* logic = panel.reconstructionLogic();
+  ASSERT_TRUE(logic->SetFrameSourceFactory([] { return std::make_unique<EmptySource>(); }));
+  logic->SetRectifiedGeometry(emptyGeometry());
+  panel.setInputRectified(true);
+  auto* start = panel.findChild<QPushButton*>("startButton");
+  ASSERT_TRUE(start->isEnabled()) << panel.startProblem().toStdString();
+  QSpinBox* minimum = intBox(panel, "minDisparityPx");
+  minimum->setValue(100);
+  EXPECT_EQ(logic->GetParameters().stereo.minDisparityPx, -20) << "the object keeps its valid value";
+  EXPECT_TRUE(minimum->styleSheet().contains("#ffd7d7")) << "red at the field";
+  EXPECT_TRUE(minimum->toolTip().contains("maxDisparityPx")) << minimum->toolTip().toStdString();
+  EXPECT_TRUE(intBox(panel, "maxDisparityPx")->styleSheet().isEmpty()) << "only the refused field";
+  // The reason in the field's own group, right under it.
+  QLabel* groupLine = nullptr;
+  for (QLabel* label : minimum->parentWidget()->findChildren<QLabel*>(QRegularExpression("^groupMessage"))) {
+    if (!label->isHidden()) groupLine = label;
+  }
+  ASSERT_NE(groupLine, nullptr) << "no message in the field's group";
+  EXPECT_TRUE(groupLine->text().contains("maxDisparityPx")) << groupLine->text().toStdString();
+  EXPECT_FALSE(start->isEnabled());
+  EXPECT_TRUE(panel.startProblem().contains("not applied")) << panel.startProblem().toStdString();
+  EXPECT_TRUE(start->toolTip().contains("Cannot start")) << start->toolTip().toStdString();
+  intBox(panel, "maxDisparityPx")->setValue(120);  // now valid: both values go through, red and reason gone
+  EXPECT_EQ(logic->GetParameters().stereo.minDisparityPx, 100);
+  EXPECT_TRUE(minimum->styleSheet().isEmpty());
+  EXPECT_TRUE(groupLine->isHidden());
+  EXPECT_TRUE(start->isEnabled()) << panel.startProblem().toStdString();
+}
+
+TEST(ReconstructionModulePanel, ACalibrationOfAnotherFrameSizeIsNotCalledCalibrated) {
+  // A new input keeps the previous input's calibration: the panel says it does not fit, and Start says why.
+  qTissueMosaicReconstructionWidget panel;
+  vtkTissueMosaicReconstructionLogic* logic = panel.reconstructionLogic();
+  tissuemosaic::RectifiedGeometry other = emptyGeometry();
+  other.imageSize = cv::Size(480, 270);
+  logic->SetRectifiedGeometry(other);
+  ASSERT_TRUE(logic->SetFrameSourceFactory([] { return std::make_unique<EmptySource>(); }));  // 64x48 frames
+  panel.setInputRectified(true);
+  const QString input = panel.findChild<QLabel*>("inputLabel")->text();
+  EXPECT_FALSE(input.endsWith("; calibrated")) << input.toStdString();
+  EXPECT_TRUE(input.contains("another frame size")) << input.toStdString();
+  EXPECT_FALSE(panel.findChild<QPushButton*>("startButton")->isEnabled());
+  EXPECT_TRUE(panel.startProblem().contains("480x270")) << panel.startProblem().toStdString();
+  EXPECT_TRUE(panel.startProblem().contains("64x48")) << panel.startProblem().toStdString();
+}
+
+TEST(ReconstructionParametersWidget, TheWheelChangesNoValueUnlessTheFieldHasFocus) {
+  // Scrolling the panel with the wheel over a field must not change it (it had turned -20 into -76).
+  qTissueMosaicReconstructionParametersWidget panel;
+  panel.show();
+  QApplication::setActiveWindow(&panel);
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&panel));
+  QSpinBox* minimum = intBox(panel, "minDisparityPx");
+  const auto wheel = [&](QWidget* target) {
+    QWheelEvent event(QPointF(5, 5), minimum->mapToGlobal(QPoint(5, 5)), QPoint(), QPoint(0, 120), Qt::NoButton,
+                      Qt::NoModifier, Qt::NoScrollPhase, false);
+    QApplication::sendEvent(target, &event);
+    return event.isAccepted();
+  };
+  intBox(panel, "maxDisparityPx")->setFocus();  // the keyboard is elsewhere
+  ASSERT_FALSE(minimum->hasFocus());
+  EXPECT_FALSE(wheel(minimum)) << "an unfocused field passes the wheel on (to the scroll area)";
+  EXPECT_EQ(minimum->value(), -20);
+  EXPECT_EQ(panel.parameters().stereo.minDisparityPx, -20);
+  EXPECT_EQ(minimum->focusPolicy(), Qt::StrongFocus);
+  auto* preset = panel.findChild<QComboBox*>("reconstructionPresetComboBox");
+  ASSERT_NE(preset, nullptr);
+  const int presetIndex = preset->currentIndex();
+  ASSERT_FALSE(preset->hasFocus());
+  wheel(preset);
+  EXPECT_EQ(preset->currentIndex(), presetIndex);
+  minimum->setFocus();  // clicked or tabbed into: now the wheel edits it
+  ASSERT_TRUE(minimum->hasFocus());
+  wheel(minimum);
+  EXPECT_EQ(minimum->value(), -19);
+}
+
+TEST(ReconstructionParametersWidget, ABrokenParameterFileIsExplainedBesideLoadInPlainWords) {
+  const std::string path = std::string(TM_TEST_OUTPUT_DIR) + "/broken-parameters.yml";
+  std::filesystem::create_directories(TM_TEST_OUTPUT_DIR);
+  {
+    std::ofstream file(path);
+    file << "%YAML:1.0\nstereo:\n  minDisparityPx: [1, 2\n  maxDisparityPx: }\n";
+  }
+  qTissueMosaicReconstructionParametersWidget panel;
+  panel.resize(500, 2000);
+  panel.show();
+  EXPECT_FALSE(panel.loadParametersFile(QString::fromStdString(path)));
+  QLabel* error = panel.findChild<QLabel*>("reconstructionErrorLabel");
+  ASSERT_NE(error, nullptr);
+  EXPECT_TRUE(error->isVisible());
+  EXPECT_TRUE(error->text().contains("broken-parameters.yml")) << error->text().toStdString();
+  EXPECT_TRUE(error->text().contains("not a valid YAML/XML file")) << error->text().toStdString();
+  for (const char* internal : {"persistence", ".cpp", "error: (", "OpenCV("}) {
+    EXPECT_FALSE(error->text().contains(internal)) << internal << " in: " << error->text().toStdString();
+  }
+  // Where the action was: right under the row with Load..., above every parameter.
+  auto* load = panel.findChild<QPushButton*>("reconstructionLoadButton");
+  ASSERT_NE(load, nullptr);
+  const int errorTop = error->mapTo(&panel, QPoint(0, 0)).y();
+  const int loadBottom = load->mapTo(&panel, QPoint(0, load->height())).y();
+  EXPECT_GE(errorTop, loadBottom);
+  EXPECT_LT(errorTop - loadBottom, 60);
+  EXPECT_LT(errorTop, intBox(panel, "minDisparityPx")->mapTo(&panel, QPoint(0, 0)).y());
 }

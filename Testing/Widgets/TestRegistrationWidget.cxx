@@ -33,6 +33,7 @@
 #include <vtkScalarsToColors.h>
 
 #include <QDir>
+#include <QDoubleSpinBox>
 #include <QFile>
 #include <QLocale>
 #include <QPushButton>
@@ -491,4 +492,83 @@ TEST(RegistrationWidget, LiveModelIsFollowedAsItGrows) {
   EXPECT_TRUE(panel.resultsNotice().isEmpty());
   EXPECT_EQ(panel.shownNumber("points"), "3000");
   EXPECT_NEAR(panel.registrationLogic()->GetDistanceStatistics().rmseMm, scene.trueRmseMm(), 0.01);
+}
+
+TEST(RegistrationWidget, AResetScanDropsItsResultsAndItsModelLandmarks) {
+  // After Reset and a new scan, nothing of the old model may remain: count, transform, numbers, colours, model
+  // landmarks; and no transform of a model that no longer exists can be exported.
+  const Scene scene;
+  qTissueMosaicRegistrationWidget panel;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  for (const Eigen::Vector3d& point : scene.modelPoints) points->InsertNextPoint(point.data());
+  vtkNew<vtkPolyData> live;
+  live->SetPoints(points);
+  panel.setReconstructedModel(live);
+  panel.liveModelChanged();
+  ASSERT_TRUE(panel.loadTargetFile(scene.targetPath));
+  for (const Eigen::Vector3d& target : scene.targetLandmarks) panel.addLandmarkPair(scene.modelOf(target), target);
+  ASSERT_TRUE(panel.registerLandmarks());
+  ASSERT_NE(panel.shownNumber("rmse"), "-");
+
+  points->SetNumberOfPoints(0);  // the reconstruction's Reset empties its model in place
+  live->Modified();
+  panel.liveModelChanged();
+  vtkTissueMosaicRegistrationLogic* logic = panel.registrationLogic();
+  EXPECT_EQ(panel.shownModelText(), "Use the current scan (no points yet)");
+  EXPECT_EQ(panel.shownNumber("rmse"), "-");
+  EXPECT_EQ(panel.shownNumber("landmarkRmse"), "-");
+  EXPECT_TRUE(logic->GetTargetFromModel().isIdentity());
+  EXPECT_FALSE(panel.sceneView()->distanceActor()->GetVisibility()) << "no colour map of a model that is gone";
+  EXPECT_TRUE(panel.resultsNotice().contains("reset")) << panel.resultsNotice().toStdString();
+  ASSERT_EQ(logic->GetNumberOfLandmarkPairs(), 6);  // the CT/MR points stay, for picking the model ones again
+  EXPECT_EQ(logic->GetNumberOfCompleteLandmarkPairs(), 0);
+  EXPECT_EQ(panel.landmarkTable()->item(0, qTissueMosaicLandmarkTable::ModelColumn)->text(), "");
+  EXPECT_FALSE(panel.exportTransform(outputDir() + "/stale.tfm"));
+  EXPECT_TRUE(panel.errorText().contains("Nothing registered")) << panel.errorText().toStdString();
+  EXPECT_FALSE(QFile::exists(outputDir() + "/stale.tfm"));
+}
+
+TEST(RegistrationWidget, HistogramSaysHowManyPointsLieBeyondIt) {
+  const Scene scene;
+  qTissueMosaicRegistrationWidget panel;
+  loadScene(panel, scene);
+  for (const Eigen::Vector3d& target : scene.targetLandmarks) panel.addLandmarkPair(scene.modelOf(target), target);
+  ASSERT_TRUE(panel.registerLandmarks());
+  EXPECT_TRUE(panel.histogramOverflowNote().isEmpty()) << "0.1 mm bins cover every distance of this scene";
+  auto* bin = panel.findChild<QDoubleSpinBox*>("binWidthSpinBox");
+  ASSERT_NE(bin, nullptr);
+  bin->setValue(0.01);  // 100 bins up to 1 mm: the off-surface points (1.5-4 mm) lie beyond
+  const DistanceHistogram& histogram = panel.registrationLogic()->GetDistanceHistogram();
+  ASSERT_GT(histogram.overflow, 0u);
+  const double percent = 100.0 * static_cast<double>(histogram.overflow) / 3000.0;
+  EXPECT_EQ(panel.histogramOverflowNote(),
+            QString("%1% of the points lie beyond %2 mm").arg(percent, 0, 'f', 1).arg(0.01 * histogram.counts.size(), 0, 'g', 3));
+}
+
+TEST(RegistrationWidget, AMissedPickAnExportAndAWrongFolderAreReportedInPlainWords) {
+  const Scene scene;
+  qTissueMosaicRegistrationWidget panel;
+  showPanelAndView(panel);
+  loadScene(panel, scene);
+  // A click on the CT/MR model that hits nothing adds nothing, and says so (a later pick would pair wrongly).
+  panel.setPickMode(qTissueMosaicRegistrationView::PickOnTarget);
+  EXPECT_FALSE(panel.sceneView()->pickAt(2, 2));  // the corner of the view: background
+  EXPECT_EQ(panel.registrationLogic()->GetNumberOfLandmarkPairs(), 0);
+  EXPECT_TRUE(panel.errorText().contains("No CT/MR surface under the cursor")) << panel.errorText().toStdString();
+  // Nothing registered yet: no identity transform written.
+  EXPECT_FALSE(panel.exportTransform(outputDir() + "/identity.tfm"));
+  EXPECT_FALSE(QFile::exists(outputDir() + "/identity.tfm"));
+  for (const Eigen::Vector3d& target : scene.targetLandmarks) panel.addLandmarkPair(scene.modelOf(target), target);
+  ASSERT_TRUE(panel.registerLandmarks());
+  // Each export confirms where it wrote.
+  ASSERT_TRUE(panel.exportTransform(outputDir() + "/t.tfm"));
+  EXPECT_EQ(panel.lastMessage(), "Transform written to " + outputDir() + "/t.tfm");
+  // A missing folder: plain words, never a library's object dump.
+  EXPECT_FALSE(panel.exportRegisteredModel("/nonexistent-folder/registered.vtp"));
+  const QString message = panel.errorText();
+  EXPECT_TRUE(message.contains("the folder does not exist")) << message.toStdString();
+  for (const char* internal : {"Debug:", "Modified Time", "Reference Count", "vtkXML", "0x"}) {
+    EXPECT_FALSE(message.contains(internal)) << internal << " in: " << message.toStdString();
+  }
 }
