@@ -136,7 +136,7 @@ qTissueMosaicModelView::qTissueMosaicModelView(QWidget* parent) : QWidget(parent
   // 8 on llvmpipe) for edges that points barely have; the offscreen snapshot draws without it too.
   d->window->SetMultiSamples(0);
   d->scene->AddToRenderer(d->renderer);
-  vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
+  vtkTissueMosaicModelScene::ResetScopeView(d->renderer, d->scene->GetModelActor());
   d->interaction->SetClientData(d);
   d->interaction->SetCallback(&Private::onInteraction);
   if (vtkInteractorObserver* style = d->widget->interactor()->GetInteractorStyle()) {
@@ -218,7 +218,8 @@ void qTissueMosaicModelView::render() {
   // new, empty model hand it back).
   if (d->model && d->model->GetNumberOfPoints() == 0) d->userMovedCamera = false;
   if (!d->userMovedCamera && d->model && d->model->GetNumberOfPoints() > 0) {
-    vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
+    vtkTissueMosaicModelScene::ResetScopeView(d->renderer, d->scene->GetModelActor());
+    d->scene->FitPointSizeToView(d->renderer);
   }
   d->renderer->ResetCameraClippingRange();
   auto* style = vtkInteractorStyle::SafeDownCast(d->widget->interactor()->GetInteractorStyle());
@@ -258,7 +259,7 @@ double qTissueMosaicModelView::interactiveFrameTimeMs() const { return d->intera
 
 void qTissueMosaicModelView::resetView() {
   d->userMovedCamera = false;
-  vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
+  vtkTissueMosaicModelScene::ResetScopeView(d->renderer, d->scene->GetModelActor());
   this->requestRender();
 }
 
