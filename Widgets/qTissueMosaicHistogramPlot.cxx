@@ -3,6 +3,7 @@
 #include <QPainter>
 
 #include <algorithm>
+#include <cmath>
 
 qTissueMosaicHistogramPlot::qTissueMosaicHistogramPlot(QWidget* parent) : QWidget(parent) {
   this->setMinimumSize(240, 150);
@@ -49,14 +50,16 @@ void qTissueMosaicHistogramPlot::paintEvent(QPaintEvent*) {
   }
   painter.setBrush(Qt::NoBrush);
   painter.drawRect(plot);
-  const auto marker = [&](double mm, const QColor& colour, const QString& name) {
+  const auto marker = [&](double mm, const QColor& colour, const QString& name, int line) {
     if (!(mm >= 0 && mm <= rangeMm)) return;
     painter.setPen(QPen(colour, 2, Qt::DashLine));
     painter.drawLine(QPointF(xOf(mm), plot.top()), QPointF(xOf(mm), plot.bottom()));
-    painter.drawText(QPointF(xOf(mm) + 3, plot.top() + metrics.ascent()), name);
+    painter.drawText(QPointF(xOf(mm) + 3, plot.top() + metrics.ascent() + line * metrics.height()), name);
   };
-  marker(this->MeanMm, QColor(0, 150, 0), tr("mean"));
-  marker(this->P95Mm, QColor(200, 0, 0), tr("p95"));
+  marker(this->MeanMm, QColor(0, 150, 0), tr("mean"), 0);
+  // The p95 label a line lower when the two marks are close: their names would print over each other.
+  const bool close = std::abs(xOf(this->P95Mm) - xOf(this->MeanMm)) < metrics.horizontalAdvance(tr("mean")) + 6;
+  marker(this->P95Mm, QColor(200, 0, 0), tr("p95"), close ? 1 : 0);
   if (!note.isEmpty()) {
     painter.setPen(QColor(200, 0, 0));
     painter.drawText(QRect(left, 2, this->width() - left - right, metrics.height()), Qt::AlignRight, note);

@@ -7,6 +7,7 @@
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkActor.h>
 #include <vtkActor2D.h>
+#include <vtkCamera.h>
 #include <vtkCellPicker.h>
 #include <vtkDataArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
@@ -114,6 +115,9 @@ public:
   void updateModelPipeline();
   void updateTargetPipeline();
   void updateDistanceColours();
+  /// Frames everything shown, looking as the scope looked at the model (its +z, -y up) moved into the CT/MR frame
+  /// by the current transform: the surgeon's view of the scan, not VTK's default from the far side.
+  void fitCamera();
   /// The index of the pair that got the picked point, or -1 with the reason.
   int pickModel(int x, int y, QString& reason);
   int pickTarget(int x, int y, QString& reason);
@@ -243,6 +247,17 @@ void qTissueMosaicRegistrationView::Private::setupScene() {
   this->Legends = std::make_unique<qTissueMosaicViewLegends>(this->Renderer, this->RenderWindow->GetInteractor());
 }
 
+void qTissueMosaicRegistrationView::Private::fitCamera() {
+  const Eigen::Matrix3d rotation = this->Logic->GetTargetFromModel().topLeftCorner<3, 3>();
+  const Eigen::Vector3d forward = (rotation * Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d up = (rotation * -Eigen::Vector3d::UnitY()).normalized();
+  vtkCamera* camera = this->Renderer->GetActiveCamera();
+  camera->SetFocalPoint(0, 0, 0);
+  camera->SetPosition(-forward.x(), -forward.y(), -forward.z());
+  camera->SetViewUp(up.x(), up.y(), up.z());
+  this->Renderer->ResetCamera();  // keeps the direction
+}
+
 void qTissueMosaicRegistrationView::Private::updateModelPipeline() {
   vtkPolyData* model = this->Logic->GetModel();
   if (!model) {
@@ -252,9 +267,10 @@ void qTissueMosaicRegistrationView::Private::updateModelPipeline() {
   connectPoints(model, this->ModelVertices, this->ModelMapper);
   // Our reconstructions' 8-bit "RGB" colours are drawn as they are (also when a live model gets them later);
   // other scalars (e.g. a distance map read back) would be mapped through a meaningless range: solid colour.
-  const bool direct = hasDirectColours(model);
-  this->ModelMapper->SetScalarVisibility(direct);
-  if (direct) this->ModelMapper->SetColorModeToDirectScalars();
+  // A live scan without points has no colours yet: colour by scalars from the start, so that they show as it grows.
+  vtkDataArray* scalars = model->GetPointData()->GetScalars();
+  this->ModelMapper->SetScalarVisibility(!scalars || hasDirectColours(model));
+  this->ModelMapper->SetColorModeToDirectScalars();
   // A scanned point cloud carries the scope's lighting in its colours: drawn unlit, as the reconstruction view
   // does (lit, the points whose normals face away from the light came out black). Surfaces are shaded.
   this->ModelActor->GetProperty()->SetLighting(model->GetNumberOfPolys() > 0);
@@ -429,8 +445,10 @@ void qTissueMosaicRegistrationView::updateLandmarks() {
 }
 
 void qTissueMosaicRegistrationView::resetCamera() {
-  d->Renderer->ResetCamera();
-  d->CameraFitted = true;
+  d->fitCamera();
+  // Fitted to nothing (the live scan had no points yet): fit again once there is something (render()).
+  vtkPolyData* model = d->Logic->GetModel();
+  d->CameraFitted = (model && model->GetNumberOfPoints() > 0) || d->Logic->GetTarget();
   this->updateLandmarks();  // glyph size follows the scene; renders
 }
 
@@ -442,7 +460,7 @@ void qTissueMosaicRegistrationView::render() {
   const bool content = (model && model->GetNumberOfPoints() > 0) || d->Logic->GetTarget();
   if (!content) d->CameraFitted = false;
   else if (!d->CameraFitted) {
-    d->Renderer->ResetCamera();
+    d->fitCamera();
     d->CameraFitted = true;
   }
   d->RenderWindow->Render();

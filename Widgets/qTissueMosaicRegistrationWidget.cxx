@@ -585,6 +585,7 @@ void qTissueMosaicRegistrationWidget::liveModelChanged() {
   }
   const vtkIdType points = d->LiveModel->GetNumberOfPoints();
   const bool reset = points < d->LivePointsSeen;  // a reset empties the model; a new scan grows it from nothing
+  const bool grew = points > d->LivePointsSeen;
   d->LivePointsSeen = points;
   if (reset) {
     // The scan was reset: transform, results and model landmarks belonged to a model that no longer exists.
@@ -601,7 +602,7 @@ void qTissueMosaicRegistrationWidget::liveModelChanged() {
   }
   d->updateModelText();
   d->updateResultsNotice();
-  d->View->render();  // the mappers see the model grow in place; only a shown view draws
+  if (grew) d->View->updateFromLogic();  // colours that came with the points; a shown view draws
 }
 
 bool qTissueMosaicRegistrationWidget::loadModelFile(const QString& path) {
