@@ -27,6 +27,9 @@ def parse_json(text):
         lambda m: m.group(1) + ("NaN" if m.group(3) == "nan" else m.group(2) + "Infinity"), text))
 
 
+KINDS = ("bench stereo", "bench orb", "bench track", "bench pnp", "bench reconstruct", "libsgm-timing")
+
+
 def kind_of(result):
     """The benchmark a JSON object came from: its "command", or "bench pnp" (which prints none)."""
     if "command" in result:
@@ -47,7 +50,7 @@ def load(paths):
             except (OSError, ValueError) as error:
                 print(f"benchmark-report: skipping {file}: {error}", file=sys.stderr)
                 continue
-            if not isinstance(result, dict) or kind_of(result) is None:
+            if not isinstance(result, dict) or kind_of(result) not in KINDS:
                 print(f"benchmark-report: skipping {file}: not a tissuemosaic bench object", file=sys.stderr)
                 continue
             result["_file"] = str(file)
@@ -106,6 +109,7 @@ def stereo_sections(results, date):
                          runs(g, lambda r: r["median_ms"]["outliers_holes"]),
                          runs(g, lambda r: r["median_ms"]["refinement"]),
                          "**" + runs(g, lambda r: r["median_ms"]["total"], 3 if r0["device"] == "cuda" else 1) + "**",
+                         runs(g, lambda r: r.get("p99_ms", {}).get("total"), 3 if r0["device"] == "cuda" else 1),
                          runs(g, lambda r: r["median_ms"]["upload"], 3),
                          runs(g, lambda r: r["accuracy"]["density"], 3) + " / " +
                          runs(g, lambda r: r["accuracy"]["bad1"], 4)])
@@ -113,8 +117,10 @@ def stereo_sections(results, date):
             "cost + aggregation (zncc)", "paths + winners (outliers_holes)", "median + checks (refinement)")
         title = "bench stereo" if method == "paper" else "bench stereo --method ad-census"
         out.append(f"### {title}: median ms per stage\n\n" + table(
-            ["device", "date", "size, disparities", *stages, "total", "upload", "density / bad-1"], rows) +
+            ["device", "date", "size, disparities", *stages, "total", "p99 total", "upload", "density / bad-1"], rows) +
             "\n\nCommand: `tissuemosaic bench stereo --device " + "|".join(sorted({r['device'] for r in chosen})) +
+            "".join(sorted({f" [{size_options(r)} --disparities {r['disparities']}]" for r in chosen
+                            if (r["width"], r["height"]) != (960, 540)})) +
             (" --method ad-census" if method == "ad-census" else "") + "` (repeats: " +
             ", ".join(sorted({f"{r['device']} {r['repeats']}" for r in chosen})) + ")")
     cpu = [r for r in stereo if "opencv_sgbm_3way" in r]
@@ -131,7 +137,37 @@ def stereo_sections(results, date):
         out.append("### CPU stereo against OpenCV StereoSGBM (MODE_SGBM_3WAY), same pair, same process\n\n" + table(
             ["device", "date", "method", "ours, total ms", "SGBM 3-way ms", "ours / SGBM", "SGBM density / bad-1"],
             rows) + "\n\nCommand: `tissuemosaic bench stereo --device cpu`")
+    out += peer_section(stereo, [r for r in results if kind_of(r) == "libsgm-timing"], date)
     return out
+
+
+def peer_section(stereo, libsgm, date):
+    """Our GPU stereo beside libSGM at the same size (libSGM takes 64, 128 or 256 disparities: the count at or
+    above ours), from the same run."""
+    rows = []
+    ours = [r for r in stereo if r["device"] == "cuda" and r.get("method", "paper") == "paper"]
+    for g in grouped(ours, lambda r: (device_of(r), r["width"], r["height"], r["disparities"])):
+        r0 = g[0]
+        peers = [p for p in libsgm if (p["width"], p["height"]) == (r0["width"], r0["height"]) and
+                 p["disparities"] >= r0["disparities"]]
+        for paths in (4, 8):
+            chosen = [p for p in peers if p["paths"] == paths]
+            if not chosen:
+                continue
+            count = min(p["disparities"] for p in chosen)
+            chosen = [p for p in chosen if p["disparities"] == count]
+            ratio = [r["median_ms"]["total"] / p["median_ms"] for r, p in zip(g, chosen)]
+            rows.append([r0["device_name"], date, f"{r0['width']}x{r0['height']}", str(r0["disparities"]),
+                         runs(g, lambda r: r["median_ms"]["total"], 3), f"{count}, {paths}-path",
+                         runs(chosen, lambda p: p["median_ms"], 3),
+                         "**" + " / ".join(f"{x:.2f}" for x in ratio) + "x**"])
+    if not rows:
+        return []
+    return ["### GPU stereo against libSGM, same run\n\n" + table(
+        ["device", "date", "size", "our disparities", "ours, total ms", "libSGM disparities, paths", "libSGM ms",
+         "ours / libSGM"], rows) +
+        "\n\nCommands: `tissuemosaic bench stereo --device cuda --width W --height H --disparities N`; "
+        "`libsgm-timing --width W --height H --disparities N --paths P` (Testing/Device/libsgm-peer)"]
 
 
 def orb_section(results, date):
@@ -202,19 +238,19 @@ STAGE_NAMES = ("stereo", "ORB + voting", "DynamicR1PPnP", "refinement", "TSDF", 
 def reconstruct_sections(results, date):
     rec = [r for r in results if kind_of(r) == "bench reconstruct"]
     out = []
-    for g in grouped(rec, lambda r: (r["frames"], r["width"], r["height"])):
+    for g in grouped(rec, lambda r: (r["frames"], r["width"], r["height"], tuple(r.get("disparity_range_px", ())))):
         r0 = g[0]
         for devices in grouped(g, device_of):
             d0 = devices[0]
-            timing = lambda key, frames, stat: runs(devices, lambda r: r["timing"][frames][stat][key])
-            rows = [[name, f"{timing(key, 'key_frames', 'median_ms')} ({timing(key, 'key_frames', 'mean_ms')})",
-                     "-" if key in ("refinement", "tsdf") else
-                     f"{timing(key, 'other_frames', 'median_ms')} ({timing(key, 'other_frames', 'mean_ms')})"]
+            timing = lambda key, frames, stat: runs(devices, lambda r: r["timing"][frames].get(stat, {}).get(key))
+            cell = lambda key, frames: (f"{timing(key, frames, 'median_ms')} ({timing(key, frames, 'mean_ms')}, "
+                                        f"{timing(key, frames, 'p99_ms')})")
+            rows = [[name, cell(key, "key_frames"), "-" if key in ("refinement", "tsdf") else cell(key, "other_frames")]
                     for key, name in zip(STAGES, STAGE_NAMES)]
             rows[-1] = ["**" + c + "**" for c in rows[-1]]
             text = (f"### bench reconstruct, {r0['frames']} frames {r0['width']}x{r0['height']}: "
                     f"{d0['device_name']}, {date}\n\n"
-                    "Median (mean) ms per frame, the paper's runtime table (stereo runs beside tracking, so the "
+                    "Median (mean, p99) ms per frame, the paper's runtime table (stereo runs beside tracking, so the "
                     "total is less than the sum):\n\n" +
                     table(["stage", "key frame", "other frame"], rows))
             summary = [
@@ -233,7 +269,11 @@ def reconstruct_sections(results, date):
                                 f"{m['model_points'] / 1e6:.2f} M"] for m in d0["memory"]]
                 text += ("\n\nMemory at each quarter of the run (first run):\n\n" +
                          table(["frames", "host resident MiB", "device peak MiB", "model points"], memory_rows))
-            text += (f"\n\nCommand: `tissuemosaic bench reconstruct --device {d0['device']} --frames {r0['frames']}"
+            size = "" if (r0["width"], r0["height"]) == (960, 540) else f" {size_options(r0)}"
+            if "disparity_range_px" in r0 and size:
+                low, high = r0["disparity_range_px"]
+                size += f" --disparities {high - low + 1}"
+            text += (f"\n\nCommand: `tissuemosaic bench reconstruct --device {d0['device']} --frames {r0['frames']}{size}"
                      f"{' --stream --chunk 100 --supersampling 1' if r0['frames'] > 1000 else ''}`")
             out.append(text)
     return out
