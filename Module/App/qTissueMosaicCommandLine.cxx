@@ -182,6 +182,10 @@ bool qTissueMosaicCommandLine::parse(const QStringList& arguments, QString& erro
     return false;
   }
   const bool pinhole = parser.isSet("focal-px") || parser.isSet("baseline-mm");
+  if (this->rectified && this->calibration.isEmpty()) {
+    error = "--rectified needs --calib: it says the frames were rectified with that calibration";
+    return false;
+  }
   if (!this->calibration.isEmpty() && pinhole) {
     error = "give either --calib or --focal-px/--baseline-mm, not both";
     return false;
@@ -242,6 +246,7 @@ bool qTissueMosaicCommandLine::openInput(qTissueMosaicReconstructionWidget* pane
     return false;
   }
   if (this->hasPinholeGeometry()) {
+    // The geometry of rectified frames exactly as `tissuemosaic reconstruct` makes it from the same options.
     vtkTissueMosaicReconstructionLogic* logic = panel->reconstructionLogic();
     try {
       logic->SetRectifiedGeometry(tissuemosaic::rectifiedGeometryFromPinhole(
