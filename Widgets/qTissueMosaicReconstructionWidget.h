@@ -17,6 +17,9 @@ class vtkTissueMosaicReconstructionLogic;
 class qTissueMosaicReconstructionWidget : public QWidget {
   Q_OBJECT
 public:
+  /// Where a message appears: under the input, the scan or the export controls.
+  enum MessagePlace { InputMessage, ScanMessage, ExportMessage };
+
   explicit qTissueMosaicReconstructionWidget(QWidget* parent = nullptr);
   ~qTissueMosaicReconstructionWidget() override;
 
@@ -27,6 +30,11 @@ public:
   QTableWidget* timingTable() const;
   /// The last message shown to the user (errors and confirmations).
   QString lastMessage() const;
+  /// Why Start is disabled (no input, a calibration for another frame size, a parameter refused, ...); empty when
+  /// it can start. Shown beside the Start button.
+  QString startProblem() const;
+  /// True when the model holds points that no export has written since they changed.
+  bool hasUnexportedModel() const;
   /// How often the logic is polled (default 33 ms).
   void setPollingIntervalMs(int intervalMs);
 
@@ -47,6 +55,8 @@ public slots:
   void reset();
   bool exportModel(const QString& path);
   bool exportTrajectory(const QString& path);
+  /// Shows a message where the action was (error: in red).
+  void showMessage(const QString& text, bool error, MessagePlace place = ExportMessage);
   /// Takes over the logic's new results and refreshes the controls; emits outputsUpdated() when there were any.
   /// Called by the polling timer; call it directly to update at once.
   bool updateFromLogic();

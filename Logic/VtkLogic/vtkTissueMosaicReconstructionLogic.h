@@ -112,6 +112,13 @@ public:
   std::string GetInputDescription() const;
   /// Frames in the input (-1 when the container does not say, 0 without an input).
   int GetInputFrameCount() const;
+  /// Size of the input's frames (empty without an input).
+  cv::Size GetInputFrameSize() const { return this->InputFrameSize; }
+  /// Why Start() would refuse now, in plain words (no input, no calibration, frames of another size than the
+  /// calibration's), or empty. Opens nothing: cheap enough for every refresh of a Start button.
+  std::string GetStartProblem() const;
+  /// The rectified geometry of the scan (focal length, baseline: depth from disparity); null before a scan starts.
+  const tissuemosaic::RectifiedGeometry* GetScanGeometry() const;
   ///@}
 
   /// @name Scan control
@@ -249,6 +256,7 @@ private:
   FrameSourceFactory SourceFactory;
   std::string InputDescription;
   int InputFrameCount = 0;
+  cv::Size InputFrameSize;
   std::unique_ptr<tissuemosaic::StereoCalibration> Calibration;
   std::unique_ptr<tissuemosaic::RectifiedGeometry> Geometry;  ///< set directly (rectified input)
   bool InputRectified = false;

@@ -2,11 +2,13 @@
 #include "Commands.h"
 
 #include "Core/Error.h"
+#include "Core/RectifiedGeometryFromPinhole.h"
 #include "IO/Calibration/CalibrationFile.h"
 #include "Stereo/StereoParameters.h"
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 namespace tissuemosaic::cli {
 
@@ -128,16 +130,10 @@ StereoGeometry resolveGeometry(const GeometryOptions& options, const cv::Size& f
   if (!options.focalPx) {
     throw UsageError("give the geometry: --calib rig.yml, or --focal-px and --baseline-mm for rectified frames");
   }
-  RectifiedGeometry& rectified = geometry.rectified;
-  rectified.imageSize = frameSize;
-  rectified.focalPx = *options.focalPx;
-  rectified.baselineMm = *options.baselineMm;
-  rectified.cxLeftPx = options.cxPx.value_or((frameSize.width - 1) / 2.0);
-  rectified.cyPx = options.cyPx.value_or((frameSize.height - 1) / 2.0);
-  rectified.doffsPx = options.doffsPx.value_or(0.0);
-  // cv::stereoRectify's Q: [x y d 1] -> (X Y Z W), with Z / W = f B / (d + doffs).
-  rectified.Q = (cv::Mat_<double>(4, 4) << 1, 0, 0, -rectified.cxLeftPx, 0, 1, 0, -rectified.cyPx, 0, 0, 0,
-                 rectified.focalPx, 0, 0, 1.0 / rectified.baselineMm, rectified.doffsPx / rectified.baselineMm);
+  const double unset = std::numeric_limits<double>::quiet_NaN();  // the image centre
+  geometry.rectified = rectifiedGeometryFromPinhole(frameSize, *options.focalPx, *options.baselineMm,
+                                                    options.cxPx.value_or(unset), options.cyPx.value_or(unset),
+                                                    options.doffsPx.value_or(0.0));
   return geometry;
 }
 

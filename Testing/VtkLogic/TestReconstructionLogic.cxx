@@ -112,6 +112,44 @@ TEST(ReconstructionFrusta, PointsAndLinesOfEachCameraAreAtItsPose) {
   EXPECT_EQ(path->GetNumberOfLines(), 1);
 }
 
+TEST(ReconstructionGrowingModel, ArraysMadeOnAnotherThreadAreSwappedInWithoutACopy) {
+  // Double buffering of the live view: the worker makes the arrays, the owner only swaps pointers.
+  ColoredPointCloud cloud;
+  for (int i = 0; i < 5000; ++i) {
+    cloud.pointsMm.emplace_back(float(i), float(-i), 60.f);
+    cloud.colorsRgb.emplace_back(uchar(i % 256), 1, 2);
+    cloud.normals.emplace_back(0.f, 0.f, -1.f);
+  }
+  tissuemosaic::ModelArrays made;
+  std::thread worker([&] { made = tissuemosaic::makeModelArrays(cloud); });
+  worker.join();
+  vtkNew<vtkPolyData> model;
+  tissuemosaic::updateGrowingModel(model, cloud);  // what the view showed before
+  vtkPoints* before = model->GetPoints();
+  const void* madePoints = made.points->GetVoidPointer(0);
+  const tissuemosaic::ModelArrays previous = tissuemosaic::swapModelArrays(model, made);
+  EXPECT_EQ(previous.points.Get(), before) << "the replaced arrays come back, for release elsewhere";
+  EXPECT_EQ(model->GetPoints()->GetVoidPointer(0), madePoints) << "swapped in, not copied";
+  // The same polydata as updateGrowingModel makes: points, one vertex per point, colours, normals.
+  ASSERT_EQ(model->GetNumberOfPoints(), 5000);
+  EXPECT_EQ(model->GetNumberOfVerts(), 5000);
+  double point[3];
+  model->GetPoint(4321, point);
+  EXPECT_EQ(point[0], 4321.0);
+  EXPECT_EQ(point[1], -4321.0);
+  vtkIdType count = 0;
+  const vtkIdType* ids = nullptr;
+  model->GetVerts()->GetCellAtId(4321, count, ids);
+  ASSERT_EQ(count, 1);
+  EXPECT_EQ(ids[0], 4321);
+  auto* colours = vtkUnsignedCharArray::SafeDownCast(model->GetPointData()->GetScalars());
+  ASSERT_NE(colours, nullptr);
+  EXPECT_STREQ(colours->GetName(), tissuemosaic::kPointCloudColorArrayName);
+  EXPECT_EQ(colours->GetValue(3 * 300), 300 % 256);
+  ASSERT_NE(model->GetPointData()->GetNormals(), nullptr);
+  EXPECT_EQ(model->GetPointData()->GetNormals()->GetComponent(7, 2), -1.0);
+}
+
 TEST(ReconstructionGrowingModel, AppendsInPlaceAndRefreshesEarlierPoints) {
   ColoredPointCloud cloud;
   for (int i = 0; i < 1000; ++i) {

@@ -10,10 +10,13 @@
 #include <gtest/gtest.h>
 
 #include <QCoreApplication>
+#include <QRegularExpression>
 #include <QElapsedTimer>
 #include <QTimer>
 #include <vtkActor.h>
 #include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
+#include <vtkRenderer.h>
 #include <vtkCommand.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
@@ -151,4 +154,18 @@ TEST_F(SmallModelView, RenderDueDuringALongEventLetsTheWaitingTimersRunFirst) {
   EXPECT_GE(waitingTimerAtMs, longEventMs) << "the long event did not hold the loop";
   EXPECT_LE(waitingTimerAtMs, renderStart.atMs)
       << "the render ran straight after the long event, before the timer that had waited behind it";
+}
+
+TEST_F(SmallModelView, AxesAndAScaleBarInMillimetresThatFollowTheZoom) {
+  view.render();
+  EXPECT_TRUE(view.axesShown());
+  // A round length (1, 2 or 5 times a power of ten) in mm; about 160 px of the 80 mm wide sheet in 320 px.
+  const QRegularExpression round("^(1|2|5)0* mm$");
+  const QString before = view.scaleBarText();
+  EXPECT_TRUE(round.match(before).hasMatch()) << before.toStdString();
+  view.renderer()->GetActiveCamera()->Zoom(4);  // as the user zooms (the view's own render would re-frame it)
+  view.renderWindow()->Render();
+  const QString after = view.scaleBarText();
+  EXPECT_TRUE(round.match(after).hasMatch()) << after.toStdString();
+  EXPECT_LT(after.split(' ').first().toDouble(), before.split(' ').first().toDouble()) << "zoomed in: a shorter bar";
 }
