@@ -2,14 +2,17 @@
 // TUM trajectory.
 #include "CommonOptions.h"
 #include "Commands.h"
+#include "StopSignal.h"
 
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/Statistics.h"
 #include "Core/StereoRig.h"
+#include "IO/AtomicFile.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryError.h"
 #include "IO/TrajectoryTum.h"
+#include "Reconstruction/ReconstructionParameters.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
 
@@ -20,6 +23,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 namespace tissuemosaic::cli {
 
@@ -46,13 +50,14 @@ struct TrackOptions {
 };
 
 void runTrack(const TrackOptions& options) {
+  requireWritableOutput(options.out, "trajectory");
   StereoParameters stereoParameters;
   FrameTrackerOptions trackerOptions;
   if (options.params) {
-    stereoParameters = StereoParameters::readFile(*options.params);
-    const cv::FileStorage storage(*options.params, cv::FileStorage::READ);
-    require(storage.isOpened(), "cannot read parameters file '" + *options.params + "'");
-    trackerOptions.tracking = TrackingParameters::read(storage["tracking"]);
+    // The whole file is read (and checked strictly), as reconstruct reads it; track uses its stereo and tracking.
+    const ReconstructionParameters fileParameters = ReconstructionParameters::readFile(*options.params);
+    stereoParameters = fileParameters.stereo;
+    trackerOptions.tracking = fileParameters.tracking;
   }
   options.range.applyTo(stereoParameters);
   const Device device = options.device.resolve();
@@ -77,10 +82,12 @@ void runTrack(const TrackOptions& options) {
 
   const std::unique_ptr<StereoFrameSource> source = openInput(options.input);
   const StereoGeometry geometry = resolveGeometry(options.geometry, source->frameSize(), source->description());
+  requireDisparityRangeMeetsImage(stereoParameters, source->frameSize().width);
   StereoMatcher matcher(device, stereoParameters);
   FrameTracker tracker(geometry.rectified, trackerOptions, T_world_start);
-  std::ofstream file(options.out);
-  require(file.good(), "cannot write trajectory '" + options.out + "'");
+  // The trajectory is kept in memory and written atomically at the end: a run that fails midway leaves an existing
+  // file as it was; one stopped by Ctrl-C or SIGTERM writes the frames it tracked and says so in the file.
+  std::ostringstream file;
   file << "# TissueMosaic track: T_world_camera of the left rectified camera, millimetres, seconds\n"
        << "# t tx ty tz qx qy qz qw\n";
 
@@ -89,7 +96,9 @@ void runTrack(const TrackOptions& options) {
   Trajectory tracked;
   const int expected = source->frameCount();
   StereoFrame frame;
+  const StopOnSignal stop(nullptr);
   for (;;) {
+    if (stop.requested()) break;
     const auto t0 = std::chrono::steady_clock::now();
     if (!source->next(frame)) break;
     ++count;
@@ -130,11 +139,12 @@ void runTrack(const TrackOptions& options) {
   }
   if (!options.quiet) std::cerr << "\n";
   require(count > 0, "no frame could be read from " + source->description());
-  file.flush();
-  require(file.good(), "cannot write trajectory '" + options.out + "' (disk full?)");
+  if (stop.requested()) file << "# stopped by a signal after " << count << " frames: the trajectory is incomplete\n";
+  writeStreamAtomically(options.out, "trajectory", [&](std::ostream& out) { out << file.str(); });
 
   std::cout << "tracked " << count - lost << " of " << count << " frames (" << lost << " lost, " << keyFrames
             << " key frames) on " << deviceDescription(device) << "; wrote " << options.out << "\n";
+  if (stop.requested()) std::cout << "stopped by a signal after " << count << " frames\n";
   std::cout << cv::format("per-frame milliseconds (median / mean): load %.1f / %.1f, rectify %.1f / %.1f, stereo "
                           "%.1f / %.1f, ORB + voting %.1f / %.1f, DynamicR1PPnP %.1f / %.1f, total %.1f / %.1f\n",
                           median(loadMs), mean(loadMs), median(rectifyMs), mean(rectifyMs), median(stereoMs),

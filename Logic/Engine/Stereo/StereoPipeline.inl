@@ -244,9 +244,8 @@ struct PipelineSteps {
   void adCensusFinish() {
     parallelFor<Backend>(pixels(), Median3x3{w.correction.view(), w.smoothed.view()});
     winnersAfterLeftRightCheck();
-    if (p.leftRightMaxDifferencePx >= 0) {
-      parallelFor<Backend>(pixels(), DropWhereNoDiscrete{w.discrete.view(), w.smoothed.view()});
-    }
+    // Always: pixels without a winner (uniform costs) are dropped even where the left-right check is off.
+    parallelFor<Backend>(pixels(), DropWhereNoDiscrete{w.discrete.view(), w.smoothed.view()});
     if (specularMasking()) {
       specularMasks();
       parallelFor<Backend>(pixels(), DropSpecularFloat{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
