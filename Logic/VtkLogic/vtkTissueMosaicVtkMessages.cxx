@@ -50,7 +50,17 @@ void VtkMessageCatcher::add(bool error, const char* text) {
     const auto newline = message.find('\n');
     if (newline != std::string::npos) message.erase(0, newline + 1);
   }
-  while (!message.empty() && (message.back() == '\n' || message.back() == '\r')) message.pop_back();
+  // The executive's "returned failure for request: vtkInformation (0x...)" is followed by the request's whole dump
+  // (Debug, Modified Time, Reference Count, keys...): internals, not a reason. The reader's own error says why.
+  const auto dump = message.find(" for request: vtkInformation");
+  if (dump != std::string::npos) message.erase(dump);
+  const auto address = message.find("(0x");
+  if (address != std::string::npos && message.find(')', address) != std::string::npos) {
+    message.erase(address, message.find(')', address) - address + 1);  // "vtkSTLReader (0x55d...)": no address
+  }
+  while (!message.empty() && (message.back() == '\n' || message.back() == '\r' || message.back() == ' ')) {
+    message.pop_back();
+  }
   if (!messages_.empty()) messages_ += '\n';
   messages_ += message;
 }

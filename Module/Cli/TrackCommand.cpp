@@ -18,6 +18,7 @@
 
 #include <opencv2/core/persistence.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -92,7 +93,7 @@ void runTrack(const TrackOptions& options) {
        << "# t tx ty tz qx qy qz qw\n";
 
   std::vector<double> loadMs, rectifyMs, stereoMs, orbMs, pnpMs, totalMs;
-  int count = 0, lost = 0, keyFrames = 0;
+  int count = 0, lost = 0, keyFrames = 0, mostFeatures = 0;
   Trajectory tracked;
   const int expected = source->frameCount();
   StereoFrame frame;
@@ -121,6 +122,7 @@ void runTrack(const TrackOptions& options) {
     TimedPose pose;
     pose.timeS = frame.timeS;
     pose.T_world_camera = result.T_world_camera;
+    mostFeatures = std::max(mostFeatures, result.features);
     if (result.tracked) {
       file << formatTumLine(pose) << "\n";
       keyFrames += result.keyFrame;
@@ -159,7 +161,11 @@ void runTrack(const TrackOptions& options) {
                             "relative pose error per frame: RMS %.3f mm\n",
                             errors.poses, errors.ateRmseMm, errors.ateMaxMm, errors.rpeRmseMm);
   }
-  require(count == 1 || lost < count - 1, "tracking was lost on every frame after the first");
+  require(count == 1 || lost < count - 1,
+          "tracking was lost on every frame after the first" +
+              std::string(mostFeatures == 0 ? " (no frame has a single ORB feature: are the frames black, saturated or "
+                                              "uniform?)"
+                                            : ""));
 }
 
 }  // namespace

@@ -25,3 +25,4 @@ file(WRITE ${WORK}/params-typo-key.yml "%YAML:1.0\n---\nstereo:\n   znccWindw: 9
 file(WRITE ${WORK}/params-typo-node.yml "%YAML:1.0\n---\nfusoin:\n   maxPoints: 5\n")
 file(WRITE ${WORK}/params-empty.yml "")
 file(WRITE ${WORK}/params-comment-only.yml "%YAML:1.0\n---\n# nothing here\n")
+file(WRITE ${WORK}/garbage.stl "this is not an STL file, only a few words that no reader can take for triangles\n")

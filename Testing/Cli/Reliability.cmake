@@ -106,3 +106,27 @@ if(TARGET TissueMosaicLogicTests)
            --out-transform ${work}/bin.tfm --report ${work}/bin.json)
   set_tests_properties(cli.bad.register_tiny_bin PROPERTIES FIXTURES_REQUIRED "eval_inputs;cli_inputs" LABELS "cli;logic")
 endif()
+if(TARGET TissueMosaicLogicTests)
+  # WEAK: a garbage STL says why in one line, without VTK's vtkInformation dump or object addresses.
+  tm_output_test(NAME cli.bad.eval_garbage_stl STATUS 1 MATCH "cannot read surface model '.*garbage.stl'"
+                 NO_MATCH "vtkInformation|Modified Time|Reference Count|0x[0-9a-f]"
+                 COMMAND ${cli} eval --model ${eval_work}/offset.ply --reference ${work}/garbage.stl --json)
+  set_tests_properties(cli.bad.eval_garbage_stl PROPERTIES FIXTURES_REQUIRED "eval_inputs;cli_inputs" LABELS "cli;logic")
+endif()
+
+# WEAK: all-black frames in track: the error says why (no feature anywhere), not only that tracking was lost.
+add_test(NAME cli.bad.black_frames_setup COMMAND sh -c "mkdir -p \"$1/left\" \"$1/right\" && for i in 0 1 2; do
+         for eye in left right; do { printf 'P6\\n320 180\\n255\\n'; head -c 172800 /dev/zero; } > \"$1/$eye/$i.ppm\";
+         done; done" make-black ${work}/black)
+set_tests_properties(cli.bad.black_frames_setup PROPERTIES FIXTURES_SETUP cli_black FIXTURES_REQUIRED cli_inputs
+                     LABELS cli)
+tm_cli_failure(track_black_frames "tracking was lost on every frame after the first \\(no frame has a single ORB feature"
+               track --left-frames ${work}/black/left --right-frames ${work}/black/right --focal-px 300
+               --baseline-mm 5 --device cpu --quiet --out ${work}/black.txt)
+# ... and AD-Census on a black pair estimates nothing, and warns (it gave 93.8 %, every value -20).
+tm_output_test(NAME cli.stereo.ad_census_black_pair
+               MATCH "0 of 57600 pixels estimated \\(0.0%\\).*warning: no pixel has a disparity"
+               COMMAND ${cli} stereo --left ${work}/black/left/0.ppm --right ${work}/black/right/0.ppm --device cpu
+                       --method ad-census --min-disparity 0 --max-disparity 30 --out ${work}/black.pfm)
+set_tests_properties(cli.bad.track_black_frames cli.stereo.ad_census_black_pair PROPERTIES
+                     FIXTURES_REQUIRED "cli_inputs;cli_black" LABELS cli)

@@ -2,7 +2,7 @@
 /// @file ParameterFileKeys.h
 /// @brief Parameter files are strict: a misspelt node or key is an error naming it and the nearest known name, never
 /// silently ignored. The known names come from the parameter structs' own write() (one source of truth).
-#include <opencv2/core/persistence.hpp>
+#include <opencv2/core.hpp>
 
 #include <string>
 

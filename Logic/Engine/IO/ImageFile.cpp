@@ -8,6 +8,7 @@
 #include <iterator>
 #include <new>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace tissuemosaic {
@@ -42,7 +43,8 @@ std::uint32_t bigEndian(const Bytes& bytes, std::size_t at, int count) {
 std::optional<PixelSize> declaredSize(const Bytes& bytes) {
   static const std::uint8_t pngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   if (bytes.size() >= 24 && std::equal(pngSignature, pngSignature + 8, bytes.begin())) {
-    return PixelSize{bigEndian(bytes, 16, 4), bigEndian(bytes, 20, 4)};  // IHDR
+    if (std::string(bytes.begin() + 12, bytes.begin() + 16) != "IHDR") return std::nullopt;  // corrupt: decoder says
+    return PixelSize{bigEndian(bytes, 16, 4), bigEndian(bytes, 20, 4)};
   }
   if (!isJpeg(bytes)) return std::nullopt;
   for (std::size_t at = 2; at + 9 < bytes.size();) {  // markers up to the first start-of-frame

@@ -8,8 +8,10 @@
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <opencv2/videoio/registry.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <vector>
@@ -72,11 +74,15 @@ private:
 cv::VideoCapture openVideo(const std::string& path) {
   require(std::filesystem::is_regular_file(path), "cannot open video '" + path + "': file does not exist");
   require(std::filesystem::file_size(path) > 0, "cannot open video '" + path + "': the file is empty");
-  // OpenCV tries every backend and logs each one's failure (assertion text included): the error below says it once.
+  // OpenCV tries every backend and logs each one's failure (assertion text, FFmpeg's and GStreamer's complaints):
+  // the error below says it once. Files go to FFmpeg alone where OpenCV has it; FFmpeg's own log is quietened
+  // unless the user set OPENCV_FFMPEG_LOGLEVEL (read once, at the first open).
+  static const bool quietFfmpeg = [] { return ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0) == 0; }();
+  (void)quietFfmpeg;
   const cv::utils::logging::LogLevel level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   cv::VideoCapture capture;
   try {
-    capture.open(path);
+    capture.open(path, cv::videoio_registry::hasBackend(cv::CAP_FFMPEG) ? cv::CAP_FFMPEG : cv::CAP_ANY);
   } catch (const cv::Exception&) {
     capture.release();
   }

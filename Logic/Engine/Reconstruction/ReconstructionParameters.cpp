@@ -10,11 +10,21 @@
 namespace tissuemosaic {
 namespace {
 
-/// Every node and key a parameters file may hold: the defaults as write() writes them.
+void writeAll(const ReconstructionParameters& p, cv::FileStorage& storage) {
+  storage << "pipeline" << "{" << "extractor"
+          << (p.extractor == FeatureExtractor::OpenCvOrb ? "opencv" : "tissuemosaic") << "}";
+  p.stereo.write(storage);
+  p.features.write(storage);
+  p.tracking.write(storage);
+  p.refinement.write(storage);
+  p.fusion.write(storage);
+}
+
+/// Every node and key a parameters file may hold: the defaults as writeFile() writes them.
 const cv::FileStorage& knownLayout() {
   static const cv::FileStorage known = [] {
     cv::FileStorage out(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
-    ReconstructionParameters{}.write(out);
+    writeAll(ReconstructionParameters{}, out);
     return cv::FileStorage(out.releaseAndGetString(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
   }();
   return known;
@@ -85,13 +95,7 @@ void ReconstructionParameters::writeFile(const std::string& path) const {
     throw Error("cannot write parameters file '" + path + "': " + error.err);
   }
   require(storage.isOpened(), "cannot write parameters file '" + path + "'");
-  storage << "pipeline" << "{" << "extractor"
-          << (extractor == FeatureExtractor::OpenCvOrb ? "opencv" : "tissuemosaic") << "}";
-  stereo.write(storage);
-  features.write(storage);
-  tracking.write(storage);
-  refinement.write(storage);
-  fusion.write(storage);
+  writeAll(*this, storage);
 }
 
 }  // namespace tissuemosaic
