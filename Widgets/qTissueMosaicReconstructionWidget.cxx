@@ -440,7 +440,7 @@ bool qTissueMosaicReconstructionWidget::openStereoVideo(const QString& video, co
   try {
     parsed = tissuemosaic::parseVideoLayout(layout.toStdString());
   } catch (const std::exception& e) {
-    d->show(QString::fromStdString(e.what()), true);
+    d->show(QString::fromStdString(e.what()), true, d->inputMessage);
     return false;
   }
   const bool ok = d->logic->OpenStereoVideo(video.toStdString(), parsed);
