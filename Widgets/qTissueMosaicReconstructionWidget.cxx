@@ -1,6 +1,7 @@
 #include "qTissueMosaicReconstructionWidget.h"
 
 #include "qTissueMosaicReconstructionParametersWidget.h"
+#include "qTissueMosaicStereoParametersWidget.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
 
 #include <vtkNew.h>
@@ -61,6 +62,7 @@ public:
   QTableWidget* timing = nullptr;
   QLabel* inputLabel = nullptr;
   QLabel* stateLabel = nullptr;
+  QLabel* disparityRangeLabel = nullptr;
   QLabel* messageLabel = nullptr;
   QGroupBox* parametersBox = nullptr;
   QCheckBox* rectifiedCheckBox = nullptr;
@@ -128,6 +130,12 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   stateLabel->setObjectName("stateLabel");
   stateLabel->setWordWrap(true);
   scanLayout->addWidget(stateLabel, 1, 0, 1, 4);
+  disparityRangeLabel = new QLabel(q);
+  disparityRangeLabel->setObjectName("disparityRangeLabel");
+  disparityRangeLabel->setWordWrap(true);
+  disparityRangeLabel->setToolTip(QObject::tr("The stereo matcher's disparity range and how it was chosen (the "
+                                              "parameters' Disparity range)"));
+  scanLayout->addWidget(disparityRangeLabel, 2, 0, 1, 4);
   layout->addWidget(scanBox);
 
   auto* exportBox = new QGroupBox(QObject::tr("Export"), q);
@@ -175,6 +183,8 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   parameters = new qTissueMosaicReconstructionParametersWidget(q);
   parameters->setObjectName("reconstructionParametersPanel");
   parameters->setReconstructionLogic(logic);
+  QObject::connect(parameters, &qTissueMosaicReconstructionParametersWidget::parametersChanged, q,
+                   [this] { updateControls(); });  // the disparity range line says what the parameters ask for
   parametersLayout->addWidget(parameters);
   layout->addWidget(parametersBox);
   layout->addStretch(1);
@@ -273,6 +283,11 @@ void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
   input += logic->HasCalibration() ? QObject::tr("; calibrated") : QObject::tr("; no calibration");
   inputLabel->setText(input);
   stateLabel->setText(QString::fromStdString(logic->GetTrackingStateText()));
+  disparityRangeLabel->setText(
+      QObject::tr("Disparities: %1").arg(QString::fromStdString(logic->GetDisparityRangeText())));
+  tissuemosaic::RectifiedGeometry geometry;
+  const bool known = logic->GetRectifiedGeometry(geometry);
+  parameters->stereoPanel()->setRigGeometry(known ? &geometry : nullptr);
 }
 
 void qTissueMosaicReconstructionWidgetPrivate::updateTimingTable() {

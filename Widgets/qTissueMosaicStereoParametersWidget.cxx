@@ -3,6 +3,8 @@
 #include "qTissueMosaicPresetControls.h"
 #include "vtkTissueMosaicStereoLogic.h"
 
+#include "Stereo/DisparityRange.h"
+
 #include <vtkSmartPointer.h>
 
 #include <QComboBox>
@@ -15,8 +17,10 @@
 #include <QVBoxLayout>
 
 #include <algorithm>
+#include <exception>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <vector>
 
 namespace {
@@ -25,9 +29,10 @@ using tissuemosaic::StereoMethod;
 using tissuemosaic::StereoParameters;
 namespace widgets = tissuemosaic::widgets;
 
-/// Matching: what both methods use; Zncc, Outliers and Refinement: the paper's method (section II); AdCensus: the
-/// optional second method. The groups of the method not chosen are disabled.
-enum Group { Matching, Zncc, Outliers, Refinement, AdCensus, GroupCount };
+/// Range: the disparity range (both methods); Matching: what else both methods use; Zncc, Outliers and Refinement:
+/// the paper's method (section II); AdCensus: the optional second method. The groups of the method not chosen are
+/// disabled.
+enum Group { Range, Matching, Zncc, Outliers, Refinement, AdCensus, GroupCount };
 
 /// One spin box per field. Ranges are those StereoParameters::validate accepts, so the spin boxes never clamp
 /// silently; combinations (min <= max, odd window) are checked by validate and refused with its message.
@@ -53,12 +58,13 @@ struct RealField {
 };
 
 const IntField intFields[] = {
-    {"minDisparityPx", "Min disparity", Matching, &StereoParameters::minDisparityPx, -1000, 1000, 1, " px",
-     "Smallest candidate disparity (a left pixel x matches right pixel x - d). Paper IV: candidates from -20 to "
-     "80 px. Must not exceed the max disparity; at most 1024 candidates."},
-    {"maxDisparityPx", "Max disparity", Matching, &StereoParameters::maxDisparityPx, -1000, 1000, 1, " px",
-     "Largest candidate disparity, inclusive. Paper IV: 80 px (range -20..80). The matching cost grows with the "
-     "number of candidates."},
+    {"minDisparityPx", "Min disparity", Range, &StereoParameters::minDisparityPx, -1000, 1000, 1, " px",
+     "Smallest candidate disparity (a left pixel x matches right pixel x - d) of a fixed range; editing it fixes "
+     "the range. Paper IV: candidates from -20 to 80 px. Must not exceed the max disparity; at most 1024 "
+     "candidates."},
+    {"maxDisparityPx", "Max disparity", Range, &StereoParameters::maxDisparityPx, -1000, 1000, 1, " px",
+     "Largest candidate disparity of a fixed range, inclusive; editing it fixes the range. Paper IV: 80 px (range "
+     "-20..80). The matching cost grows with the number of candidates."},
     {"leftRightMaxDifferencePx", "Left-right check", Matching, &StereoParameters::leftRightMaxDifferencePx, -1,
      1000, 1, " px",
      "Winners whose right-view winner disagrees by more than this are dropped (occlusions, fattened depth edges). "
@@ -112,6 +118,12 @@ const IntField intFields[] = {
 };
 
 const RealField realFields[] = {
+    {"workingDistanceNearMm", "Working distance from", Range, &StereoParameters::workingDistanceNearMm, 1.0, 10000.0,
+     5.0, 1, " mm",
+     "The nearest tissue, in mm from the scope (along its axis); editing it sets the range from the working "
+     "distance, through the calibration: d = f B / Z - doffs."},
+    {"workingDistanceFarMm", "Working distance to", Range, &StereoParameters::workingDistanceFarMm, 1.0, 10000.0,
+     5.0, 1, " mm", "The farthest tissue, in mm from the scope; editing it sets the range from the working distance."},
     {"specularMinGrey", "Specular grey level", Matching, &StereoParameters::specularMinGrey, 1.0, 256.0, 1.0, 1, "",
      "Grey level from which a pixel may belong to a specular highlight, which sits on a different surface point "
      "in each eye and matches consistently but falsely. 256 switches the mask off. An addition to the paper."},
@@ -151,6 +163,21 @@ const RealField realFields[] = {
      "Penalty of a larger disparity change; at least P1. Mei et al.: 3."},
 };
 
+struct RangeChoice {
+  tissuemosaic::DisparityRangeMode mode;
+  const char* label;
+};
+const RangeChoice rangeChoices[] = {
+    {tissuemosaic::DisparityRangeMode::Automatic, "Automatic (from the video)"},
+    {tissuemosaic::DisparityRangeMode::Fixed, "Fixed: min..max disparity"},
+    {tissuemosaic::DisparityRangeMode::WorkingDistance, "Working distance (mm)"}};
+
+int rangeIndex(tissuemosaic::DisparityRangeMode mode) {
+  const auto* choice = std::find_if(std::begin(rangeChoices), std::end(rangeChoices),
+                                    [mode](const RangeChoice& c) { return c.mode == mode; });
+  return static_cast<int>(choice - std::begin(rangeChoices));
+}
+
 struct MethodChoice {
   StereoMethod method;
   const char* label;
@@ -166,7 +193,7 @@ int methodIndex(StereoMethod method) {
 }
 
 bool sameParameters(const StereoParameters& a, const StereoParameters& b) {
-  if (a.method != b.method) return false;
+  if (a.method != b.method || a.disparityRangeMode != b.disparityRangeMode) return false;
   for (const IntField& field : intFields) {
     if (a.*field.member != b.*field.member) return false;
   }
@@ -188,6 +215,13 @@ public:
   void selectMatchingPreset();
   /// Enables the groups of the method in use and disables the other method's.
   void enableMethodGroups(StereoMethod method);
+  /// Says what the working distance fields mean in disparities (with the rig's geometry, when known).
+  void showWorkingDistanceDisparities();
+  /// The rig's geometry: the logic's when it has one, else what setRigGeometry gave.
+  const tissuemosaic::RectifiedGeometry* geometry() const {
+    if (logic && logic->HasRectifiedGeometry()) return &logic->GetRectifiedGeometry();
+    return rigGeometry ? &*rigGeometry : nullptr;
+  }
   /// The parameters the panel shows: the logic's when set, else the panel's own.
   const StereoParameters& current() const { return logic ? logic->GetStereoParameters() : ownParameters; }
   bool store(const StereoParameters& parameters);
@@ -199,6 +233,9 @@ public:
   std::vector<QDoubleSpinBox*> realSpinBoxes; ///< parallel to realFields
   std::map<QString, StereoParameters> presets;
   QComboBox* methodComboBox = nullptr;  ///< items parallel to methodChoices
+  QComboBox* rangeComboBox = nullptr;   ///< items parallel to rangeChoices
+  QLabel* workingDistanceLabel = nullptr;
+  std::optional<tissuemosaic::RectifiedGeometry> rigGeometry;
   QGroupBox* groupBoxes[GroupCount] = {};
   widgets::PresetRow presetRow;
   QLabel* errorLabel = nullptr;
@@ -214,7 +251,7 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
        QObject::tr("Save stereo parameters"), [q](const QString& path) { q->loadParametersFile(path); },
        [q](const QString& path) { q->saveParametersFile(path); }});
 
-  const char* const groupTitles[GroupCount] = {"Matching", "ZNCC matching (paper II.A)",
+  const char* const groupTitles[GroupCount] = {"Disparity range", "Matching", "ZNCC matching (paper II.A)",
                                                "Outlier removal and hole filling (II.B)",
                                                "Improved Laplacian refinement (II.C)",
                                                "AD-Census (optional second method)"};
@@ -232,6 +269,17 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
                   "(it meets the Middlebury bar the paper's local method does not) and is far slower on the CPU. "
                   "docs/STEREO.md compares them."));
   forms[Matching]->addRow(QObject::tr("Method"), methodComboBox);
+  rangeComboBox = new QComboBox(q);
+  rangeComboBox->setObjectName("disparityRangeModeComboBox");
+  for (const RangeChoice& choice : rangeChoices) rangeComboBox->addItem(QObject::tr(choice.label));
+  rangeComboBox->setToolTip(
+      QObject::tr("How the candidate disparities are chosen. Automatic: from sparse feature matches of the first "
+                  "frames, then following the tissue as the scope moves (the default: no number to know). Fixed: "
+                  "the min..max below. Working distance: the tissue's distance from the scope in mm, turned into "
+                  "disparities through the calibration."));
+  forms[Range]->addRow(QObject::tr("Range"), rangeComboBox);
+  QObject::connect(rangeComboBox, QOverload<int>::of(&QComboBox::currentIndexChanged), q,
+                   &qTissueMosaicStereoParametersWidget::updateParametersFromGUI);
   QObject::connect(methodComboBox, QOverload<int>::of(&QComboBox::currentIndexChanged), q,
                    &qTissueMosaicStereoParametersWidget::updateParametersFromGUI);
   for (const IntField& field : intFields) {
@@ -260,6 +308,11 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
     realSpinBoxes.push_back(spinBox);
   }
 
+  workingDistanceLabel = new QLabel(q);
+  workingDistanceLabel->setObjectName("workingDistanceDisparitiesLabel");
+  workingDistanceLabel->setWordWrap(true);
+  forms[Range]->addRow(QString(), workingDistanceLabel);
+
   errorLabel = widgets::addErrorLabel(q, layout, "");
   layout->addStretch(1);
 
@@ -278,6 +331,27 @@ void qTissueMosaicStereoParametersWidgetPrivate::enableMethodGroups(StereoMethod
   const bool paper = method == StereoMethod::Paper;
   for (Group group : {Zncc, Outliers, Refinement}) groupBoxes[group]->setEnabled(paper);
   groupBoxes[AdCensus]->setEnabled(!paper);
+}
+
+void qTissueMosaicStereoParametersWidgetPrivate::showWorkingDistanceDisparities() {
+  const StereoParameters& p = current();
+  const QString distance = QObject::tr("%1..%2 mm").arg(p.workingDistanceNearMm).arg(p.workingDistanceFarMm);
+  QString text;
+  if (const tissuemosaic::RectifiedGeometry* rig = geometry()) {
+    try {
+      const tissuemosaic::DisparityRange range =
+          tissuemosaic::disparityRangeForDepthMm(*rig, p.workingDistanceNearMm, p.workingDistanceFarMm);
+      text = QObject::tr("A working distance of %1 is %2 with this rig.").arg(distance, QString::fromStdString(range.text()));
+    } catch (const std::exception& error) {
+      text = QString::fromStdString(error.what());
+    }
+  } else {
+    text = QObject::tr("A working distance of %1: its disparities show once the calibration is known.").arg(distance);
+  }
+  if (p.disparityRangeMode == tissuemosaic::DisparityRangeMode::Automatic) {
+    text = QObject::tr("Chosen from the video's first frames and followed during the scan. ") + text;
+  }
+  workingDistanceLabel->setText(text);
 }
 
 void qTissueMosaicStereoParametersWidgetPrivate::selectMatchingPreset() {
@@ -341,6 +415,18 @@ QString qTissueMosaicStereoParametersWidget::errorText() const {
   return d->errorLabel->text();
 }
 
+void qTissueMosaicStereoParametersWidget::setRigGeometry(const tissuemosaic::RectifiedGeometry* geometry) {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  if (geometry) d->rigGeometry = *geometry;
+  else d->rigGeometry.reset();
+  d->showWorkingDistanceDisparities();
+}
+
+QString qTissueMosaicStereoParametersWidget::workingDistanceText() const {
+  Q_D(const qTissueMosaicStereoParametersWidget);
+  return d->workingDistanceLabel->text();
+}
+
 void qTissueMosaicStereoParametersWidget::setPresetControlsVisible(bool visible) {
   Q_D(qTissueMosaicStereoParametersWidget);
   widgets::setPresetRowVisible(d->presetRow, visible);
@@ -353,6 +439,10 @@ void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {
     const QSignalBlocker blocker(d->methodComboBox);
     d->methodComboBox->setCurrentIndex(methodIndex(parameters.method));
   }
+  {
+    const QSignalBlocker blocker(d->rangeComboBox);
+    d->rangeComboBox->setCurrentIndex(rangeIndex(parameters.disparityRangeMode));
+  }
   d->enableMethodGroups(parameters.method);
   for (std::size_t i = 0; i < d->intSpinBoxes.size(); ++i) {
     const QSignalBlocker blocker(d->intSpinBoxes[i]);
@@ -363,12 +453,14 @@ void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {
     d->realSpinBoxes[i]->setValue(parameters.*realFields[i].member);
   }
   widgets::showError(d->errorLabel, QString());
+  d->showWorkingDistanceDisparities();
   d->selectMatchingPreset();
 }
 
 bool qTissueMosaicStereoParametersWidget::updateParametersFromGUI() {
   Q_D(qTissueMosaicStereoParametersWidget);
-  StereoParameters parameters = d->current();
+  const StereoParameters before = d->current();
+  StereoParameters parameters = before;
   parameters.method = methodChoices[d->methodComboBox->currentIndex()].method;
   for (std::size_t i = 0; i < d->intSpinBoxes.size(); ++i) {
     parameters.*intFields[i].member = d->intSpinBoxes[i]->value();
@@ -376,7 +468,21 @@ bool qTissueMosaicStereoParametersWidget::updateParametersFromGUI() {
   for (std::size_t i = 0; i < d->realSpinBoxes.size(); ++i) {
     parameters.*realFields[i].member = static_cast<float>(d->realSpinBoxes[i]->value());
   }
+  // Typing a range or a working distance means using it; otherwise the range combo box says how.
+  if (parameters.minDisparityPx != before.minDisparityPx || parameters.maxDisparityPx != before.maxDisparityPx) {
+    parameters.disparityRangeMode = tissuemosaic::DisparityRangeMode::Fixed;
+  } else if (parameters.workingDistanceNearMm != before.workingDistanceNearMm ||
+             parameters.workingDistanceFarMm != before.workingDistanceFarMm) {
+    parameters.disparityRangeMode = tissuemosaic::DisparityRangeMode::WorkingDistance;
+  } else {
+    parameters.disparityRangeMode = rangeChoices[d->rangeComboBox->currentIndex()].mode;
+  }
   if (!d->store(parameters)) return false;
+  {
+    const QSignalBlocker blocker(d->rangeComboBox);
+    d->rangeComboBox->setCurrentIndex(rangeIndex(parameters.disparityRangeMode));
+  }
+  d->showWorkingDistanceDisparities();
   d->enableMethodGroups(parameters.method);
   d->selectMatchingPreset();
   emit parametersChanged();
