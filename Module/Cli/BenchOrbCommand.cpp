@@ -1,7 +1,7 @@
 // tissuemosaic bench orb: median milliseconds of the ORB extractor (FAST-9 + Harris ranking + grid selection +
 // orientation + rotated BRIEF, 2000 features) and of the brute-force Hamming matcher (k = 3) on a synthetic scan
 // frame pair; on the CPU also OpenCV's cv::ORB and cv::BFMatcher on the same frames, in the same run.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
@@ -25,15 +25,16 @@ namespace tissuemosaic::cli {
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic bench orb [--width 960] [--height 540] [--device cpu|cuda|auto]
-                            [--repeats N] [--features 2000] [--levels 2] [--seed S]
-
-Prints one JSON object: the device, the input size and the median milliseconds of extract (one frame, input on
+const char* const details = R"(Prints one JSON object: the device, the input size and the median milliseconds of extract (one frame, input on
 the host, keypoints and descriptors back on the host) and match (the two frames' descriptors, k = 3) over N runs
 after 2 warm-up runs, on frames 0 and 2 of a synthetic scan. On the CPU it also times OpenCV's ORB (same
-features, levels, FAST threshold, Harris score) and BFMatcher::knnMatch on the same frames.
-)";
+features, levels, FAST threshold, Harris score) and BFMatcher::knnMatch on the same frames.)";
 
+struct BenchOrbOptions {
+  int width = 960, height = 540, seed = 5, features = 2000, levels = 2;
+  std::optional<int> repeats;
+  DeviceOption device;
+};
 
 double medianMs(int repeats, const std::function<void()>& work) {
   std::vector<double> ms;
@@ -46,26 +47,18 @@ double medianMs(int repeats, const std::function<void()>& work) {
   return median(ms);
 }
 
-}  // namespace
-
-int runBenchOrb(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly({"width", "height", "device", "repeats", "features", "levels", "seed", "help"});
+void runBenchOrb(const BenchOrbOptions& settings) {
   synthetic::SyntheticScanOptions options;
-  options.width = arguments.integer("width", 960);
-  options.height = arguments.integer("height", 540);
-  options.seed = static_cast<uint32_t>(arguments.integer("seed", 5));
+  options.width = settings.width;
+  options.height = settings.height;
+  options.seed = static_cast<uint32_t>(settings.seed);
   options.frames = 3;
-  const Device device = parseDevice(arguments.text("device", "auto"));
-  const int repeats = arguments.integer("repeats", device == Device::Cuda ? 100 : 10);
+  const Device device = settings.device.resolve();
+  const int repeats = settings.repeats.value_or(device == Device::Cuda ? 100 : 10);
   require(repeats >= 1 && repeats <= 10000, "--repeats must be in [1, 10000]");
   OrbParameters parameters;
-  parameters.maxFeatures = arguments.integer("features", 2000);
-  parameters.levels = arguments.integer("levels", 2);
+  parameters.maxFeatures = settings.features;
+  parameters.levels = settings.levels;
 
   std::fprintf(stderr, "bench orb: rendering a %dx%d synthetic frame pair...\n", options.width, options.height);
   const synthetic::SyntheticScan scan(options);
@@ -105,7 +98,24 @@ int runBenchOrb(const Words& words) {
                 kb.size(), orbMs, bfMs);
   }
   std::printf("}\n");
-  return 0;
+}
+
+}  // namespace
+
+void setupBenchOrb(CLI::App& bench) {
+  auto options = std::make_shared<BenchOrbOptions>();
+  CLI::App* command = addCommand(bench, "orb", "median milliseconds of ORB extraction and Hamming matching as JSON",
+                                 details);
+  addImageSizeOptions(*command, options->width, options->height);
+  command->add_option("--repeats", options->repeats, "timed runs (default 100 on cuda, 10 on cpu)")
+      ->group(heading::options);
+  command->add_option("--features", options->features, "features per frame")
+      ->capture_default_str()
+      ->group(heading::options);
+  command->add_option("--levels", options->levels, "pyramid levels")->capture_default_str()->group(heading::options);
+  command->add_option("--seed", options->seed, "random scene")->capture_default_str()->group(heading::options);
+  addDeviceOption(*command, options->device);
+  command->callback([options] { runBenchOrb(*options); });
 }
 
 }  // namespace tissuemosaic::cli

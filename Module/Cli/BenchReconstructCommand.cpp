@@ -1,6 +1,6 @@
 // tissuemosaic bench reconstruct: the paper's runtime table (per key frame and per other frame) of the whole
 // pipeline on a synthetic scan rendered in-process before timing, with the key-frame trajectory error.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
@@ -33,11 +33,7 @@ namespace tissuemosaic::cli {
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic bench reconstruct [--width 960] [--height 540] [--frames 60] [--device cpu|cuda|auto]
-                                    [--seed S] [--params p.yml] [--out DIR] [--stream [--chunk N]]
-                                    [--supersampling N] [--threads N]
-
-Renders a synthetic scan (before timing), then runs the whole reconstruction on it (stereo, tracking, key-frame
+const char* const details = R"(Renders a synthetic scan (before timing), then runs the whole reconstruction on it (stereo, tracking, key-frame
 refinement, TSDF fusion) starting from the true first pose, and prints one JSON object: the median and mean
 milliseconds per stage for key frames and for the other frames (the paper's runtime table; video_reading is 0:
 the frames are in memory), the key-frame position error against the ground truth (no alignment), the model's distances to the true
@@ -59,8 +55,15 @@ default all cores); "cpu_threads" reports the cap.
 
 --out DIR also writes DIR/model.ply (the fused model), DIR/keyframes.txt (TUM) and the scan's ground truth
 DIR/groundtruth/surface.ply (the surface both eyes saw) and DIR/groundtruth/trajectory.txt, for
-`tissuemosaic eval` on a machine that has it.
-)";
+`tissuemosaic eval` on a machine that has it.)";
+
+struct BenchReconstructOptions {
+  int width = 960, height = 540, frames = 60, seed = 1;
+  std::optional<int> supersampling, chunk, threads;
+  std::optional<std::string> params, out;
+  bool stream = false;
+  DeviceOption device;
+};
 
 
 /// Named fields of a timing struct (RefinementPartsMs, StereoTimingsMs, ...) and each field's values over the frames
@@ -100,36 +103,26 @@ double residentHostMib() {
   return read == 2 ? resident * (sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0)) : 0;
 }
 
-}  // namespace
-
-int runBenchReconstruct(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly(
-      {"width", "height", "frames", "device", "seed", "params", "out", "stream", "chunk", "supersampling", "threads"});
+void runBenchReconstruct(const BenchReconstructOptions& settings) {
   synthetic::SyntheticScanOptions options;
-  options.width = arguments.integer("width", 960);
-  options.height = arguments.integer("height", 540);
-  options.frames = arguments.integer("frames", 60);
-  options.seed = static_cast<uint32_t>(arguments.integer("seed", 1));
-  options.supersampling = arguments.integer("supersampling", options.supersampling);
+  options.width = settings.width;
+  options.height = settings.height;
+  options.frames = settings.frames;
+  options.seed = static_cast<uint32_t>(settings.seed);
+  options.supersampling = settings.supersampling.value_or(options.supersampling);
   require(options.frames >= 3, "--frames must be at least 3");
-  const bool stream = arguments.has("stream");
-  const int chunk = arguments.integer("chunk", 1);
+  const bool stream = settings.stream;
+  const int chunk = settings.chunk.value_or(1);
   require(chunk >= 1, "--chunk must be at least 1");
-  require(stream || !arguments.has("chunk"), "--chunk needs --stream");
-  const Device device = parseDevice(arguments.text("device", "auto"));
+  require(stream || !settings.chunk, "--chunk needs --stream");
+  const Device device = settings.device.resolve();
   std::optional<tbb::global_control> threadCap;
-  if (arguments.has("threads")) {
-    const int threads = arguments.integer("threads", 0);
-    require(threads >= 1, "--threads must be at least 1");
-    threadCap.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  if (settings.threads) {
+    require(*settings.threads >= 1, "--threads must be at least 1");
+    threadCap.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(*settings.threads));
   }
   ReconstructionParameters parameters;
-  if (arguments.has("params")) parameters = ReconstructionParameters::readFile(arguments.required("params"));
+  if (settings.params) parameters = ReconstructionParameters::readFile(*settings.params);
 
   const synthetic::SyntheticScan scan(options);
   std::vector<synthetic::SyntheticScanFrame> rendered;
@@ -247,8 +240,8 @@ int runBenchReconstruct(const Words& words) {
                              : static_cast<double>(distances.end() - std::upper_bound(distances.begin(), distances.end(), mm)) /
                                    distances.size();
   };
-  if (arguments.has("out")) {
-    const std::filesystem::path folder(arguments.required("out"));
+  if (settings.out) {
+    const std::filesystem::path folder(*settings.out);
     std::filesystem::create_directories(folder / "groundtruth");
     writePly((folder / "model.ply").string(), model.cloud, "TissueMosaic bench reconstruct: world frame of the scan, mm");
     Trajectory keyFrames, truth;
@@ -298,7 +291,33 @@ int runBenchReconstruct(const Words& words) {
               stereoParts.json(median).c_str(), trackingParts.json(median).c_str(),
               keyFramesMatched, keyFramesGuided, intermediateFrames,
               intermediateFramesGuided, keyFramesJson.c_str(), timing.toJson().c_str());
-  return 0;
+}
+
+}  // namespace
+
+void setupBenchReconstruct(CLI::App& bench) {
+  auto options = std::make_shared<BenchReconstructOptions>();
+  CLI::App* command = addCommand(bench, "reconstruct", "median milliseconds per stage and per key/other frame of the "
+                                                      "whole pipeline as JSON", details);
+  command->add_option("--out", options->out, "also write the model, key frames and the scan's ground truth here")
+      ->type_name("DIR")
+      ->group(heading::output);
+  addImageSizeOptions(*command, options->width, options->height);
+  command->add_option("--frames", options->frames, "frames of the scan (at least 3)")
+      ->capture_default_str()
+      ->group(heading::options);
+  command->add_option("--seed", options->seed, "random scene and path")->capture_default_str()->group(heading::options);
+  command->add_flag("--stream", options->stream, "render each frame (or chunk) just before it is processed")
+      ->group(heading::options);
+  command->add_option("--chunk", options->chunk, "with --stream: frames rendered at a time (default 1)")
+      ->group(heading::options);
+  command->add_option("--supersampling", options->supersampling, "the renderer's N x N rays per pixel (default 2)")
+      ->group(heading::options);
+  command->add_option("--threads", options->threads, "cap on the engine's CPU threads (default all cores)")
+      ->group(heading::options);
+  addDeviceOption(*command, options->device);
+  addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
+  command->callback([options] { runBenchReconstruct(*options); });
 }
 
 }  // namespace tissuemosaic::cli

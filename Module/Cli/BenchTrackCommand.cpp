@@ -1,6 +1,6 @@
 // tissuemosaic bench track: median milliseconds per frame of the tracking stages (ORB + voting, DynamicR1PPnP) on
 // a synthetic scan rendered in-process, with the stereo depth computed on the same device.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
@@ -20,34 +20,26 @@ namespace tissuemosaic::cli {
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic bench track [--width 960] [--height 540] [--frames 20] [--device cpu|cuda|auto]
-                              [--features opencv|tissuemosaic] [--seed S]
+const char* const details = R"(Renders a synthetic scan (before timing), computes each frame's disparity on the device, then tracks the frames and
+prints one JSON object with the median milliseconds per tracked frame of ORB + matching + histogram voting
+("orb_voting"), of DynamicR1PPnP ("pnp") and their sum ("tracking"), plus the stereo stage for reference.)";
 
-Renders a synthetic scan (before timing), computes each frame's disparity on the device, then tracks the frames and prints one JSON
-object with the median milliseconds per tracked frame of ORB + matching + histogram voting ("orb_voting"), of
-DynamicR1PPnP ("pnp") and their sum ("tracking"), plus the stereo stage for reference. Features default to
-TissueMosaic's extractor on CUDA and to OpenCV's on the CPU.
-)";
+struct BenchTrackOptions {
+  int width = 960, height = 540, frames = 20, seed = 1;
+  std::optional<std::string> features;
+  DeviceOption device;
+};
 
-
-}  // namespace
-
-int runBenchTrack(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly({"width", "height", "frames", "device", "features", "seed", "help"});
+void runBenchTrack(const BenchTrackOptions& settings) {
   synthetic::SyntheticScanOptions options;
-  options.width = arguments.integer("width", 960);
-  options.height = arguments.integer("height", 540);
-  options.frames = arguments.integer("frames", 20);
-  options.seed = static_cast<uint32_t>(arguments.integer("seed", 1));
+  options.width = settings.width;
+  options.height = settings.height;
+  options.frames = settings.frames;
+  options.seed = static_cast<uint32_t>(settings.seed);
   require(options.frames >= 3, "--frames must be at least 3");
-  const Device device = parseDevice(arguments.text("device", "auto"));
+  const Device device = settings.device.resolve();
   FrameTrackerOptions trackerOptions;
-  const std::string features = arguments.text("features", device == Device::Cuda ? "tissuemosaic" : "opencv");
+  const std::string features = settings.features.value_or(device == Device::Cuda ? "tissuemosaic" : "opencv");
   require(features == "opencv" || features == "tissuemosaic", "--features must be opencv or tissuemosaic");
   if (features == "tissuemosaic") {
     trackerOptions.extractor = FeatureExtractor::TissueMosaicOrb;
@@ -96,7 +88,25 @@ int runBenchTrack(const Words& words) {
               deviceLabel(device), deviceDescription(device).c_str(), features.c_str(), options.width, options.height,
               options.frames, lost, cpuThreadCount(), median(orbVoting), median(pnp), median(tracking), median(stereo),
               median(extract), median(matching), median(subPixel), median(voting));
-  return 0;
+}
+
+}  // namespace
+
+void setupBenchTrack(CLI::App& bench) {
+  auto options = std::make_shared<BenchTrackOptions>();
+  CLI::App* command = addCommand(bench, "track", "median milliseconds per frame of ORB + voting and DynamicR1PPnP as "
+                                                "JSON", details);
+  addImageSizeOptions(*command, options->width, options->height);
+  command->add_option("--frames", options->frames, "frames of the scan (at least 3)")
+      ->capture_default_str()
+      ->group(heading::options);
+  command->add_option("--seed", options->seed, "random scene and path")->capture_default_str()->group(heading::options);
+  command->add_option("--features", options->features, "ORB implementation (default tissuemosaic on cuda, opencv on "
+                                                        "cpu)")
+      ->type_name("opencv|tissuemosaic")
+      ->group(heading::options);
+  addDeviceOption(*command, options->device);
+  command->callback([options] { runBenchTrack(*options); });
 }
 
 }  // namespace tissuemosaic::cli

@@ -1,5 +1,5 @@
 // tissuemosaic synth scan: writes a synthetic scanning video with its calibration and ground truth.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "SyntheticScan.h"
 
@@ -7,13 +7,12 @@
 
 #include <chrono>
 #include <iostream>
+#include <memory>
 
 namespace tissuemosaic::cli {
 
 namespace {
-const char* const help = R"(usage: tissuemosaic synth scan --out DIR [options]
-
-Renders a synthetic stereo-endoscope video that scans liver-like tissue along a smooth lawn-mower path
+const char* const details = R"(Renders a synthetic stereo-endoscope video that scans liver-like tissue along a smooth lawn-mower path
 (60-120 mm from the tissue, 3-30 mm/s at 30 fps, gentle tilt and roll, low-texture stretches) and writes
   DIR/left/000000.png ...              RECTIFIED left frames (track them with --rectified)
   DIR/right/000000.png ...             RECTIFIED right frames
@@ -24,51 +23,24 @@ Renders a synthetic stereo-endoscope video that scans liver-like tissue along a 
                                        rectified views, 5 px border, in some frame), triangle mesh, world frame, mm:
                                        the reference of `tissuemosaic eval`
   DIR/groundtruth/depth_000000.pfm ... depth (mm) along the left rectified optical axis, NaN = not seen by both eyes
-The world frame has the tissue at Z = h(X, Y), +Z into the tissue.
+The world frame has the tissue at Z = h(X, Y), +Z into the tissue.)";
 
-options:
-  --frames N               number of frames (default 120)
-  --seed S                 random scene and path (default 1); the same seed gives identical files
-  --width W --height H     image size (default 960 x 540)
-  --fps F                  frame rate (default 30)
-  --min-distance MM        nearest working distance along the optical axis (default 70)
-  --max-distance MM        farthest working distance (default 100)
-  --min-speed MM_S         slowest scope speed (default 6)
-  --max-speed MM_S         fastest scope speed (default 20)
-  --noise GREY             sensor read noise in grey levels (default 1.5)
-  --supersampling N        N x N rays per pixel (default 2)
-)";
+struct SynthScanOptions {
+  std::string out;
+  synthetic::SyntheticScanOptions scan;
+  int seed = static_cast<int>(synthetic::SyntheticScanOptions{}.seed);
+};
 
 void printProgress(int frame, int frames) {
   std::cerr << "\rrendered frame " << frame << " / " << frames << std::flush;
   if (frame == frames) std::cerr << "\n";
 }
-}  // namespace
 
-int runSynthScan(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly({"out", "frames", "seed", "width", "height", "fps", "min-distance", "max-distance", "min-speed",
-                       "max-speed", "noise", "supersampling"});
-  const std::string out = arguments.required("out");
-  synthetic::SyntheticScanOptions options;
-  const int seed = arguments.integer("seed", static_cast<int>(options.seed));
-  require(seed >= 0, "--seed must be a non-negative integer");
-  options.seed = static_cast<uint32_t>(seed);
-  options.frames = arguments.integer("frames", options.frames);
-  options.width = arguments.integer("width", options.width);
-  options.height = arguments.integer("height", options.height);
-  options.fps = arguments.number("fps", options.fps);
-  options.minWorkingDistanceMm = arguments.number("min-distance", options.minWorkingDistanceMm);
-  options.maxWorkingDistanceMm = arguments.number("max-distance", options.maxWorkingDistanceMm);
-  options.minSpeedMmPerS = arguments.number("min-speed", options.minSpeedMmPerS);
-  options.maxSpeedMmPerS = arguments.number("max-speed", options.maxSpeedMmPerS);
-  options.noiseStdGrey = arguments.number("noise", options.noiseStdGrey);
-  options.supersampling = arguments.integer("supersampling", options.supersampling);
-
+void runSynthScan(const SynthScanOptions& given) {
+  require(given.seed >= 0, "--seed must be a non-negative integer");
+  synthetic::SyntheticScanOptions options = given.scan;
+  options.seed = static_cast<uint32_t>(given.seed);
+  const std::string& out = given.out;
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScan scan(options);
   const int written = synthetic::writeSyntheticScan(scan, out, printProgress);
@@ -80,10 +52,35 @@ int runSynthScan(const Words& words) {
             << domain.height << " mm\n"
             << "wrote " << written << " files under " << out << " in " << cv::format("%.1f", seconds) << " s\n"
             << "  left/, right/       RECTIFIED frames (use `tissuemosaic track --rectified`)\n"
-            << "  rig.yml             unrectified rig calibration\n"
+            << "  rig.yml             unrectified rig calibration; the frames' rectified geometry is\n"
+            << "                      " << geometryOptionsText(scan.geometry()) << "\n"
             << "  groundtruth/        trajectory.txt (TUM, T_world_camera of the left rectified camera, mm),\n"
             << "                      surface.ply (world frame mesh, mm), depth_NNNNNN.pfm (mm)\n";
-  return 0;
+}
+
+}  // namespace
+
+void setupSynthScan(CLI::App& synth) {
+  auto options = std::make_shared<SynthScanOptions>();
+  CLI::App* command = addCommand(synth, "scan", "a synthetic scanning video (rectified frames) with trajectory, "
+                                               "surface and depth ground truth", details);
+  synthetic::SyntheticScanOptions& scan = options->scan;
+  command->add_option("--out", options->out, "output folder (created)")->required()->type_name("DIR")
+      ->group(heading::output);
+  const auto add = [&](const std::string& name, auto& value, const std::string& description) {
+    command->add_option(name, value, description)->capture_default_str()->group(heading::options);
+  };
+  add("--frames", scan.frames, "number of frames");
+  add("--seed", options->seed, "random scene and path; the same seed gives identical files");
+  addImageSizeOptions(*command, scan.width, scan.height);
+  add("--fps", scan.fps, "frame rate");
+  add("--min-distance", scan.minWorkingDistanceMm, "nearest working distance along the optical axis, mm");
+  add("--max-distance", scan.maxWorkingDistanceMm, "farthest working distance, mm");
+  add("--min-speed", scan.minSpeedMmPerS, "slowest scope speed, mm/s");
+  add("--max-speed", scan.maxSpeedMmPerS, "fastest scope speed, mm/s");
+  add("--noise", scan.noiseStdGrey, "sensor read noise in grey levels");
+  add("--supersampling", scan.supersampling, "N x N rays per pixel");
+  command->callback([options] { runSynthScan(*options); });
 }
 
 }  // namespace tissuemosaic::cli

@@ -1,0 +1,155 @@
+#include "CommonOptions.h"
+#include "Commands.h"
+
+#include "Core/Error.h"
+#include "Stereo/StereoParameters.h"
+
+#include <cmath>
+#include <cstdlib>
+
+namespace tissuemosaic::cli {
+
+namespace {
+std::string sizeText(const cv::Size& size) { return std::to_string(size.width) + "x" + std::to_string(size.height); }
+}  // namespace
+
+CLI::App* addCommand(CLI::App& parent, const std::string& name, const std::string& summary,
+                     const std::string& details) {
+  CLI::App* command = parent.add_subcommand(name, summary);
+  command->footer(details);
+  return command;
+}
+
+CLI::Validator positiveNumber(const std::string& unit) {
+  return CLI::Validator(
+      [unit](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "";  // not a number at all: the conversion says so
+        if (value > 0 && std::isfinite(value)) return "";
+        return "must be a positive number" + (unit.empty() ? std::string() : " " + unit) + ", got '" + text + "'";
+      },
+      "");
+}
+
+void addInputOptions(CLI::App& command, InputOptions& input) {
+  CLI::Option* leftFrames = command.add_option("--left-frames", input.leftFrames,
+                                               "left frames (PNG/JPEG/BMP/TIFF..., taken in file-name order)");
+  CLI::Option* rightFrames = command.add_option("--right-frames", input.rightFrames,
+                                                "right frames, as many as left ones, paired in file-name order");
+  CLI::Option* leftVideo = command.add_option("--left-video", input.leftVideo, "left video file");
+  CLI::Option* rightVideo = command.add_option("--right-video", input.rightVideo, "right video file, in lock step");
+  CLI::Option* video = command.add_option("--video", input.video, "one side-by-side video (left eye in the left half)");
+  leftFrames->type_name("DIR")->needs(rightFrames);
+  rightFrames->type_name("DIR")->needs(leftFrames);
+  leftVideo->type_name("FILE")->needs(rightVideo);
+  rightVideo->type_name("FILE")->needs(leftVideo);
+  video->type_name("FILE");
+  command.add_option("--fps", input.fps, "frame rate of frame folders, for their time stamps (videos carry their own)")
+      ->check(positiveNumber("of frames per second"))
+      ->capture_default_str();
+  for (CLI::Option* option : {leftFrames, rightFrames, leftVideo, rightVideo, video}) option->group(heading::input);
+  command.get_option("--fps")->group(heading::input);
+}
+
+bool GeometryOptions::given() const { return !calib.empty() || focalPx || baselineMm; }
+
+void addGeometryOptions(CLI::App& command, GeometryOptions& geometry) {
+  CLI::Option* calib = command.add_option(
+      "--calib", geometry.calib,
+      "OpenCV YAML/XML calibration of the unrectified rig (K1 D1 K2 D2 R T imageSize): frames are rectified with it");
+  CLI::Option* rectified = command.add_flag(
+      "--rectified", geometry.rectified,
+      "with --calib: the frames are already rectified as StereoRectifier makes them from it (e.g. synth scan's)");
+  CLI::Option* focal = command.add_option("--focal-px", geometry.focalPx,
+                                          "rectified frames without a calibration: focal length in pixels");
+  CLI::Option* baseline = command.add_option("--baseline-mm", geometry.baselineMm, "... and baseline in mm");
+  CLI::Option* cx = command.add_option("--cx-px", geometry.cxPx, "... left principal point x (default: image centre)");
+  CLI::Option* cy = command.add_option("--cy-px", geometry.cyPx, "... principal point y (default: image centre)");
+  CLI::Option* doffs = command.add_option("--doffs-px", geometry.doffsPx,
+                                          "... cx_right - cx_left (default 0): depth = f B / (d + doffs)");
+  calib->type_name("rig.yml");
+  rectified->needs(calib);
+  focal->check(positiveNumber("of pixels"))->needs(baseline);
+  baseline->check(positiveNumber("of mm"))->needs(focal);
+  for (CLI::Option* option : {cx, cy, doffs}) option->needs(focal);
+  calib->excludes(focal)->excludes(baseline);
+  for (CLI::Option* option : {calib, rectified, focal, baseline, cx, cy, doffs}) option->group(heading::geometry);
+}
+
+StereoGeometry resolveGeometry(const GeometryOptions& options, const cv::Size& frameSize,
+                               const std::string& framesDescription) {
+  StereoGeometry geometry;
+  if (!options.calib.empty()) {
+    const StereoCalibration calibration = StereoCalibration::read(options.calib);
+    require(calibration.imageSize == frameSize, "the calibration is for " + sizeText(calibration.imageSize) +
+                                                    " but the frames of " + framesDescription + " are " +
+                                                    sizeText(frameSize));
+    auto rectifier = std::make_shared<const StereoRectifier>(calibration);
+    geometry.rectified = rectifier->geometry();
+    geometry.calibration = calibration;
+    if (!options.rectified) geometry.rectifier = rectifier;
+    return geometry;
+  }
+  if (!options.focalPx) {
+    throw UsageError("give the geometry: --calib rig.yml, or --focal-px and --baseline-mm for rectified frames");
+  }
+  RectifiedGeometry& rectified = geometry.rectified;
+  rectified.imageSize = frameSize;
+  rectified.focalPx = *options.focalPx;
+  rectified.baselineMm = *options.baselineMm;
+  rectified.cxLeftPx = options.cxPx.value_or((frameSize.width - 1) / 2.0);
+  rectified.cyPx = options.cyPx.value_or((frameSize.height - 1) / 2.0);
+  rectified.doffsPx = options.doffsPx.value_or(0.0);
+  // cv::stereoRectify's Q: [x y d 1] -> (X Y Z W), with Z / W = f B / (d + doffs).
+  rectified.Q = (cv::Mat_<double>(4, 4) << 1, 0, 0, -rectified.cxLeftPx, 0, 1, 0, -rectified.cyPx, 0, 0, 0,
+                 rectified.focalPx, 0, 0, 1.0 / rectified.baselineMm, rectified.doffsPx / rectified.baselineMm);
+  return geometry;
+}
+
+std::string geometryOptionsText(const RectifiedGeometry& geometry) {
+  return cv::format("--focal-px %.17g --baseline-mm %.17g --cx-px %.17g --cy-px %.17g --doffs-px %.17g",
+                    geometry.focalPx, geometry.baselineMm, geometry.cxLeftPx, geometry.cyPx, geometry.doffsPx);
+}
+
+void addDeviceOption(CLI::App& command, DeviceOption& device, const std::string& description) {
+  command.add_option("--device", device.name, description + " (default auto: CUDA when usable, else the CPU)")
+      ->type_name("cpu|cuda|auto")
+      ->group(heading::common);
+}
+
+void addParamsOption(CLI::App& command, std::optional<std::string>& path, const std::string& nodes) {
+  command
+      .add_option("--params", path,
+                  "parameters file (OpenCV YAML/XML; nodes " + nodes + "; missing keys keep the paper's defaults)")
+      ->type_name("p.yml")
+      ->group(heading::common);
+}
+
+void DisparityRangeOptions::applyTo(StereoParameters& parameters) const {
+  if (minPx) parameters.minDisparityPx = *minPx;
+  if (maxPx) parameters.maxDisparityPx = *maxPx;
+}
+
+void addDisparityRangeOptions(CLI::App& command, DisparityRangeOptions& range) {
+  const StereoParameters defaults;
+  command.add_option("--min-disparity", range.minPx,
+                     "smallest candidate disparity in px (default: the parameters file's, else " +
+                         std::to_string(defaults.minDisparityPx) + ")")
+      ->group(heading::disparityRange);
+  command.add_option("--max-disparity", range.maxPx,
+                     "largest candidate disparity in px, inclusive (default: the parameters file's, else " +
+                         std::to_string(defaults.maxDisparityPx) + ")")
+      ->group(heading::disparityRange);
+}
+
+void addQuietFlag(CLI::App& command, bool& quiet, const std::string& description) {
+  command.add_flag("--quiet", quiet, description)->group(heading::common);
+}
+
+void addImageSizeOptions(CLI::App& command, int& width, int& height) {
+  command.add_option("--width", width, "image width in pixels")->capture_default_str()->group(heading::options);
+  command.add_option("--height", height, "image height in pixels")->capture_default_str()->group(heading::options);
+}
+
+}  // namespace tissuemosaic::cli
