@@ -179,8 +179,11 @@ bool vtkTissueMosaicStereoLogic::ComputeReconstruction(const cv::Mat& leftRectif
         std::optional<tissuemosaic::DisparityRange> range =
             tissuemosaic::requestedDisparityRange(this->Parameters, &this->Geometry);
         if (!range) {
-          if (!this->RangeEstimator || this->RangeEstimator->device() != device) {
-            this->RangeEstimator = std::make_unique<tissuemosaic::DisparityRangeEstimator>(device);
+          if (!this->RangeEstimator || this->RangeEstimator->device() != device ||
+              this->RangeEstimator->options().infinityDisparityPx != -this->Geometry.doffsPx) {
+            tissuemosaic::DisparityRangeEstimatorOptions options;
+            options.infinityDisparityPx = -this->Geometry.doffsPx;
+            this->RangeEstimator = std::make_unique<tissuemosaic::DisparityRangeEstimator>(device, options);
           }
           const tissuemosaic::DisparitySample sample = this->RangeEstimator->measure(leftRectified, rightRectified);
           range = this->RangeEstimator->wantedRange(sample);

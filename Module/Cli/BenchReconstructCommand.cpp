@@ -41,7 +41,9 @@ surface (RMSE, 95th percentile, shares beyond 1, 5 and 50 mm), the share of the 
 that are gross errors (> 3 px from the truth, or where the truth has no surface), the model size
 and the peak host and device memory. "stereo_parts_median_ms" and "tracking_parts_median_ms" split the stereo
 and ORB + voting stages over all frames (host grey conversion and copies beside the GPU's stages; extraction,
-matching, sub-pixel refinement, voting).
+matching, sub-pixel refinement, voting). "disparity_range" says which ranges the stereo stage searched: the
+automatic one by default (the scene's, about 36 candidates on the default scan), or what the Disparity range
+options ask for (--disparity-range -20:80 searches the paper's 101).
 
 --stream renders each frame just before it is processed (outside the timed stages) instead of all of them first,
 so that the peak host memory is the pipeline's own: for long runs (a 5-minute scan at 30 fps is --frames 9000).
@@ -62,6 +64,7 @@ struct BenchReconstructOptions {
   std::optional<int> supersampling, chunk, threads;
   std::optional<std::string> params, out;
   bool stream = false;
+  DisparityRangeOptions range;
   DeviceOption device;
 };
 
@@ -123,6 +126,8 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   }
   ReconstructionParameters parameters;
   if (settings.params) parameters = ReconstructionParameters::readFile(*settings.params);
+  settings.range.applyTo(parameters.stereo);
+  parameters.validate();
 
   const synthetic::SyntheticScan scan(options);
   std::vector<synthetic::SyntheticScanFrame> rendered;
@@ -166,6 +171,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   // Stereo against the truth on the key frames (what fusion receives): the worst share of gross errors (> 3 px).
   double worstKeyFrameGross = 0, keyFrameGrossSum = 0;
   int worstKeyFrame = -1, keyFramesScored = 0;
+  std::vector<double> rangeMs;  // the automatic range's sparse matching, beside the stereo (0 for a given range)
   for (int k = 0; k < scan.frameCount(); ++k) {
     if (stream && k % chunk == 0) {  // the next chunk, rendered before any of it is processed
       rendered.clear();
@@ -181,6 +187,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
     lost += !result.tracked;
     if (frame.index > 0) {
       stereoParts.add(result.stereoPartsMs);
+      rangeMs.push_back(result.disparityRangeMs);
       trackingParts.add(result.trackingPartsMs);
     }
     if (result.keyFrame && frame.index > 0) {
@@ -281,7 +288,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
               "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
               "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": %s,\n "
               "\"refinement_parts_max_ms\": %s,\n \"stereo_parts_median_ms\": %s,\n \"tracking_parts_median_ms\": %s,\n \"refinement_matching\": {\"key_frames_matched\": %d, "
-              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"timing\": %s}\n",
+              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"disparity_range\": %s, \"disparity_range_median_ms\": %.3f,\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
@@ -290,7 +297,8 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
               memoryJson.c_str(), refinementParts.json(median).c_str(), refinementParts.json(largest).c_str(),
               stereoParts.json(median).c_str(), trackingParts.json(median).c_str(),
               keyFramesMatched, keyFramesGuided, intermediateFrames,
-              intermediateFramesGuided, keyFramesJson.c_str(), timing.toJson().c_str());
+              intermediateFramesGuided, keyFramesJson.c_str(),
+              disparityRangeJson(pipeline.disparityRangeHistory()).c_str(), median(rangeMs), timing.toJson().c_str());
 }
 
 }  // namespace
@@ -315,6 +323,7 @@ void setupBenchReconstruct(CLI::App& bench) {
       ->group(heading::options);
   command->add_option("--threads", options->threads, "cap on the engine's CPU threads (default all cores)")
       ->group(heading::options);
+  addDisparityRangeOptions(*command, options->range);
   addDeviceOption(*command, options->device);
   addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
   command->callback([options] { runBenchReconstruct(*options); });

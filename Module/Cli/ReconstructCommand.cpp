@@ -14,6 +14,7 @@
 #include "IO/TrajectoryTum.h"
 #include "Reconstruction/ReconstructionPipeline.h"
 #include "Reconstruction/TimingTable.h"
+#include "Stereo/DisparityRangeEstimator.h"
 
 #include <opencv2/core.hpp>
 
@@ -32,7 +33,9 @@ const char* const details = R"(Reconstructs a stereo video (paper sections II-II
 refinement (bundle adjustment + point-to-plane ICP) and point-based TSDF fusion. Prints the paper's per-stage
 timing table (median and mean milliseconds per key frame and per other frame) and the peak memory. The model's
 world frame is the first left rectified camera (or --start-tum's pose), in millimetres; .vtp output needs a build
-with VTK, and so does --snapshot (a private Xvfb when there is no display).)";
+with VTK, and so does --snapshot (a private Xvfb when there is no display). Without a disparity range it is chosen
+from the first frame's sparse feature matches and follows the tissue as the scope moves (printed at the end, and
+in --timing-json as "disparity_range").)";
 
 struct ReconstructOptions {
   InputOptions input;
@@ -92,7 +95,12 @@ void runReconstruct(const ReconstructOptions& options) {
     const auto readStart = std::chrono::steady_clock::now();
     if (!source->next(frame)) break;
     const double readMs = millisecondsSince(readStart);
-    FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
+    FrameResult result;
+    try {
+      result = pipeline->process(frame.left, frame.right, frame.timeS);
+    } catch (const DisparityRangeError& error) {
+      rethrowWithRangeOptions(error);
+    }
     result.timesMs.videoReading += readMs;
     result.timesMs.total += readMs;
     timing.add(result);
@@ -146,7 +154,8 @@ void runReconstruct(const ReconstructOptions& options) {
   const double deviceMb = pipeline->peakDeviceBytes() / (1024.0 * 1024.0);
   std::cout << "reconstructed " << frames << " frames (" << frames - lost << " tracked, " << lost << " lost, "
             << pipeline->keyFrames().size() << " key frames) on " << deviceDescription(device) << "\n"
-            << "model: " << model.size() << " points -> " << options.out << "\n\n"
+            << "model: " << model.size() << " points -> " << options.out << "\n"
+            << "disparity range " << pipeline->disparityRangeDescription() << "\n\n"
             << timing.format() << "\n"
             << cv::format("peak memory: host %.0f MiB (resident), device %.0f MiB (in use, with the CUDA context)\n",
                           hostMb, deviceMb);
@@ -158,7 +167,8 @@ void runReconstruct(const ReconstructOptions& options) {
          << ", \"height\": " << frameSize.height << ", \"frames\": " << frames << ", \"lost\": " << lost
          << ", \"key_frames\": " << pipeline->keyFrames().size() << ", \"model_points\": " << model.size()
          << ", \"peak_host_mib\": " << cv::format("%.1f", hostMb) << ", \"peak_device_mib\": "
-         << cv::format("%.1f", deviceMb) << ", \"timing\": " << timing.toJson() << "}\n";
+         << cv::format("%.1f", deviceMb) << ", \"disparity_range\": "
+         << disparityRangeJson(pipeline->disparityRangeHistory()) << ", \"timing\": " << timing.toJson() << "}\n";
     require(json.good(), "cannot write '" + *options.timingJson + "' (disk full?)");
   }
 }

@@ -198,6 +198,18 @@ TEST(DisparityRangeEstimator, WantedRangeIsTheRobustEndsWithAMargin) {
   EXPECT_EQ(estimator.wantedRange(estimator.sample(wild, 500, 500)), estimator.wantedRange(sample(60, 100, 401)));
   // A flat scene still gets the minimum margin on both sides.
   EXPECT_EQ(estimator.wantedRange(sample(40, 40, 50)), disparityRangeOnGrid(37, 43));
+  // A deep view (31..157 px, ends 33.5..154.5): above, 0.15 x the span; below, at most a quarter of the far end's
+  // disparity (depth at most 1.33 x the farthest tissue's), not 18 px down to 15 px (twice as deep).
+  const DisparitySample deep = sample(31, 157, 101);
+  const double span = deep.highPx - deep.lowPx;
+  EXPECT_EQ(estimator.wantedRange(deep), disparityRangeOnGrid(deep.lowPx - 0.25 * deep.lowPx, deep.highPx + 0.15 * span));
+  // The cap counts from the disparity at infinity, -doffs: with doffs 50 the same view lies at -19..107 px.
+  DisparityRangeEstimatorOptions offset;
+  offset.infinityDisparityPx = -50;
+  DisparityRangeEstimator offsetEstimator(Device::Cpu, offset);
+  const DisparitySample shifted = offsetEstimator.sample(even(-19, 107, 101), 101, 101);
+  EXPECT_EQ(offsetEstimator.wantedRange(shifted),
+            disparityRangeOnGrid(shifted.lowPx - 0.25 * (shifted.lowPx + 50), shifted.highPx + 0.15 * span));
 }
 
 TEST(DisparityRangeEstimator, TooFewMatchesIsAClearErrorNotADefault) {

@@ -103,6 +103,8 @@ void DisparityRangeEstimatorOptions::validate() const {
   requireRange("highQuantile", highQuantile, 0.5, 1.0);
   requireRange("marginFraction", marginFraction, 0.0, 10.0);
   requireRange("minMarginPx", minMarginPx, 0.0, 1000.0);
+  requireRange("farMarginFraction", farMarginFraction, 0.0, 10.0);
+  requireRange("infinityDisparityPx", infinityDisparityPx, -10000.0, 10000.0);
   requireRange("keepMarginFraction", keepMarginFraction, 0.0, 1.0);
   requireRange("maxWidthFactor", maxWidthFactor, 1.0, 10.0);
   requireRange("maxWidthSlackPx", maxWidthSlackPx, 0.0, 1000.0);
@@ -137,13 +139,20 @@ struct DisparityRangeEstimator::Impl {
   Impl(Device d, const DisparityRangeEstimatorOptions& o)
       : options((o.validate(), o)), device(d), extractor(d, sparseOrbParameters(o, o.fastThreshold)) {}
 
-  /// Margin on each side of robust ends lowPx..highPx.
-  double marginPx(double lowPx, double highPx) const {
-    return std::max(options.minMarginPx, options.marginFraction * (highPx - lowPx));
+  /// Margins below and above robust ends lowPx..highPx. Below (the far side) it is capped to farMarginFraction of
+  /// the lowest disparity's distance from infinity: a margin of the span's share there would reach depths several
+  /// times the farthest tissue (a 30..160 px view would search down to 10 px, 3x as deep), where only outliers lie.
+  struct Margins {
+    double belowPx, abovePx;
+  };
+  Margins marginsPx(double lowPx, double highPx) const {
+    const double margin = std::max(options.minMarginPx, options.marginFraction * (highPx - lowPx));
+    const double farCap = std::max(options.minMarginPx, options.farMarginFraction * (lowPx - options.infinityDisparityPx));
+    return {std::min(margin, farCap), margin};
   }
   DisparityRange wanted(double lowPx, double highPx) const {
-    const double margin = marginPx(lowPx, highPx);
-    return disparityRangeOnGrid(lowPx - margin, highPx + margin);
+    const Margins margins = marginsPx(lowPx, highPx);
+    return disparityRangeOnGrid(lowPx - margins.belowPx, highPx + margins.abovePx);
   }
 
   /// The kept matches' disparities and left positions, with one extractor.
@@ -253,7 +262,7 @@ DisparitySample DisparityRangeEstimator::sample(std::vector<float> disparitiesPx
 
 DisparityRange DisparityRangeEstimator::wantedRange(const DisparitySample& sample) const {
   if (sample.matches() < impl_->options.minMatches) {
-    throw Error("cannot choose the disparity range automatically: the stereo pair gave " +
+    throw DisparityRangeError("cannot choose the disparity range automatically: the stereo pair gave " +
                 std::to_string(sample.matches()) + " left-right feature matches (" +
                 std::to_string(sample.leftFeatures) + " features left, " + std::to_string(sample.rightFeatures) +
                 " right), at least " + std::to_string(impl_->options.minMatches) +
@@ -276,10 +285,11 @@ DisparityRange DisparityRangeEstimator::followingRange(const DisparityRange& cur
     high += std::max(0.0, movePx);
   }
   const DisparityRange wanted = impl_->wanted(low, high);
-  const double keep = o.keepMarginFraction * impl_->marginPx(low, high);
+  const Impl::Margins margins = impl_->marginsPx(low, high);
   const int widest = std::max(static_cast<int>(o.maxWidthFactor * (high - low) + o.maxWidthSlackPx),
                               wanted.maxPx - wanted.minPx + kDisparityRangeGridPx);
-  const bool holds = current.minPx <= low - keep && current.maxPx >= high + keep;
+  const bool holds = current.minPx <= low - o.keepMarginFraction * margins.belowPx &&
+                     current.maxPx >= high + o.keepMarginFraction * margins.abovePx;
   const bool tooWide = current.maxPx - current.minPx > widest;
   if (holds && !tooWide) return current;
   if (tooWide || current.count() < wanted.count()) return wanted;

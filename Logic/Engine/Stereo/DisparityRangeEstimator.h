@@ -5,6 +5,7 @@
 /// A first frame's range is its robust ends (quantiles) widened by a margin, on the kernels' grid; later ranges
 /// follow the tissue with hysteresis, so that they change rarely and do not flap. docs/STEREO.md, "Disparity range".
 #include "Core/Device.h"
+#include "Core/Error.h"
 #include "Stereo/DisparityRange.h"
 
 #include <opencv2/core.hpp>
@@ -13,6 +14,12 @@
 #include <vector>
 
 namespace tissuemosaic {
+
+/// The automatic range could not be chosen (too few left-right matches): callers can say how to give one instead.
+class DisparityRangeError : public Error {
+public:
+  using Error::Error;
+};
 
 struct DisparityRangeEstimatorOptions {
   // The sparse features (OrbExtractor on the full image only: pixel-accurate positions).
@@ -32,7 +39,11 @@ struct DisparityRangeEstimatorOptions {
   /// view is no plane, and its corners' extrapolation would be guesses.
   double planeTolerancePx = 2.0, planeToleranceFraction = 0.05;
   double marginFraction = 0.15;      ///< each end moves out by this share of the robust span ...
-  double minMarginPx = 3.0;          ///< ... and by at least this much
+  double minMarginPx = 3.0;          ///< ... and by at least this much;
+  /// but the low (far) end by at most this share of its distance from infinityDisparityPx (depth ~ 1 / (d - that)):
+  /// at most 1 / (1 - 0.25) = 1.33 x the farthest tissue's depth.
+  double farMarginFraction = 0.25;
+  double infinityDisparityPx = 0;    ///< the disparity of a point at infinity: -doffs (0 for the usual rectification)
   // Hysteresis (followingRange): the current range stays while both hold.
   double keepMarginFraction = 0.5;   ///< the robust ends lie at least this share of the margin inside it ...
   double maxWidthFactor = 1.3;       ///< ... and it is at most this many times the robust span wide ...
@@ -77,8 +88,8 @@ public:
   DisparitySample sample(std::vector<float> disparitiesPx, int leftFeatures, int rightFeatures,
                          std::vector<cv::Point2f> pointsPx = {}, cv::Size imageSize = {}) const;
 
-  /// The range a sample asks for: its robust ends widened by the margin, on the grid. Throws Error saying what was
-  /// found (features, matches) when the sample has fewer than minMatches matches: a dark, blurred or featureless
+  /// The range a sample asks for: its robust ends widened by the margin, on the grid. Throws DisparityRangeError
+  /// saying what was found (features, matches) when the sample has fewer than minMatches matches: a dark, blurred or featureless
   /// frame, or two images that are not a rectified stereo pair, must not get a silent default.
   DisparityRange wantedRange(const DisparitySample& sample) const;
 

@@ -36,7 +36,9 @@ DisparityRangeFollower::DisparityRangeFollower(const StereoParameters& parameter
   if (const std::optional<DisparityRange> requested = requestedDisparityRange(parameters, &geometry)) {
     impl_->use(*requested);
   } else {
-    impl_->estimator = std::make_unique<DisparityRangeEstimator>(device);
+    DisparityRangeEstimatorOptions options;
+    options.infinityDisparityPx = -geometry.doffsPx;
+    impl_->estimator = std::make_unique<DisparityRangeEstimator>(device, options);
   }
 }
 
@@ -101,6 +103,20 @@ std::string describeDisparityRange(const DisparityRangeHistory& history, const S
     }
   }
   return text;
+}
+
+std::string disparityRangeJson(const DisparityRangeHistory& history) {
+  const auto pair = [](const std::optional<DisparityRange>& range) {
+    return range ? "[" + std::to_string(range->minPx) + ", " + std::to_string(range->maxPx) + "]" : std::string("null");
+  };
+  std::string json = std::string("{\"mode\": \"") + disparityRangeModeName(history.mode) + "\", \"first\": " +
+                     pair(history.first) + ", \"last\": " + pair(history.current) + ", \"widest\": " +
+                     pair(history.first ? std::optional<DisparityRange>(history.widest) : std::nullopt) +
+                     ", \"changes\": " + std::to_string(history.changes);
+  if (history.mode == DisparityRangeMode::Automatic) {
+    json += ", \"first_frame_matches\": " + std::to_string(history.firstMatches);
+  }
+  return json + "}";
 }
 
 }  // namespace tissuemosaic

@@ -28,7 +28,8 @@ struct DisparityRangeHistory {
 
 class DisparityRangeFollower {
 public:
-  /// geometry: of the rectified frames (WorkingDistance converts through it). Throws Error for invalid parameters,
+  /// geometry: of the rectified frames (WorkingDistance converts through it; the automatic range takes its doffs,
+  /// the disparity at infinity being -doffs; a default geometry means doffs 0). Throws Error for invalid parameters,
   /// a working distance the rig cannot turn into a range, or CUDA where there is none.
   DisparityRangeFollower(const StereoParameters& parameters, const RectifiedGeometry& geometry, Device device);
   ~DisparityRangeFollower();
@@ -61,5 +62,9 @@ private:
 
 /// description() of a history, for whoever holds only the history (the app's logic).
 std::string describeDisparityRange(const DisparityRangeHistory& history, const StereoParameters& parameters);
+
+/// A history as one JSON object: {"mode": "auto", "first": [min, max], "last": [min, max], "widest": [min, max],
+/// "changes": n, "first_frame_matches": n} (ranges null before the first frame; matches only for auto).
+std::string disparityRangeJson(const DisparityRangeHistory& history);
 
 }  // namespace tissuemosaic
