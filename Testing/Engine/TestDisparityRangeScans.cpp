@@ -6,6 +6,7 @@
 #include "SyntheticScan.h"
 
 #include "Reconstruction/ReconstructionPipeline.h"
+#include "Stereo/DisparityRangeEstimator.h"
 #include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/DisparityScore.h"
 
@@ -96,11 +97,12 @@ cv::Mat highlightPixels(const SyntheticScanFrame& frame, const StereoParameters&
 }  // namespace
 
 TEST(DisparityRangeScans, FirstFrameAtSeveralWorkingDistancesAndScopes) {
-  // f B / Z - doffs at the working distance, before relief and tilt: -10, 39, 60, 220, 47, 80 px.
+  // f B / Z - doffs at the working distance, before relief and tilt: -10, 39, 60, 220, 47, 80, 189 px.
   const ScopeCase cases[] = {
       {"offset rig far", 640, 360, 667, 6.0, 50, 100, 100},   {"offset rig near", 640, 360, 667, 6.0, 50, 45, 45},
       {"close HD far", 640, 360, 1100, 6.0, 0, 110, 110},     {"close HD near", 640, 360, 1100, 6.0, 0, 30, 30},
       {"default scope", 640, 360, 0, 5.0, 0, 70, 70},         {"Hamlyn-like", 360, 288, 579, 5.5, 0, 40, 40},
+      {"HD 1280x720", 1280, 720, 1100, 6.0, 0, 35, 35},
   };
   for (const ScopeCase& c : cases) {
     const SyntheticScan scan(scanOptions(c, 1, 30));
@@ -114,6 +116,28 @@ TEST(DisparityRangeScans, FirstFrameAtSeveralWorkingDistancesAndScopes) {
     EXPECT_GE(check.coverage, 0.995) << c.name;
     EXPECT_LE(check.widthRatio, 1.0) << c.name;
   }
+}
+
+TEST(DisparityRangeScans, WideImagesMeasuredAtHalfSize) {
+  // Images wider than measureWidthPx are measured at half size, the disparities scaled back to full-size pixels.
+  const ScopeCase c{"half size", 640, 360, 0, 5.0, 0, 55, 55};
+  const SyntheticScan scan(scanOptions(c, 1, 30));
+  const SyntheticScanFrame frame = scan.renderFrame(0);
+  DisparityRangeEstimatorOptions half;
+  half.measureWidthPx = 320;
+  DisparityRangeEstimator full(Device::Cpu), halved(Device::Cpu, half);
+  const DisparitySample a = full.measure(frame.leftRectified, frame.rightRectified);
+  const DisparitySample b = halved.measure(frame.leftRectified, frame.rightRectified);
+  const RangeCheck check = checkRange(halved.wantedRange(b), frame.disparityPx);
+  std::printf("full size: %d matches, ends %.1f..%.1f; half size: %d matches, ends %.1f..%.1f, range %s, coverage "
+              "%.4f, width %.2f of the allowed\n",
+              a.matches(), a.lowPx, a.highPx, b.matches(), b.lowPx, b.highPx, halved.wantedRange(b).text().c_str(),
+              check.coverage, check.widthRatio);
+  EXPECT_NEAR(b.medianPx, a.medianPx, 2.0) << "disparities in full-size pixels";
+  EXPECT_NEAR(b.lowPx, a.lowPx, 3.0);
+  EXPECT_NEAR(b.highPx, a.highPx, 3.0);
+  EXPECT_GE(check.coverage, 0.995);
+  EXPECT_LE(check.widthRatio, 1.0);
 }
 
 TEST(DisparityRangeScans, FollowsAnOscillatingScope) {

@@ -96,6 +96,7 @@ void DisparityRangeEstimatorOptions::validate() const {
   requireRange("weakTextureMatches", weakTextureMatches, 0, 100000);
   requireRange("weakFastThreshold", weakFastThreshold, 1, 254);
   requireRange("saturatedGrey", saturatedGrey, 1, 256);
+  requireRange("measureWidthPx", measureWidthPx, 64, 100000);
   requireRange("minMatches", minMatches, 3, 100000);
   requireRange("planeTolerancePx", planeTolerancePx, 0.0, 1000.0);
   requireRange("planeToleranceFraction", planeToleranceFraction, 0.0, 1.0);
@@ -209,10 +210,19 @@ const DisparityRangeEstimatorOptions& DisparityRangeEstimator::options() const {
 Device DisparityRangeEstimator::device() const { return impl_->device; }
 
 DisparitySample DisparityRangeEstimator::measure(const cv::Mat& leftRectified, const cv::Mat& rightRectified) {
-  const cv::Mat left = toGrey8(leftRectified, "disparity range: the left image");
-  const cv::Mat right = toGrey8(rightRectified, "disparity range: the right image");
-  require(left.size() == right.size(), "disparity range: the left and right images differ in size");
+  const cv::Mat fullLeft = toGrey8(leftRectified, "disparity range: the left image");
+  const cv::Mat fullRight = toGrey8(rightRectified, "disparity range: the right image");
+  require(fullLeft.size() == fullRight.size(), "disparity range: the left and right images differ in size");
   Impl& s = *impl_;
+  // Wide images are measured at a half (a quarter, ...) of their size: a range needs no pixel-exact disparities, and
+  // ORB's cost falls with the square of the scale.
+  int scale = 1;
+  while (fullLeft.cols / scale > s.options.measureWidthPx) scale *= 2;
+  cv::Mat left = fullLeft, right = fullRight;
+  if (scale > 1) {
+    cv::resize(fullLeft, left, cv::Size(), 1.0 / scale, 1.0 / scale, cv::INTER_AREA);
+    cv::resize(fullRight, right, cv::Size(), 1.0 / scale, 1.0 / scale, cv::INTER_AREA);
+  }
   const OrbParameters& orb = s.extractor.parameters();
   const int smallest = 2 * orb.edgeThresholdPx + orb.cellSizePx;
   if (left.cols < smallest || left.rows < smallest) return {};  // no room for features: no matches
@@ -228,8 +238,11 @@ DisparitySample DisparityRangeEstimator::measure(const cv::Mat& leftRectified, c
     Impl::Matched weak = s.match(*s.weakExtractor, left, right, leftSaturated, rightSaturated);
     if (weak.disparitiesPx.size() > matched.disparitiesPx.size()) matched = std::move(weak);
   }
+  // Back to full-size pixels (pixel centres: x = (x' + 0.5) scale - 0.5).
+  for (float& d : matched.disparitiesPx) d *= static_cast<float>(scale);
+  for (cv::Point2f& p : matched.pointsPx) p = (p + cv::Point2f(0.5f, 0.5f)) * static_cast<float>(scale) - cv::Point2f(0.5f, 0.5f);
   return sample(std::move(matched.disparitiesPx), matched.leftFeatures, matched.rightFeatures,
-                std::move(matched.pointsPx), left.size());
+                std::move(matched.pointsPx), fullLeft.size());
 }
 
 DisparitySample DisparityRangeEstimator::sample(std::vector<float> disparitiesPx, int leftFeatures, int rightFeatures,
