@@ -25,11 +25,15 @@ tm_cli_failure(max_frames_negative "--max-frames must be positive"
 add_test(NAME cli.bad.empty_video_setup COMMAND ${CMAKE_COMMAND} -E touch ${work}/empty.mp4)
 set_tests_properties(cli.bad.empty_video_setup PROPERTIES FIXTURES_SETUP cli_empty_video FIXTURES_REQUIRED cli_inputs
                      LABELS cli)
-tm_cli_failure(empty_video "^cannot open video '.*empty.mp4': the file is empty$"
-               track --video ${work}/empty.mp4 --calib ${work}/scan/rig.yml --out ${work}/t.txt)
-set_tests_properties(cli.bad.empty_video PROPERTIES FIXTURES_REQUIRED "cli_inputs;cli_scan;cli_empty_video")
-tm_cli_failure(text_video "^cannot open video '.*corrupt.mp4': not a readable video \\(corrupt or unsupported codec\\)$"
-               reconstruct --video ${work}/corrupt.mp4 --calib ${work}/scan/rig.yml --out ${work}/m.ply)
+# The whole output is the one error line: nothing from OpenCV, FFmpeg or GStreamer before it.
+tm_output_test(NAME cli.bad.empty_video STATUS 1
+               MATCH "^tissuemosaic track: error: cannot open video '[^'\n]*empty.mp4': the file is empty\n$"
+               COMMAND ${cli} track --video ${work}/empty.mp4 --calib ${work}/scan/rig.yml --out ${work}/t.txt)
+set_tests_properties(cli.bad.empty_video PROPERTIES FIXTURES_REQUIRED "cli_inputs;cli_scan;cli_empty_video" LABELS cli)
+tm_output_test(NAME cli.bad.text_video STATUS 1
+               MATCH "^tissuemosaic reconstruct: error: cannot open video '[^'\n]*corrupt.mp4': not a readable video \\(corrupt or unsupported codec\\)\n$"
+               COMMAND ${cli} reconstruct --video ${work}/corrupt.mp4 --calib ${work}/scan/rig.yml --out ${work}/m.ply)
+set_tests_properties(cli.bad.text_video PROPERTIES LABELS cli)
 foreach(name range_beyond_image out_is_folder truncated_jpeg)
   set_tests_properties(cli.bad.${name} PROPERTIES FIXTURES_REQUIRED cli_inputs)
 endforeach()
@@ -122,11 +126,20 @@ set_tests_properties(cli.bad.black_frames_setup PROPERTIES FIXTURES_SETUP cli_bl
                      LABELS cli)
 tm_cli_failure(track_black_frames "tracking was lost on every frame after the first \\(no frame has a single ORB feature"
                track --left-frames ${work}/black/left --right-frames ${work}/black/right --focal-px 300
+               --baseline-mm 5 --device cpu --quiet --out ${work}/black.txt --min-disparity 0 --max-disparity 30)
+# (With the automatic range, the default, the range cannot be chosen on them, and the message says why.)
+tm_cli_failure(track_black_frames_auto_range "cannot choose the disparity range automatically: .*0 left-right feature matches"
+               track --left-frames ${work}/black/left --right-frames ${work}/black/right --focal-px 300
                --baseline-mm 5 --device cpu --quiet --out ${work}/black.txt)
 # ... and AD-Census on a black pair estimates nothing, and warns (it gave 93.8 %, every value -20).
 tm_output_test(NAME cli.stereo.ad_census_black_pair
                MATCH "0 of 57600 pixels estimated \\(0.0%\\).*warning: no pixel has a disparity"
                COMMAND ${cli} stereo --left ${work}/black/left/0.ppm --right ${work}/black/right/0.ppm --device cpu
                        --method ad-census --min-disparity 0 --max-disparity 30 --out ${work}/black.pfm)
-set_tests_properties(cli.bad.track_black_frames cli.stereo.ad_census_black_pair PROPERTIES
+set_tests_properties(cli.bad.track_black_frames cli.bad.track_black_frames_auto_range cli.stereo.ad_census_black_pair PROPERTIES
                      FIXTURES_REQUIRED "cli_inputs;cli_black" LABELS cli)
+
+# WEAK: a disparity bound far out of range names the parameter and its range (it said "expects an integer").
+tm_cli_failure(min_disparity_huge "minDisparityPx = 2147483647 is out of range \\[-1000, 1000\\]"
+               stereo ${pair} --device cpu --min-disparity 2147483647 --max-disparity 2147483647)
+set_tests_properties(cli.bad.min_disparity_huge PROPERTIES FIXTURES_REQUIRED cli_inputs)

@@ -34,10 +34,13 @@ tail -n 1 "$out/trajectory.txt" | grep -q "# stopped by a signal after [0-9]* fr
 
 run_and_stop reconstruct "$cli" reconstruct "${frames[@]}" --out "$out/model.ply" --frames-trajectory "$out/frames.txt"
 head -n 1 "$out/model.ply" | grep -qx ply || fail "reconstruct: no model written"
-count=$(sed -n 's/^element vertex \([0-9]*\)/\1/p' "$out/model.ply")
+# A whole binary PLY: header, then exactly count x (the properties' bytes).
+count=$(sed -n 's/^element vertex \([0-9]*\)$/\1/p' "$out/model.ply" | head -n 1)
+vertexBytes=$(sed -n '1,/^end_header/p' "$out/model.ply" | awk '/^property float/ {n += 4} /^property uchar/ {n += 1} END {print n}')
 header=$(grep -abo "end_header" "$out/model.ply" | head -n 1 | cut -d: -f1)
 size=$(stat -c %s "$out/model.ply")
-[ -n "$count" ] && [ "$size" -eq $((header + 11 + count * 15)) ] || fail "reconstruct: the PLY is not whole ($size bytes, $count points)"
+[ -n "$count" ] && [ "$size" -eq $((header + 11 + count * vertexBytes)) ] ||
+  fail "reconstruct: the PLY is not whole ($size bytes, $count points of $vertexBytes bytes)"
 ls -A "$out" | grep -q '\.tmp-' && fail "temporary files left behind"
 
 [ "$failures" -eq 0 ] && echo "stop on signal: PASS"

@@ -101,7 +101,7 @@ TEST(AtomicFile, UnwritablePathsAreNamedBeforeAnyWork) {
   const std::string folder = outputFolder("paths");
   EXPECT_EQ(errorOf([&] { requireWritableOutput(folder, "PFM"); }), "cannot write PFM '" + folder + "': it is a folder");
   EXPECT_EQ(errorOf([&] { requireWritableOutput(folder + "/missing/d.pfm", "PFM"); }),
-            "cannot write PFM '" + folder + "/missing/d.pfm': the folder '" + folder + "/missing' does not exist");
+            "cannot write PFM '" + folder + "/missing/d.pfm': the folder does not exist ('" + folder + "/missing')");
   EXPECT_EQ(errorOf([&] { requireWritableOutput(folder + "/d.pfm", "PFM"); }), "no error");
   EXPECT_EQ(errorOf([&] { requireWritableOutput("d.pfm", "PFM"); }), "no error");  // the working folder
   EXPECT_EQ(errorOf([&] { writeTumTrajectory(folder, {}, ""); }), "cannot write trajectory '" + folder + "': it is a folder");

@@ -77,8 +77,8 @@ void requireWritableOutput(const std::string& path, const std::string& what) {
   std::error_code error;
   require(!fs::is_directory(path, error), context + "it is a folder");
   const std::string folder = folderOf(path);
-  require(fs::is_directory(folder, error), context + "the folder '" + folder + "' does not exist");
-  require(::access(folder.c_str(), W_OK | X_OK) == 0, context + "the folder '" + folder + "' is not writable");
+  require(fs::is_directory(folder, error), context + "the folder does not exist ('" + folder + "')");
+  require(::access(folder.c_str(), W_OK | X_OK) == 0, context + "the folder is not writable ('" + folder + "')");
   if (fs::exists(path, error)) require(::access(path.c_str(), W_OK) == 0, context + "the file is not writable");
 }
 
