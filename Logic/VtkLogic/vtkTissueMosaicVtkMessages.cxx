@@ -54,9 +54,11 @@ void VtkMessageCatcher::add(bool error, const char* text) {
   // (Debug, Modified Time, Reference Count, keys...): internals, not a reason. The reader's own error says why.
   const auto dump = message.find(" for request: vtkInformation");
   if (dump != std::string::npos) message.erase(dump);
-  const auto address = message.find("(0x");
-  if (address != std::string::npos && message.find(')', address) != std::string::npos) {
-    message.erase(address, message.find(')', address) - address + 1);  // "vtkSTLReader (0x55d...)": no address
+  // "vtkSTLReader (0x55d...)": no object addresses.
+  for (auto address = message.find("(0x"); address != std::string::npos; address = message.find("(0x", address)) {
+    const auto close = message.find(')', address);
+    if (close == std::string::npos) break;
+    message.erase(address, close - address + 1);
   }
   while (!message.empty() && (message.back() == '\n' || message.back() == '\r' || message.back() == ' ')) {
     message.pop_back();
