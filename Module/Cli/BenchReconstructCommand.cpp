@@ -208,6 +208,11 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
     const int quarter = framesToProcess / 4;
     if (k + 1 == framesToProcess || (quarter > 0 && (k + 1) % quarter == 0 && memory.size() < 3)) {
       memory.push_back({k + 1, residentHostMib(), pipeline.peakDeviceBytes() / (1024.0 * 1024.0), pipeline.modelPointCount()});
+      const MemorySample& sample = memory.back();
+      // Said as it happens too: a long run cut short still tells how its memory went.
+      std::fprintf(stderr, "\nbench reconstruct: after %d frames: host resident %.1f MiB, device peak %.1f MiB, %zu model "
+                   "points, %zu key frames\n", sample.frame, sample.hostMib, sample.peakDeviceMib, sample.modelPoints,
+                   pipeline.keyFrames().size());
     }
     lost += !result.tracked;
     if (k > 0) {
