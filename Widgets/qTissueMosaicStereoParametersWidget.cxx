@@ -63,10 +63,13 @@ const IntField intFields[] = {
      1000, 1, " px",
      "Winners whose right-view winner disagrees by more than this are dropped (occlusions, fattened depth edges). "
      "-1 switches the check off. An addition to the paper."},
-    {"specularMarginPx", "Specular margin", Matching, &StereoParameters::specularMarginPx, 0, 20, 1, " px",
-     "No estimate within this distance of a specular highlight in either eye. An addition to the paper."},
-    {"specularMinPixels", "Specular min. pixels", Matching, &StereoParameters::specularMinPixels, 1, 1681, 1, "",
-     "Pixels at or above the specular grey level that a neighbourhood must hold to count as a highlight."},
+    {"specularMarginPx", "Highlight margin", Matching, &StereoParameters::specularMarginPx, 0, 20, 1, " px",
+     "Estimates within this distance of a highlight (the left pixel, or its match in the right eye) are removed and "
+     "refilled from the tissue around. The margin follows the highlight's outline. An addition to the paper."},
+    {"specularMaxRadiusPx", "Highlight max. radius", Matching, &StereoParameters::specularMaxRadiusPx, 1, 100, 1,
+     " px",
+     "A bright run along a row longer than twice this is bright tissue, not a highlight. Surroundings are sampled "
+     "just beyond the run and its matching windows."},
     {"znccWindowPx", "ZNCC window", Zncc, &StereoParameters::znccWindowPx, 3, 21, 2, " px",
      "Side of the square ZNCC matching window, odd. Paper II.A: 11x11, using every other pixel (a chessboard)."},
     {"outlierIterations", "Iterations", Outliers, &StereoParameters::outlierIterations, 0, 10, 1, "",
@@ -112,9 +115,17 @@ const IntField intFields[] = {
 };
 
 const RealField realFields[] = {
-    {"specularMinGrey", "Specular grey level", Matching, &StereoParameters::specularMinGrey, 1.0, 256.0, 1.0, 1, "",
-     "Grey level from which a pixel may belong to a specular highlight, which sits on a different surface point "
-     "in each eye and matches consistently but falsely. 256 switches the mask off. An addition to the paper."},
+    {"specularMinGrey", "Highlight grey level", Matching, &StereoParameters::specularMinGrey, 1.0, 256.0, 1.0, 1, "",
+     "Grey level from which a pixel may be a specular highlight, which sits on a different surface point in each "
+     "eye and matches consistently but falsely. 256 switches highlight removal off. An addition to the paper."},
+    {"specularMinContrastGrey", "Highlight contrast", Matching, &StereoParameters::specularMinContrastGrey, 0.0,
+     255.0, 1.0, 1, "",
+     "A highlight is brighter than the mean of its surroundings by at least this many grey levels; bright tissue "
+     "is about as bright as its surroundings."},
+    {"specularViewToleranceGrey", "Highlight view tolerance", Matching, &StereoParameters::specularViewToleranceGrey,
+     0.0, 255.0, 1.0, 1, "",
+     "A highlight is view-dependent: at its surroundings' disparity the other eye is darker by more than this. "
+     "Bright diffuse tissue looks alike to both eyes and keeps its estimates."},
     {"minWindowStdDev", "Min window std. dev.", Zncc, &StereoParameters::minWindowStdDev, 0.0, 100.0, 0.5, 2, "",
      "Grey-level standard deviation below which a window counts as textureless and gets no ZNCC estimate "
      "(an engine safeguard; not in the paper)."},

@@ -33,6 +33,7 @@ refinement, total) over N runs after 2 warm-up runs, on a synthetic tissue pair.
 StereoSGBM (MODE_SGBM_3WAY) on the same pair and disparity range (rounded up to a multiple of 16, as SGBM needs).
 --method ad-census times the AD-Census matcher instead; its stages are reported under the same keys (cost and
 aggregation as zncc, scanline optimisation and winners as outliers_holes, median and checks as refinement).
+"explain" holds the counts of `tissuemosaic stereo --explain` for the pair, from one more, untimed run.
 )";
 
 
@@ -88,6 +89,8 @@ int runBenchStereo(const Words& words) {
                  profiling::report().c_str());
   }
   const DisparityScore ours = scoreDisparity(disparity, pair.disparityPx);
+  StereoExplanation explanation;  // an extra run: counting waits between the steps, so it is not timed
+  matcher.computeDisparity(pair.leftRectified, pair.rightRectified, nullptr, &explanation);
 
   std::printf("{\"command\": \"bench stereo\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"method\": \"%s\", \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
@@ -97,7 +100,8 @@ int runBenchStereo(const Words& words) {
   std::printf(" \"median_ms\": {\"zncc\": %.4f, \"outliers_holes\": %.4f, \"refinement\": %.4f, \"total\": %.4f, "
               "\"upload\": %.4f},\n",
               median(zncc), median(outliers), median(refinement), median(total), median(upload));
-  std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f}", ours.density, ours.badOver1);
+  std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f},\n \"explain\": %s", ours.density, ours.badOver1,
+              explanation.json().c_str());
 
   if (device == Device::Cpu) {
     const int sgbmDisparities = (disparities + 15) / 16 * 16;

@@ -40,7 +40,21 @@ cross-based aggregation, scanline optimisation: sharper at depth edges, see docs
   --device cpu|cuda|auto     where to compute (default auto)
   --ground-truth GT.pfm      print density, bad-1 and bad-2 against a ground-truth disparity (NaN = unknown)
   --rectified-left PATH      also write the rectified left image (with --calib)
+  --explain PATH             write JSON: how many pixels each step removed (outside the right image,
+                             textureless window, left-right check, highlight, outlier sweeps), how many the hole
+                             filling gave back and how many it left unfilled (see docs/STEREO.md)
 )";
+
+void writeExplanation(const std::string& path, const StereoExplanation& explanation, const cv::Mat& disparity,
+                      const StereoParameters& parameters) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) throw Error("cannot write '" + path + "'");
+  const int written = std::fprintf(file, "{\"command\": \"stereo\", \"width\": %d, \"height\": %d, \"method\": \"%s\", "
+                                         "\"min_disparity\": %d, \"max_disparity\": %d,\n \"explain\": %s}\n",
+                                   disparity.cols, disparity.rows, stereoMethodName(parameters.method),
+                                   parameters.minDisparityPx, parameters.maxDisparityPx, explanation.json().c_str());
+  if (std::fclose(file) != 0 || written < 0) throw Error("cannot write '" + path + "'");
+}
 
 void printScore(const cv::Mat& disparity, const cv::Mat& truth) {
   const DisparityScore score = scoreDisparity(disparity, truth);
@@ -59,7 +73,7 @@ int runStereo(const Words& words) {
   }
   const Arguments arguments(words);
   arguments.allowOnly({"left", "right", "out", "min-disparity", "max-disparity", "calib", "cloud", "params", "device",
-                       "method", "ground-truth", "rectified-left", "help"});
+                       "method", "ground-truth", "rectified-left", "explain", "help"});
   const std::string leftPath = arguments.required("left");
   const std::string rightPath = arguments.required("right");
   const std::string outPath = arguments.required("out");
@@ -93,7 +107,9 @@ int runStereo(const Words& words) {
 
   StereoMatcher matcher(device, parameters);
   StereoTimingsMs timings;
-  const cv::Mat disparity = matcher.computeDisparity(left, right, &timings);
+  StereoExplanation explanation;
+  const bool explain = arguments.has("explain");
+  const cv::Mat disparity = matcher.computeDisparity(left, right, &timings, explain ? &explanation : nullptr);
   writePfm(outPath, disparity);
   const int estimated = cv::countNonZero(disparity == disparity);
   std::printf("disparity %dx%d on %s: %d of %d pixels estimated (%.1f%%), written to %s\n", disparity.cols,
@@ -105,6 +121,14 @@ int runStereo(const Words& words) {
               timings.zncc, adCensus ? "paths+winners" : "outliers+holes", timings.outliersHoles,
               adCensus ? "median+checks" : "refinement", timings.refinement, timings.total());
 
+  if (explain) {
+    writeExplanation(arguments.required("explain"), explanation, disparity, parameters);
+    std::printf("removed: outside the right image %ld, textureless window %ld, left-right check %ld, highlight %ld, "
+                "outlier sweeps %ld; hole filling gave back %ld, left %ld unfilled; written to %s\n",
+                explanation.outsideRightImage, explanation.texturelessWindow, explanation.leftRightCheck,
+                explanation.highlight, explanation.outlierSweeps, explanation.filledBack, explanation.notFilled,
+                arguments.required("explain").c_str());
+  }
   if (arguments.has("cloud")) {
     const ColoredPointCloud cloud = disparityToPointCloud(disparity, left, rectifier->geometry());
     writePly(arguments.required("cloud"), cloud, "TissueMosaic stereo cloud, mm, left rectified camera frame");

@@ -17,6 +17,9 @@ Renders a synthetic stereo-endoscope pair of liver-like tissue with exact ground
   DIR/left_raw.png DIR/right_raw.png   unrectified pair (lens distortion, rotated eyes)
   DIR/rig.yml                          calibration of the unrectified pair (K1 D1 K2 D2 R T imageSize)
   DIR/disparity.pfm DIR/depth_mm.pfm   rectified left view ground truth, NaN where not seen by both eyes
+  DIR/groundtruth/highlight_mask_left.png
+                                       rectified left view: 255 where a specular highlight raises the grey level
+                                       by 10 or more, 0 elsewhere
 
 options:
   --seed S                 random scene (default 1); the same seed gives identical files
@@ -31,6 +34,11 @@ options:
   --distortion SCALE       scale of the lens distortion (default 1, 0 = none)
   --eye-rotation DEG       rotation between the eyes (default 0.5)
   --supersampling N        N x N rays per pixel (default 2)
+  --lighting standard|realistic
+                           the light's look (default standard: small white highlights on darker tissue).
+                           realistic: the light at the scope tip with inverse-square fall-off exposed so that
+                           near pale tissue is bright and partly saturated, wet tissue whose highlights break
+                           into glints that sit on different surface points in each eye, sensor clipping at 255
 )";
 }  // namespace
 
@@ -41,7 +49,7 @@ int runSynthPair(const Words& words) {
   }
   const Arguments arguments(words);
   arguments.allowOnly({"out", "seed", "width", "height", "preset", "working-distance", "tilt", "relief", "baseline",
-                       "focal", "noise", "distortion", "eye-rotation", "supersampling"});
+                       "focal", "noise", "distortion", "eye-rotation", "supersampling", "lighting"});
   const std::string out = arguments.required("out");
   const std::string preset = arguments.text("preset", "default");
   require(preset == "default" || preset == "wide", "--preset must be 'default' or 'wide', got '" + preset + "'");
@@ -61,6 +69,7 @@ int runSynthPair(const Words& words) {
   options.distortion = arguments.number("distortion", options.distortion);
   options.eyeRotationDeg = arguments.number("eye-rotation", options.eyeRotationDeg);
   options.supersampling = arguments.integer("supersampling", options.supersampling);
+  options.lighting = synthetic::parseSyntheticLighting(arguments.text("lighting", "standard"));
 
   const synthetic::SyntheticStereoPair pair = synthetic::renderSyntheticStereoPair(options);
   const std::vector<std::string> written = synthetic::writeSyntheticStereoPair(pair, out);

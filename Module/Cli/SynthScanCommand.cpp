@@ -24,6 +24,9 @@ Renders a synthetic stereo-endoscope video that scans liver-like tissue along a 
                                        rectified views, 5 px border, in some frame), triangle mesh, world frame, mm:
                                        the reference of `tissuemosaic eval`
   DIR/groundtruth/depth_000000.pfm ... depth (mm) along the left rectified optical axis, NaN = not seen by both eyes
+  DIR/groundtruth/highlight_mask_left_000000.png ...
+                                       left rectified view: 255 where a specular highlight raises the grey level
+                                       by 10 or more, 0 elsewhere
 The world frame has the tissue at Z = h(X, Y), +Z into the tissue.
 
 options:
@@ -37,6 +40,11 @@ options:
   --max-speed MM_S         fastest scope speed (default 20)
   --noise GREY             sensor read noise in grey levels (default 1.5)
   --supersampling N        N x N rays per pixel (default 2)
+  --lighting standard|realistic
+                           the light's look (default standard: small white highlights on darker tissue).
+                           realistic: the light at the scope tip with inverse-square fall-off exposed so that
+                           near pale tissue is bright and partly saturated, wet tissue whose highlights break
+                           into glints that sit on different surface points in each eye, sensor clipping at 255
 )";
 
 void printProgress(int frame, int frames) {
@@ -52,7 +60,7 @@ int runSynthScan(const Words& words) {
   }
   const Arguments arguments(words);
   arguments.allowOnly({"out", "frames", "seed", "width", "height", "fps", "min-distance", "max-distance", "min-speed",
-                       "max-speed", "noise", "supersampling"});
+                       "max-speed", "noise", "supersampling", "lighting"});
   const std::string out = arguments.required("out");
   synthetic::SyntheticScanOptions options;
   const int seed = arguments.integer("seed", static_cast<int>(options.seed));
@@ -68,6 +76,7 @@ int runSynthScan(const Words& words) {
   options.maxSpeedMmPerS = arguments.number("max-speed", options.maxSpeedMmPerS);
   options.noiseStdGrey = arguments.number("noise", options.noiseStdGrey);
   options.supersampling = arguments.integer("supersampling", options.supersampling);
+  options.lighting = synthetic::parseSyntheticLighting(arguments.text("lighting", "standard"));
 
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScan scan(options);
@@ -82,7 +91,8 @@ int runSynthScan(const Words& words) {
             << "  left/, right/       RECTIFIED frames (use `tissuemosaic track --rectified`)\n"
             << "  rig.yml             unrectified rig calibration\n"
             << "  groundtruth/        trajectory.txt (TUM, T_world_camera of the left rectified camera, mm),\n"
-            << "                      surface.ply (world frame mesh, mm), depth_NNNNNN.pfm (mm)\n";
+            << "                      surface.ply (world frame mesh, mm), depth_NNNNNN.pfm (mm),\n"
+            << "                      highlight_mask_left_NNNNNN.png (255 on specular highlights)\n";
   return 0;
 }
 

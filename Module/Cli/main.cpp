@@ -17,11 +17,11 @@ const char* const usage = R"(usage: tissuemosaic COMMAND [options]
 commands:
   stereo       --left L.png --right R.png --out d.pfm [--min-disparity A] [--max-disparity B]
                [--calib rig.yml] [--cloud cloud.ply] [--device cpu|cuda|auto] [--params p.yml]
-               [--method paper|ad-census]
+               [--method paper|ad-census] [--explain explain.json]
                left-view disparity of one stereo pair (PFM, NaN = no estimate), optionally a coloured cloud
-  synth pair   --out DIR [--seed S] [--width W] [--height H]
+  synth pair   --out DIR [--seed S] [--width W] [--height H] [--lighting standard|realistic]
                a synthetic stereo pair with calibration and ground truth
-  synth scan   --out DIR [--frames N] [--seed S] [--width W] [--height H]
+  synth scan   --out DIR [--frames N] [--seed S] [--width W] [--height H] [--lighting standard|realistic]
                a synthetic scanning video (rectified frames) with trajectory, surface and depth ground truth
   track        --left-frames DIR --right-frames DIR --calib rig.yml --out trajectory.txt
                [--rectified] [--device cpu|cuda|auto] [--start-tum T.txt] [--groundtruth T.txt]

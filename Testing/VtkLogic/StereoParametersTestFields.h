@@ -11,7 +11,7 @@
 namespace tissuemosaic::test {
 
 /// Numeric fields of StereoParameters, besides the method; the lists below must name every one of them.
-constexpr std::size_t kStereoParameterNumericFields = 35;
+constexpr std::size_t kStereoParameterNumericFields = 37;
 static_assert(sizeof(StereoParameters) == sizeof(StereoMethod) + kStereoParameterNumericFields * sizeof(int) &&
                   sizeof(int) == sizeof(float),
               "a StereoParameters field was added: list it in StereoParametersTestFields.h (and in the panel)");
@@ -42,7 +42,9 @@ inline StereoParameters unusualParameters() {
   p.holeMaxEdgeDifferencePx = -1.0f;
   p.specularMinGrey = 250.0f;
   p.specularMarginPx = 9;
-  p.specularMinPixels = 30;
+  p.specularMaxRadiusPx = 15;
+  p.specularMinContrastGrey = 35.5f;
+  p.specularViewToleranceGrey = 22.5f;
   p.censusWidthPx = 7;
   p.censusHeightPx = 5;
   p.censusLambda = 25.0f;
@@ -75,7 +77,7 @@ struct StereoParameterFields {
       {"refineSearchPx", &StereoParameters::refineSearchPx},
       {"leftRightMaxDifferencePx", &StereoParameters::leftRightMaxDifferencePx},
       {"specularMarginPx", &StereoParameters::specularMarginPx},
-      {"specularMinPixels", &StereoParameters::specularMinPixels},
+      {"specularMaxRadiusPx", &StereoParameters::specularMaxRadiusPx},
       {"censusWidthPx", &StereoParameters::censusWidthPx},
       {"censusHeightPx", &StereoParameters::censusHeightPx},
       {"armMaxPx", &StereoParameters::armMaxPx},
@@ -93,6 +95,8 @@ struct StereoParameterFields {
       {"refineMaxDeviationPx", &StereoParameters::refineMaxDeviationPx},
       {"holeMaxEdgeDifferencePx", &StereoParameters::holeMaxEdgeDifferencePx},
       {"specularMinGrey", &StereoParameters::specularMinGrey},
+      {"specularMinContrastGrey", &StereoParameters::specularMinContrastGrey},
+      {"specularViewToleranceGrey", &StereoParameters::specularViewToleranceGrey},
       {"censusLambda", &StereoParameters::censusLambda},
       {"absoluteDifferenceLambda", &StereoParameters::absoluteDifferenceLambda},
       {"pathPenaltySmall", &StereoParameters::pathPenaltySmall},

@@ -584,20 +584,8 @@ struct FloatValue {
   }
 };
 
-/// Box-sum inputs: 1 where the grey level is at or above minGrey (a specular highlight), else 0; always valid.
-struct BrightValue {
-  ImageView<const float> grey;
-  float minGrey;
-  static constexpr double kScale = 1.0;
-  using TileSum = int32_t;
-  TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
-    value = grey.at(x, y) >= minGrey ? 1 : 0;
-    return true;
-  }
-};
-
-/// A box-sum consumer of BrightValue: mask = 1 where at least minPixels highlight pixels lie within the box (a
-/// highlight is a blob; a few bright texture pixels are not one).
+/// A box-sum consumer of a 0/1 value (SeedValue, HighlightKernels.h): mask = 1 where at least minPixels marked pixels
+/// lie within the box.
 struct MarkNearBright {
   ImageView<uint8_t> mask;
   int minPixels;
@@ -606,7 +594,7 @@ struct MarkNearBright {
 
 /// Not in the paper: a specular highlight sits at a different surface point in each eye, so ZNCC matches it
 /// consistently but wrongly (a blob of false depth that outlier removal keeps). A disparity is dropped where the
-/// left pixel is near a left highlight or its match x - d is near a right one.
+/// left pixel is near a left highlight or its match x - d is near a right one (masks: HighlightKernels.h).
 TM_HOST_DEVICE TM_FORCE_INLINE bool nearSpecular(ImageView<const uint8_t> leftMask, ImageView<const uint8_t> rightMask,
                                                  int x, int y, int disparity) {
   if (leftMask.at(x, y)) return true;
@@ -763,7 +751,13 @@ struct ReselectDiscrete {
   float eta;
   ImageView<float> current;
   ImageView<int16_t> discrete;
+  /// The highlight masks (null data: none). Where the pixel or its match x - o_i lies in a highlight, the cost volume
+  /// holds the highlights' false matches: o_i keeps the value hole filling gave it (d_i is still smoothed).
+  ImageView<const uint8_t> leftHighlights{}, rightHighlights{};
 
+  TM_HOST_DEVICE bool keepsFilledValue(int x, int y, int16_t o) const {
+    return leftHighlights.data != nullptr && nearSpecular(leftHighlights, rightHighlights, x, y, o);
+  }
   /// Pixels with an estimate and corrections around them take part.
   TM_HOST_DEVICE static bool takesPart(int16_t discreteDisparity, int boxCount) {
     return (discreteDisparity != kNoDisparity) & (boxCount != 0);
@@ -778,7 +772,7 @@ struct ReselectDiscrete {
     pixelCoordinates(index, current.width, x, y);
     const float d = correctedDisparity(current[index], boxSum, boxCount);
     current[index] = d;
-    if (!isFiniteValue(d)) return;
+    if (!isFiniteValue(d) || keepsFilledValue(x, y, discrete[index])) return;
     const int centre = centreIndex(d);
     float bestCost = INFINITY;
     int best = -1;

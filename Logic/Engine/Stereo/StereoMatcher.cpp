@@ -35,6 +35,7 @@ StereoWorkspace::StereoWorkspace(Device device_, StereoMethod method_, int width
       discrete(device, width, height), discreteScratch(device, paperWidth(), height),
       filledDisparity(device, width, height),
       smoothed(device, width, height), smoothedPrevious(device, paperWidth(), height), correction(device, width, height),
+      leftHighlightSeeds(device, width, height), rightHighlightSeeds(device, width, height),
       leftSpecularMask(device, width, height), rightSpecularMask(device, width, height),
       radialHitDistance(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       radialHitValue(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
@@ -86,7 +87,7 @@ Device StereoMatcher::device() const { return impl_->device; }
 const StereoParameters& StereoMatcher::parameters() const { return impl_->parameters; }
 
 cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
-                                        StereoTimingsMs* timings) {
+                                        StereoTimingsMs* timings, StereoExplanation* explanation) {
   const StereoParameters& p = impl_->parameters;
   require(leftRectified.size() == rightRectified.size(),
           "the left and right images differ in size (" + std::to_string(leftRectified.cols) + "x" +
@@ -129,8 +130,8 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
   convertAndUpload(leftRectified, workspace->leftGrey, workspace->leftGreyStaging, "the left image");
   convertAndUpload(rightRectified, workspace->rightGrey, workspace->rightGreyStaging, "the right image");
 
-  if (cuda) stereo::runStereoPipelineCuda(*workspace, p, t);
-  else stereo::runStereoPipelineCpu(*workspace, p, t);
+  if (cuda) stereo::runStereoPipelineCuda(*workspace, p, t, explanation);
+  else stereo::runStereoPipelineCpu(*workspace, p, t, explanation);
 
   const auto start = std::chrono::steady_clock::now();
   cv::Mat disparity(leftRectified.rows, leftRectified.cols, CV_32F);

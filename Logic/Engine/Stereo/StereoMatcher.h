@@ -3,6 +3,7 @@
 /// @brief Section II of the paper as one call: ZNCC matching, iterative outlier removal with hole filling, and
 /// the improved Laplacian refinement, on the CPU or on a CUDA GPU.
 #include "Core/Device.h"
+#include "StereoExplanation.h"
 #include "StereoParameters.h"
 
 #include <opencv2/core.hpp>
@@ -33,9 +34,11 @@ public:
   StereoMatcher& operator=(const StereoMatcher&) = delete;
 
   /// Left-view disparity (CV_32F, NaN where there is no estimate; left x matches right x - d) of a rectified
-  /// pair of equal size, 8-bit grey or BGR. Throws Error on empty or mismatched images.
+  /// pair of equal size, 8-bit grey or BGR. Throws Error on empty or mismatched images. explanation (optional):
+  /// filled with how many pixels each step removed and filling gave back; counting downloads intermediate maps, so
+  /// the stage timings of such a call include those waits.
   cv::Mat computeDisparity(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
-                           StereoTimingsMs* timings = nullptr);
+                           StereoTimingsMs* timings = nullptr, StereoExplanation* explanation = nullptr);
 
   /// Intermediate results of the last call, for tests and the GUI: integer ZNCC winners (NaN where none),
   /// and the discrete disparities after outlier removal and hole filling.

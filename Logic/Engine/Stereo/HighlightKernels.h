@@ -1,0 +1,152 @@
+#pragma once
+/// @file HighlightKernels.h
+/// @brief Specular highlight detection, written once for both backends (TM_HOST_DEVICE). Not in the paper.
+///
+/// A specular highlight is the light's mirror image in the wet tissue film: it sits on a different surface point in
+/// each eye, so ZNCC matches the two highlights with each other, consistently but at a false depth. Its saturated
+/// core fades through a tail of bright pixels, and the matching windows over both see the twin. Bright diffuse
+/// tissue is seen alike by both eyes and must keep its estimates. A pixel is a highlight seed when it is
+///  1. bright: grey >= the tail level, minGrey - minContrastGrey;
+///  2. part of a small saturated spot: the runs of tail-level pixels from it along its row and column (up to
+///     maxRadiusPx each way) reach a core pixel >= minGrey, and no core pixel maxRadiusPx away (a saturated area
+///     that large is bright tissue);
+///  3. brighter than its surroundings: the spot's brightest pixel exceeds the mean of 8 ring samples by
+///     minContrastGrey, or by half the headroom 255 - mean on bright tissue, where no highlight can stand out more;
+///     the ring lies ringGapPx beyond the runs' farthest end (outside the matching windows that see the spot);
+///  4. view-dependent, at the disparity of its surroundings (the median of the ring samples' winners): its own
+///     winner differs from it by more than kHighlightMatchSlackPx (ZNCC matched the spot with its twin in the other
+///     eye), or the other eye there is darker by more than viewToleranceGrey within +-kHighlightMatchSlackPx (the
+///     other eye does not see the spot where the tissue is). A diffuse spot matches where its surroundings match,
+///     and looks as bright to both eyes.
+/// The seeds, grown by a margin that follows their outline, mask the estimates that touch them (see nearSpecular in
+/// StereoKernels.h); hole filling then gives those pixels the surrounding tissue's disparity.
+/// All tests are on integer grey levels (exact in float) and integer disparities: both backends agree bit for bit.
+#include "StereoKernels.h"
+
+namespace tissuemosaic::stereo {
+
+/// Disparity difference (px) up to which a spot matches where its surroundings do: the ring's median is that of a
+/// slanted surface's centre only to about a pixel, and bad-2 counts errors above 2 px.
+constexpr int kHighlightMatchSlackPx = 2;
+
+struct HighlightRule {
+  float minGrey;
+  int maxRadiusPx;
+  int ringGapPx;
+  float minContrastGrey;
+  float viewToleranceGrey;
+};
+
+/// Offset of ring sample k (the radial directions of radialDirection): axis samples at r, diagonal ones at
+/// round(r / sqrt(2)), so all lie about r from the centre.
+TM_HOST_DEVICE TM_FORCE_INLINE void ringOffset(int k, int r, int& dx, int& dy) {
+  radialDirection(k, dx, dy);
+  const int step = (dx != 0 && dy != 0) ? (r * 181 + 128) >> 8 : r;
+  dx *= step;
+  dy *= step;
+}
+
+/// True where pixel (x, y) of `image` is a highlight seed (the four tests above). `disparity` holds the winners of
+/// image's own view, `other` is the other eye's image, and a pixel x of image matches other's x + sign * d (left
+/// view: sign -1; right view: +1).
+/// The run from (x, y) along (dx, dy), at most cap steps, over which the image stays >= level: its length, the
+/// farthest step on it that is >= coreLevel (0: none), and the brightest value met (folded into peak).
+TM_HOST_DEVICE TM_FORCE_INLINE void brightRun(ImageView<const float> image, int x, int y, int dx, int dy, float level,
+                                              float coreLevel, int cap, int& length, int& farthestCore, float& peak) {
+  const int steps = stepsInside(x, y, dx, dy, image.width, image.height, cap);
+  length = 0;
+  farthestCore = 0;
+  for (int s = 1; s <= steps; ++s) {
+    const float v = image.at(x + s * dx, y + s * dy);
+    if (!(v >= level)) break;
+    length = s;
+    farthestCore = v >= coreLevel ? s : farthestCore;
+    peak = fmaxf(peak, v);
+  }
+}
+
+/// True where pixel (x, y) of `image` is a highlight seed (the four tests above). `disparity` holds the winners of
+/// image's own view, `other` is the other eye's image, and a pixel x of image matches other's x + sign * d (left
+/// view: sign -1; right view: +1).
+TM_HOST_DEVICE TM_FORCE_INLINE bool isHighlightSeed(ImageView<const float> image, ImageView<const float> other,
+                                                    ImageView<const int16_t> disparity, int sign, int x, int y,
+                                                    const HighlightRule& rule) {
+  const float grey = image.at(x, y);
+  const float tail = rule.minGrey - rule.minContrastGrey;
+  if (!(grey >= tail)) return false;
+  // The bright runs through x along its row and column, up to maxRadiusPx each way: a core that reaches that far is
+  // a saturated area larger than any highlight (bright tissue).
+  float peak = grey;
+  int extent = 0;
+  for (int k = 0; k < 8; k += 2) {  // E, S, W, N
+    int dx, dy, length, farthestCore;
+    radialDirection(k, dx, dy);
+    brightRun(image, x, y, dx, dy, tail, rule.minGrey, rule.maxRadiusPx, length, farthestCore, peak);
+    if (farthestCore >= rule.maxRadiusPx) return false;
+    extent = length > extent ? length : extent;
+  }
+  if (!(peak >= rule.minGrey)) return false;  // no saturated core: bright tissue
+  const int radius = extent + rule.ringGapPx;
+  float ringSum = 0.0f;
+  int16_t sorted[8];
+  int count = 0;
+  for (int k = 0; k < 8; ++k) {
+    int dx, dy;
+    ringOffset(k, radius, dx, dy);
+    const int xx = clampIndex(x + dx, image.width), yy = clampIndex(y + dy, image.height);
+    ringSum += image.at(xx, yy);  // integers: exact in any order
+    const int16_t d = disparity.at(xx, yy);
+    if (d == kNoDisparity) continue;
+    int i = count++;  // insertion sort: at most 8 values
+    for (; i > 0 && sorted[i - 1] > d; --i) sorted[i] = sorted[i - 1];
+    sorted[i] = d;
+  }
+  // As bright as its surroundings: tissue. Near saturation the contrast a highlight can have shrinks, so half the
+  // headroom above the surroundings is enough there.
+  const float surroundingGrey = ringSum * 0.125f;
+  const float neededContrast = fminf(rule.minContrastGrey, 0.5f * (255.0f - surroundingGrey));
+  if (!(peak - surroundingGrey >= neededContrast)) return false;
+  if (count < 2) return true;  // no surroundings to test it against: a bright, contrasted spot is taken as a highlight
+  const int surroundings = (sorted[(count - 1) / 2] + sorted[count / 2]) >> 1;
+  const int own = disparity.at(x, y);
+  if (own != kNoDisparity && (own - surroundings > kHighlightMatchSlackPx || surroundings - own > kHighlightMatchSlackPx)) {
+    return true;  // matched elsewhere than the tissue around it: with its twin
+  }
+  const int xo = x + sign * surroundings;
+  float brightest = -1.0f;
+  for (int k = -kHighlightMatchSlackPx; k <= kHighlightMatchSlackPx; ++k) {
+    const int xx = xo + k;
+    if (xx >= 0 && xx < other.width) brightest = fmaxf(brightest, other.at(xx, y));
+  }
+  if (brightest < 0.0f) return false;  // the match leaves the other image: nothing to compare with
+  return grey - brightest > rule.viewToleranceGrey;
+}
+
+/// The seeds of both eyes (1 or 0 per pixel): left with the left winners, right with the right-view winners.
+struct DetectHighlightSeeds {
+  ImageView<const float> left, right;
+  ImageView<const int16_t> leftDisparity, rightDisparity;
+  ImageView<uint8_t> leftSeeds, rightSeeds;
+  HighlightRule rule;
+
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    int x, y;
+    pixelCoordinates(index, left.width, x, y);
+    leftSeeds[index] = isHighlightSeed(left, right, leftDisparity, -1, x, y, rule) ? 1 : 0;
+    rightSeeds[index] = isHighlightSeed(right, left, rightDisparity, 1, x, y, rule) ? 1 : 0;
+  }
+};
+
+/// Box-sum inputs: 1 on a highlight seed, else 0; always valid. With MarkNearBright (minPixels 1) over the margin,
+/// the seeds grow by the margin (Chebyshev distance): the mask follows the highlight's outline.
+struct SeedValue {
+  ImageView<const uint8_t> seeds;
+  static constexpr double kScale = 1.0;
+  using TileSum = int32_t;
+  TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
+    value = seeds.at(x, y);
+    return true;
+  }
+};
+
+}  // namespace tissuemosaic::stereo
