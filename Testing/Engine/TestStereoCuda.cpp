@@ -119,13 +119,13 @@ TEST(StereoCuda, HighlightSeedsMatchCpu) {
       rightWinners[i] = winner();
     }
     const stereo::HighlightRule rule{240.0f, 4 + static_cast<int>(seed), 6, 20.0f, 10.0f};
-    std::vector<uint8_t> cpuLeft(n), cpuRight(n);
+    std::vector<int16_t> cpuLeft(n), cpuRight(n);
     stereo::detectHighlightSeedsCpu({{left.data(), width, height}, {right.data(), width, height},
                                      {leftWinners.data(), width, height}, {rightWinners.data(), width, height},
                                      {cpuLeft.data(), width, height}, {cpuRight.data(), width, height}, rule});
     Buffer<float> leftDevice(Device::Cuda, n), rightDevice(Device::Cuda, n);
     Buffer<int16_t> leftWinnersDevice(Device::Cuda, n), rightWinnersDevice(Device::Cuda, n);
-    Buffer<uint8_t> leftSeedsDevice(Device::Cuda, n), rightSeedsDevice(Device::Cuda, n);
+    Buffer<int16_t> leftSeedsDevice(Device::Cuda, n), rightSeedsDevice(Device::Cuda, n);
     leftDevice.upload(left.data());
     rightDevice.upload(right.data());
     leftWinnersDevice.upload(leftWinners.data());
@@ -135,10 +135,10 @@ TEST(StereoCuda, HighlightSeedsMatchCpu) {
                                       {rightWinnersDevice.data(), width, height},
                                       {leftSeedsDevice.data(), width, height}, {rightSeedsDevice.data(), width, height},
                                       rule});
-    const std::vector<uint8_t> gpuLeft = leftSeedsDevice.toHost(), gpuRight = rightSeedsDevice.toHost();
+    const std::vector<int16_t> gpuLeft = leftSeedsDevice.toHost(), gpuRight = rightSeedsDevice.toHost();
     long seeds = 0, different = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      seeds += cpuLeft[i] + cpuRight[i];
+      seeds += (cpuLeft[i] != stereo::kNoDisparity) + (cpuRight[i] != stereo::kNoDisparity);
       different += (cpuLeft[i] != gpuLeft[i]) + (cpuRight[i] != gpuRight[i]);
     }
     std::printf("seeds %dx%d: %ld seeds on the CPU, %ld pixels differ\n", width, height, seeds, different);

@@ -102,7 +102,7 @@ struct SpotScene {
   cv::Mat left, right;               ///< 8-bit grey
   Image<float> leftImage{Device::Cpu, kWidth, kHeight}, rightImage{Device::Cpu, kWidth, kHeight};
   Image<int16_t> leftWinners{Device::Cpu, kWidth, kHeight}, rightWinners{Device::Cpu, kWidth, kHeight};
-  Image<uint8_t> leftSeeds{Device::Cpu, kWidth, kHeight}, rightSeeds{Device::Cpu, kWidth, kHeight};
+  Image<int16_t> leftSeeds{Device::Cpu, kWidth, kHeight}, rightSeeds{Device::Cpu, kWidth, kHeight};
 
   SpotScene() {
     left = test::randomTexture(kWidth, kHeight, 5);
@@ -148,8 +148,9 @@ struct SpotScene {
     int near = 0, right = 0;
     for (int yy = 0; yy < kHeight; ++yy) {
       for (int xx = 0; xx < kWidth; ++xx) {
-        near += leftSeeds.view().at(xx, yy) && std::abs(xx - x) <= radius + 1 && std::abs(yy - y) <= radius + 1;
-        right += rightSeeds.view().at(xx, yy);
+        const bool leftSeed = leftSeeds.view().at(xx, yy) != kNoDisparity;
+        near += leftSeed && std::abs(xx - x) <= radius + 1 && std::abs(yy - y) <= radius + 1;
+        right += rightSeeds.view().at(xx, yy) != kNoDisparity;
       }
     }
     return {near, right};

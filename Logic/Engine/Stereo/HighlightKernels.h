@@ -18,8 +18,11 @@
 ///     eye), or the other eye there is darker by more than viewToleranceGrey within +-kHighlightMatchSlackPx (the
 ///     other eye does not see the spot where the tissue is). A diffuse spot matches where its surroundings match,
 ///     and looks as bright to both eyes.
-/// The seeds, grown by a margin that follows their outline, mask the estimates that touch them (see nearSpecular in
-/// StereoKernels.h); hole filling then gives those pixels the surrounding tissue's disparity.
+/// A seed carries the disparity of its surroundings. ZNCC windows that see a highlight's core can match its twin
+/// well beyond the seeds (a highlight's soft tail, the window's radius): every estimate within specularMarginPx of
+/// a seed (the left pixel, or its match in the right eye) that differs from the seeds' surroundings by more than
+/// kHighlightKeepSlackPx is removed, and hole filling gives those pixels the surrounding tissue's disparity.
+/// Estimates that agree with the tissue around the highlight keep their values.
 /// All tests are on integer grey levels (exact in float) and integer disparities: both backends agree bit for bit.
 #include "StereoKernels.h"
 
@@ -28,6 +31,10 @@ namespace tissuemosaic::stereo {
 /// Disparity difference (px) up to which a spot matches where its surroundings do: the ring's median is that of a
 /// slanted surface's centre only to about a pixel, and bad-2 counts errors above 2 px.
 constexpr int kHighlightMatchSlackPx = 2;
+
+/// Near a highlight, an estimate within this of its surroundings' disparity (an integer median, within half a pixel
+/// of the tissue's) is the tissue's and stays; any farther is refilled from the tissue around.
+constexpr int kHighlightKeepSlackPx = 1;
 
 struct HighlightRule {
   float minGrey;
@@ -65,28 +72,32 @@ TM_HOST_DEVICE TM_FORCE_INLINE void brightRun(ImageView<const float> image, int 
   }
 }
 
-/// True where pixel (x, y) of `image` is a highlight seed (the four tests above). `disparity` holds the winners of
-/// image's own view, `other` is the other eye's image, and a pixel x of image matches other's x + sign * d (left
-/// view: sign -1; right view: +1).
-TM_HOST_DEVICE TM_FORCE_INLINE bool isHighlightSeed(ImageView<const float> image, ImageView<const float> other,
+/// At a highlight seed (the four tests above), the disparity of its surroundings; elsewhere kNoDisparity.
+/// `disparity` holds the winners of image's own view, `other` is the other eye's image, and a pixel x of image
+/// matches other's x + sign * d (left view: sign -1; right view: +1).
+TM_HOST_DEVICE TM_FORCE_INLINE int16_t highlightSurroundings(ImageView<const float> image, ImageView<const float> other,
                                                     ImageView<const int16_t> disparity, int sign, int x, int y,
                                                     const HighlightRule& rule) {
   const float grey = image.at(x, y);
   const float tail = rule.minGrey - rule.minContrastGrey;
-  if (!(grey >= tail)) return false;
+  if (!(grey >= tail)) return kNoDisparity;
   // The bright runs through x along its row and column, up to maxRadiusPx each way: a core that reaches that far is
   // a saturated area larger than any highlight (bright tissue).
   float peak = grey;
-  int extent = 0;
+  int tailExtent = 0, coreExtent = 0;
   for (int k = 0; k < 8; k += 2) {  // E, S, W, N
     int dx, dy, length, farthestCore;
     radialDirection(k, dx, dy);
     brightRun(image, x, y, dx, dy, tail, rule.minGrey, rule.maxRadiusPx, length, farthestCore, peak);
-    if (farthestCore >= rule.maxRadiusPx) return false;
-    extent = length > extent ? length : extent;
+    if (farthestCore >= rule.maxRadiusPx) return kNoDisparity;
+    tailExtent = length > tailExtent ? length : tailExtent;
+    coreExtent = farthestCore > coreExtent ? farthestCore : coreExtent;
   }
-  if (!(peak >= rule.minGrey)) return false;  // no saturated core: bright tissue
-  const int radius = extent + rule.ringGapPx;
+  if (!(peak >= rule.minGrey)) return kNoDisparity;  // no saturated core: bright tissue
+  // The ring: beyond the core and its tail, which is followed at most 2 gaps past the core (on bright tissue the
+  // tail level runs on), then one gap further, outside the matching windows that see the spot.
+  const int beyondCore = coreExtent + 2 * rule.ringGapPx;
+  const int radius = (tailExtent < beyondCore ? tailExtent : beyondCore) + rule.ringGapPx;
   float ringSum = 0.0f;
   int16_t sorted[8];
   int count = 0;
@@ -105,47 +116,97 @@ TM_HOST_DEVICE TM_FORCE_INLINE bool isHighlightSeed(ImageView<const float> image
   // headroom above the surroundings is enough there.
   const float surroundingGrey = ringSum * 0.125f;
   const float neededContrast = fminf(rule.minContrastGrey, 0.5f * (255.0f - surroundingGrey));
-  if (!(peak - surroundingGrey >= neededContrast)) return false;
-  if (count < 2) return true;  // no surroundings to test it against: a bright, contrasted spot is taken as a highlight
+  if (!(peak - surroundingGrey >= neededContrast)) return kNoDisparity;
+  // The surroundings must be one smooth surface to test against (and to refill from): at least half the ring with
+  // estimates whose middle half spans no more than a slanted surface would (a depth edge mixes two).
+  if (count < 4) return kNoDisparity;
+  if (sorted[(3 * count) / 4] - sorted[count / 4] > kHighlightMatchSlackPx + radius / 8) return kNoDisparity;
   const int surroundings = (sorted[(count - 1) / 2] + sorted[count / 2]) >> 1;
+  // The other eye sees the highlight too, near where it sees the tissue around it: a core pixel within the ring's
+  // radius of the match along the row. (A bright spot that only one eye sees is an occlusion, not a highlight.)
+  const int xo = x + sign * surroundings;
+  bool twin = false;
+  for (int k = -radius; k <= radius && !twin; ++k) {
+    const int xx = xo + k;
+    twin = xx >= 0 && xx < other.width && other.at(xx, y) >= rule.minGrey;
+  }
+  if (!twin) return kNoDisparity;
   const int own = disparity.at(x, y);
   if (own != kNoDisparity && (own - surroundings > kHighlightMatchSlackPx || surroundings - own > kHighlightMatchSlackPx)) {
-    return true;  // matched elsewhere than the tissue around it: with its twin
+    return static_cast<int16_t>(surroundings);  // matched elsewhere than the tissue around it: with its twin
   }
-  const int xo = x + sign * surroundings;
   float brightest = -1.0f;
   for (int k = -kHighlightMatchSlackPx; k <= kHighlightMatchSlackPx; ++k) {
     const int xx = xo + k;
     if (xx >= 0 && xx < other.width) brightest = fmaxf(brightest, other.at(xx, y));
   }
-  if (brightest < 0.0f) return false;  // the match leaves the other image: nothing to compare with
-  return grey - brightest > rule.viewToleranceGrey;
+  if (brightest < 0.0f) return kNoDisparity;  // the match leaves the other image: nothing to compare with
+  return grey - brightest > rule.viewToleranceGrey ? static_cast<int16_t>(surroundings) : kNoDisparity;
 }
 
-/// The seeds of both eyes (1 or 0 per pixel): left with the left winners, right with the right-view winners.
+/// The seeds of both eyes, as their surroundings' disparity (kNoDisparity elsewhere): left with the left winners,
+/// right with the right-view winners.
 struct DetectHighlightSeeds {
   ImageView<const float> left, right;
   ImageView<const int16_t> leftDisparity, rightDisparity;
-  ImageView<uint8_t> leftSeeds, rightSeeds;
+  ImageView<int16_t> leftSeeds, rightSeeds;
   HighlightRule rule;
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
     int x, y;
     pixelCoordinates(index, left.width, x, y);
-    leftSeeds[index] = isHighlightSeed(left, right, leftDisparity, -1, x, y, rule) ? 1 : 0;
-    rightSeeds[index] = isHighlightSeed(right, left, rightDisparity, 1, x, y, rule) ? 1 : 0;
+    leftSeeds[index] = highlightSurroundings(left, right, leftDisparity, -1, x, y, rule);
+    rightSeeds[index] = highlightSurroundings(right, left, rightDisparity, 1, x, y, rule);
   }
 };
 
-/// Box-sum inputs: 1 on a highlight seed, else 0; always valid. With MarkNearBright (minPixels 1) over the margin,
-/// the seeds grow by the margin (Chebyshev distance): the mask follows the highlight's outline.
-struct SeedValue {
-  ImageView<const uint8_t> seeds;
-  static constexpr double kScale = 1.0;
-  using TileSum = int32_t;
-  TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
-    value = seeds.at(x, y);
-    return true;
+/// A box-sum consumer of DiscreteDisparityValue over the seeds: near[i] = the seeds' surroundings disparity within
+/// the box (their rounded mean), kNoDisparity where no seed lies within it.
+struct MarkNearHighlight {
+  ImageView<int16_t> near;
+  TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int count) const {
+    const double mean = floor(int64ToDouble(boxSum) / (count != 0 ? count : 1) + 0.5);  // exact: integers
+    near[index] = count != 0 ? static_cast<int16_t>(static_cast<int>(mean)) : kNoDisparity;
+  }
+};
+
+/// True where disparity d of left pixel (x, y) lies near a highlight of either eye (the left pixel, or its match
+/// x - d in the right eye) and differs from that highlight's surroundings by more than kHighlightKeepSlackPx.
+TM_HOST_DEVICE TM_FORCE_INLINE bool disagreesWithHighlight(ImageView<const int16_t> leftNear,
+                                                           ImageView<const int16_t> rightNear, int x, int y, int d) {
+  const auto differs = [d](int16_t surroundings) {
+    return surroundings != kNoDisparity &&
+           (d - surroundings > kHighlightKeepSlackPx || surroundings - d > kHighlightKeepSlackPx);
+  };
+  if (differs(leftNear.at(x, y))) return true;
+  const int xr = x - d;
+  return xr >= 0 && xr < rightNear.width && differs(rightNear.at(xr, y));
+}
+
+/// Not in the paper: removes the estimates that disagree with a nearby highlight's surroundings (see the top of
+/// this file).
+struct DropHighlightDiscrete {
+  ImageView<const int16_t> leftNear, rightNear;
+  ImageView<int16_t> disparity;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const int16_t d = disparity[index];
+    if (d == kNoDisparity) return;
+    int x, y;
+    pixelCoordinates(index, disparity.width, x, y);
+    if (disagreesWithHighlight(leftNear, rightNear, x, y, d)) disparity[index] = kNoDisparity;
+  }
+};
+
+/// The same on a float map (AD-Census's output), at the rounded disparity.
+struct DropHighlightFloat {
+  ImageView<const int16_t> leftNear, rightNear;
+  ImageView<float> disparity;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    const float d = disparity[index];
+    if (!isFiniteValue(d)) return;
+    int x, y;
+    pixelCoordinates(index, disparity.width, x, y);
+    if (disagreesWithHighlight(leftNear, rightNear, x, y, static_cast<int>(floorf(d + 0.5f)))) disparity[index] = NAN;
   }
 };
 

@@ -36,7 +36,7 @@ StereoWorkspace::StereoWorkspace(Device device_, StereoMethod method_, int width
       filledDisparity(device, width, height),
       smoothed(device, width, height), smoothedPrevious(device, paperWidth(), height), correction(device, width, height),
       leftHighlightSeeds(device, width, height), rightHighlightSeeds(device, width, height),
-      leftSpecularMask(device, width, height), rightSpecularMask(device, width, height),
+      leftNearHighlight(device, width, height), rightNearHighlight(device, width, height),
       radialHitDistance(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       radialHitValue(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       rayPasses(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),

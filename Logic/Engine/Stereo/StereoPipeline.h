@@ -58,8 +58,10 @@ struct StereoWorkspace {
   Image<int16_t> discrete, discreteScratch;        ///< o_i and a ping-pong partner
   Image<int16_t> filledDisparity;                  ///< o_i after outlier removal and hole filling
   Image<float> smoothed, smoothedPrevious, correction;
-  Image<uint8_t> leftHighlightSeeds, rightHighlightSeeds;  ///< 1 on a highlight seed (HighlightKernels.h)
-  Image<uint8_t> leftSpecularMask, rightSpecularMask;  ///< the seeds grown by the margin (see DropSpecularDiscrete)
+  /// Highlights (HighlightKernels.h), kNoDisparity elsewhere: the seeds' surroundings disparity, and its mean within
+  /// specularMarginPx of them.
+  Image<int16_t> leftHighlightSeeds, rightHighlightSeeds;
+  Image<int16_t> leftNearHighlight, rightNearHighlight;
   Buffer<int16_t> radialHitDistance, radialHitValue;  ///< CPU radial filling: nearest estimate per ray [8][pixels]
   Buffer<uint8_t> rayPasses;  ///< CPU outlier test: 1 where a pixel's ray of direction k passes [8][pixels]
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)

@@ -159,8 +159,10 @@ struct PipelineSteps {
     launch.highlightSeeds(DetectHighlightSeeds{w.left.view(), w.right.view(), w.discrete.view(),
                                                w.rightZnccDisparity.view(), w.leftHighlightSeeds.view(),
                                                w.rightHighlightSeeds.view(), rule});
-    boxSums(SeedValue{w.leftHighlightSeeds.view()}, p.specularMarginPx, MarkNearBright{w.leftSpecularMask.view(), 1});
-    boxSums(SeedValue{w.rightHighlightSeeds.view()}, p.specularMarginPx, MarkNearBright{w.rightSpecularMask.view(), 1});
+    boxSums(DiscreteDisparityValue{w.leftHighlightSeeds.view()}, p.specularMarginPx,
+            MarkNearHighlight{w.leftNearHighlight.view()});
+    boxSums(DiscreteDisparityValue{w.rightHighlightSeeds.view()}, p.specularMarginPx,
+            MarkNearHighlight{w.rightNearHighlight.view()});
   }
 
   void outliersAndHoles() {
@@ -175,8 +177,8 @@ struct PipelineSteps {
     };
     if (specularMasking()) {
       specularMasks();
-      parallelFor<Backend>(pixels(), DropSpecularDiscrete{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
-                                                          w.discrete.view()});
+      parallelFor<Backend>(pixels(), DropHighlightDiscrete{w.leftNearHighlight.view(), w.rightNearHighlight.view(),
+                                                           w.discrete.view()});
       if (explain) explain->highlight = -estimatesChange();
     }
     for (int iteration = 0; iteration < p.outlierIterations; ++iteration) {
@@ -220,8 +222,8 @@ struct PipelineSteps {
       ReselectDiscrete reselect{w.volume.data(), w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
                                 p.refineSearchPx, p.refineEta, w.smoothed.view(), w.discrete.view()};
       if (specularMasking()) {
-        reselect.leftHighlights = w.leftSpecularMask.view();
-        reselect.rightHighlights = w.rightSpecularMask.view();
+        reselect.leftHighlights = w.leftNearHighlight.view();
+        reselect.rightHighlights = w.rightNearHighlight.view();
       }
       if constexpr (std::is_same_v<Backend, CpuBackend>) {
         boxSums(FloatValue{w.correction.view()}, p.refineRadiusPx, ReselectDiscreteRows{reselect});
@@ -312,8 +314,8 @@ struct PipelineSteps {
     const long beforeHighlights = explain ? countEstimates(w.smoothed) : 0;
     if (specularMasking()) {
       specularMasks();
-      parallelFor<Backend>(pixels(), DropSpecularFloat{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
-                                                       w.smoothed.view()});
+      parallelFor<Backend>(pixels(), DropHighlightFloat{w.leftNearHighlight.view(), w.rightNearHighlight.view(),
+                                                        w.smoothed.view()});
     }
     if (explain) {
       explain->estimated = countEstimates(w.smoothed);
