@@ -68,7 +68,8 @@ const IntField intFields[] = {
      "refilled from the tissue around. The margin follows the highlight's outline. An addition to the paper."},
     {"specularMaxRadiusPx", "Highlight max. radius", Matching, &StereoParameters::specularMaxRadiusPx, 1, 100, 1,
      " px",
-     "A bright run along a row longer than twice this is bright tissue, not a highlight. Surroundings are sampled "
+     "A saturated area reaching this far on both sides of a pixel (along a row or column) is bright tissue, not a "
+     "highlight. Surroundings are sampled "
      "just beyond the run and its matching windows."},
     {"znccWindowPx", "ZNCC window", Zncc, &StereoParameters::znccWindowPx, 3, 21, 2, " px",
      "Side of the square ZNCC matching window, odd. Paper II.A: 11x11, using every other pixel (a chessboard)."},

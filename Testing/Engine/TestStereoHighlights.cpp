@@ -186,19 +186,35 @@ TEST(StereoHighlights, SeedsAreSmallBrightContrastedAndViewDependent) {
     scene.paintSpot(100, 60, 4, 235, 6);
     EXPECT_EQ(scene.seeds(100, 60, 4).first, 0);
   }
-  {  // Surrounded by tissue nearly as bright (an annulus of 235 where the ring samples fall): tissue, not a seed.
+  {  // Hardly brighter than its surroundings (244 on tissue of 235 out to 40 px: 9 grey levels, less than half the
+     // headroom 255 - 235): bright tissue, not a seed, however view-dependent. Without the contrast test it is one.
+    // (A view tolerance below the spot's 9 grey levels, so that the view test would pass it.)
     SpotScene scene;
-    scene.paintSpot(100, 60, 4, 255, 6);
-    scene.paintAnnulus(100, 60, 7, 17, 235);
-    EXPECT_EQ(scene.seeds(100, 60, 4).first, 0);
+    scene.paintAnnulus(100, 60, 5, 40, 235);
+    scene.paintSpot(100, 60, 5, 244, 6);
+    StereoParameters tolerant;
+    tolerant.specularViewToleranceGrey = 5.0f;
+    EXPECT_EQ(scene.seeds(100, 60, 5, tolerant).first, 0);
+    StereoParameters noContrast = tolerant;
+    noContrast.specularMinContrastGrey = 0.0f;
+    EXPECT_GT(scene.seeds(100, 60, 5, noContrast).first, 0) << "the contrast test is what spared it";
   }
-  {  // Larger than the largest highlight (runs over 2 * 48 + 1 px): bright tissue, even where view-dependent.
+  {  // A saturated area wider than any highlight (110 px: the core reaches 48 px on both sides of its middle third):
+     // bright tissue there, even where matched with its twin. With a larger maximum radius the middle is seeded too.
     SpotScene scene;
     scene.paintRectangle({60, 10, 110, 100}, 255, 6);
-    EXPECT_EQ(scene.seeds(115, 60, 55).first, 0);
+    scene.matchTwins(115, 60, 40, 6);
+    const auto middleSeeds = [&](const StereoParameters& p) {
+      scene.seeds(115, 60, 0, p);
+      int count = 0;
+      for (int y = 15; y < 105; ++y)
+        for (int x = 60 + 48; x < 170 - 48; ++x) count += scene.leftSeeds.view().at(x, y) != kNoDisparity;
+      return count;
+    };
+    EXPECT_EQ(middleSeeds(StereoParameters{}), 0);
     StereoParameters larger;
     larger.specularMaxRadiusPx = 60;
-    EXPECT_GT(scene.seeds(115, 60, 55, larger).first, 0) << "the size test is what spared it";
+    EXPECT_GT(middleSeeds(larger), 0) << "the size test is what spared it";
   }
 }
 

@@ -8,8 +8,8 @@
 /// tissue is seen alike by both eyes and must keep its estimates. A pixel is a highlight seed when it is
 ///  1. bright: grey >= the tail level, minGrey - minContrastGrey;
 ///  2. part of a small saturated spot: the runs of tail-level pixels from it along its row and column (up to
-///     maxRadiusPx each way) reach a core pixel >= minGrey, and no core pixel maxRadiusPx away (a saturated area
-///     that large is bright tissue);
+///     maxRadiusPx each way) reach a core pixel >= minGrey, and the core does not reach maxRadiusPx on both sides
+///     along the row or the column (a saturated area that wide is bright tissue);
 ///  3. brighter than its surroundings: the spot's brightest pixel exceeds the mean of 8 ring samples by
 ///     minContrastGrey, or by half the headroom 255 - mean on bright tissue, where no highlight can stand out more;
 ///     the ring lies ringGapPx beyond the runs' farthest end (outside the matching windows that see the spot);
@@ -84,14 +84,19 @@ TM_HOST_DEVICE TM_FORCE_INLINE int16_t highlightSurroundings(ImageView<const flo
   // The bright runs through x along its row and column, up to maxRadiusPx each way: a core that reaches that far is
   // a saturated area larger than any highlight (bright tissue).
   float peak = grey;
-  int tailExtent = 0, coreExtent = 0;
+  int tailExtent = 0, coreExtent = 0, coreReach[4];
   for (int k = 0; k < 8; k += 2) {  // E, S, W, N
-    int dx, dy, length, farthestCore;
+    int dx, dy, length;
     radialDirection(k, dx, dy);
-    brightRun(image, x, y, dx, dy, tail, rule.minGrey, rule.maxRadiusPx, length, farthestCore, peak);
-    if (farthestCore >= rule.maxRadiusPx) return kNoDisparity;
+    brightRun(image, x, y, dx, dy, tail, rule.minGrey, rule.maxRadiusPx, length, coreReach[k / 2], peak);
     tailExtent = length > tailExtent ? length : tailExtent;
-    coreExtent = farthestCore > coreExtent ? farthestCore : coreExtent;
+    coreExtent = coreReach[k / 2] > coreExtent ? coreReach[k / 2] : coreExtent;
+  }
+  // A core that reaches maxRadiusPx on both sides along the row or the column: a saturated area wider than any
+  // highlight (bright tissue). One side alone is the rim of a highlight as wide as 2 maxRadiusPx.
+  const int far = rule.maxRadiusPx;
+  if ((coreReach[0] >= far && coreReach[2] >= far) || (coreReach[1] >= far && coreReach[3] >= far)) {
+    return kNoDisparity;
   }
   if (!(peak >= rule.minGrey)) return kNoDisparity;  // no saturated core: bright tissue
   // The ring: beyond the core and its tail, which is followed at most 2 gaps past the core (on bright tissue the

@@ -42,7 +42,7 @@ struct StereoParameters {
   // filling gives them the surrounding tissue's disparity.
   float specularMinGrey = 240.0f;          ///< seeds are at least this bright (256: highlight removal off)
   int specularMarginPx = 3;                ///< margin around the seeds, following their outline
-  int specularMaxRadiusPx = 48;            ///< larger bright spots (half the run along a row) are tissue
+  int specularMaxRadiusPx = 48;            ///< a saturated core this far on both sides of a pixel is tissue
   float specularMinContrastGrey = 40.0f;   ///< a seed is brighter than the mean of its surroundings by this much
   float specularViewToleranceGrey = 30.0f; ///< a seed is brighter than the other eye at its surroundings' match
 
