@@ -127,15 +127,9 @@ TM_HOST_DEVICE TM_FORCE_INLINE int16_t highlightSurroundings(ImageView<const flo
   if (count < 4) return kNoDisparity;
   if (sorted[(3 * count) / 4] - sorted[count / 4] > kHighlightMatchSlackPx + radius / 8) return kNoDisparity;
   const int surroundings = (sorted[(count - 1) / 2] + sorted[count / 2]) >> 1;
-  // The other eye sees the highlight too, near where it sees the tissue around it: a core pixel within the ring's
-  // radius of the match along the row. (A bright spot that only one eye sees is an occlusion, not a highlight.)
+  // (A highlight may sit so far apart in the two eyes that the other eye's twin lies outside any window here: its
+  // twin is not looked for. Seen by one eye only, it still disagrees with the other eye at the tissue's match.)
   const int xo = x + sign * surroundings;
-  bool twin = false;
-  for (int k = -radius; k <= radius && !twin; ++k) {
-    const int xx = xo + k;
-    twin = xx >= 0 && xx < other.width && other.at(xx, y) >= rule.minGrey;
-  }
-  if (!twin) return kNoDisparity;
   const int own = disparity.at(x, y);
   if (own != kNoDisparity && (own - surroundings > kHighlightMatchSlackPx || surroundings - own > kHighlightMatchSlackPx)) {
     return static_cast<int16_t>(surroundings);  // matched elsewhere than the tissue around it: with its twin
