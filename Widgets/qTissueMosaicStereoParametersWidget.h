@@ -5,7 +5,8 @@
 ///
 /// The panel shows one parameters object: its own, or, after setStereoLogic(), the logic's. Every edit is
 /// validated at once (StereoParameters::validate); an invalid combination (e.g. min disparity > max, an even
-/// window) is refused: the object keeps its last valid value and the panel shows the reason until it is fixed.
+/// window) is refused: the object keeps its last valid value, and the refused fields turn red with the reason
+/// under them until it is fixed. Spin boxes ignore the mouse wheel unless focused.
 /// Presets come from Resources/Presets/*.yml (compiled in as Qt resources).
 #include "Stereo/StereoParameters.h"
 
@@ -35,6 +36,9 @@ public:
   QStringList presetNames() const;
   /// The message shown for the last refused edit; empty when the panel is valid.
   QString errorText() const;
+  /// True while the spin boxes show values that were refused (marked red at the fields): the object still holds
+  /// its last valid values, so a scan would not use what is on screen.
+  bool hasRefusedValues() const;
   /// Shows or hides the preset, load and save controls (hidden when a larger panel offers its own).
   void setPresetControlsVisible(bool visible);
 
@@ -50,6 +54,8 @@ public slots:
 signals:
   /// The parameters object received new valid values from the panel.
   void parametersChanged();
+  /// hasRefusedValues() changed.
+  void validityChanged();
 
 protected:
   QScopedPointer<qTissueMosaicStereoParametersWidgetPrivate> d_ptr;

@@ -1,4 +1,7 @@
 #include "vtkTissueMosaicReconstructionLogic.h"
+
+#include "IO/Calibration/CalibrationFile.h"
+#include "vtkTissueMosaicDisparityColours.h"
 #include "vtkTissueMosaicRunCatching.h"
 
 #include "vtkTissueMosaicFrusta.h"
@@ -7,6 +10,7 @@
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/Stopwatch.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
@@ -87,6 +91,7 @@ void vtkTissueMosaicReconstructionLogic::LowerCurrentThreadPriority(int niceIncr
 /// What the worker hands over; guarded by Session::mutex. Every member is moved out by the owner.
 struct vtkTissueMosaicReconstructionLogic::Results {
   std::optional<ModelPoints> model;                 ///< set after each key frame: the whole current model
+  std::optional<tissuemosaic::ModelArrays> modelArrays;  ///< the same as VTK arrays, made on the worker
   std::optional<std::vector<KeyFramePose>> keyFrames;  ///< set after each key frame (poses may be refined)
   FrameRecords frames;                              ///< frames processed since the last hand-over
   cv::Mat left, right, disparityPx;                 ///< the latest frame (its own copies)
@@ -105,6 +110,7 @@ struct vtkTissueMosaicReconstructionLogic::Session {
   tissuemosaic::Device device = tissuemosaic::Device::Cpu;
   int maximumFrames = -1;
   int workerNiceIncrement = 0;
+  ScanObserver observer;
 
   std::mutex mutex;
   std::condition_variable wake;
@@ -112,6 +118,7 @@ struct vtkTissueMosaicReconstructionLogic::Session {
   bool stopRequested = false;   ///< guarded by mutex
   bool ended = false;           ///< guarded by mutex
   Results published;            ///< guarded by mutex
+  std::vector<tissuemosaic::ModelArrays> retired;  ///< guarded by mutex: replaced arrays, released by the worker
   std::atomic<int> state{StateRunning};
   std::thread thread;
 
@@ -123,11 +130,12 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
   lowerThisThreadsPriority(workerNiceIncrement);
   std::string errorText;
   int endState = StateFinished;
+  std::unique_ptr<ReconstructionPipeline> pipeline;
+  double lastTimeS = 0;
   const bool ranToEnd = runCatching(
       [&] {
-        std::unique_ptr<ReconstructionPipeline> pipeline =
-            geometry ? std::make_unique<ReconstructionPipeline>(*geometry, parameters, device)
-                     : std::make_unique<ReconstructionPipeline>(*calibration, parameters, device);
+        pipeline = geometry ? std::make_unique<ReconstructionPipeline>(*geometry, parameters, device)
+                            : std::make_unique<ReconstructionPipeline>(*calibration, parameters, device);
         {
           const std::lock_guard<std::mutex> lock(mutex);
           published.geometry = pipeline->geometry();
@@ -148,16 +156,25 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           if (maximumFrames >= 0 && processed >= maximumFrames) return;
           const Clock::time_point start = Clock::now();
           tissuemosaic::StereoFrame frame;
-          if (!source->next(frame)) return;
+          if (!source->next(frame)) {
+            const std::lock_guard<std::mutex> lock(mutex);
+            if (stopRequested) endState = StateStopped;  // a live source's wait was interrupted
+            return;
+          }
           const double readingMs = tissuemosaic::millisecondsSince(start);
           FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
           result.timesMs.videoReading += readingMs;  // the pipeline counts its rectification here
           result.timesMs.total += readingMs;  // the paper's total includes reading the video
+          lastTimeS = frame.timeS;
+          if (observer.frameProcessed) observer.frameProcessed(result, frame.timeS, *pipeline);
 
           std::optional<ModelPoints> model;
+          std::optional<tissuemosaic::ModelArrays> modelArrays;
           std::optional<std::vector<KeyFramePose>> keyFrames;
           if (result.keyFrame) {  // the model only changes at key frames
             model = pipeline->modelSnapshot();
+            // Double buffering: the owner swaps these in without touching the model's memory.
+            modelArrays = tissuemosaic::makeModelArrays(model->cloud);
             keyFrames = pipeline->keyFrames();
           }
           FrameRecord record;
@@ -178,8 +195,11 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           recentFrameEnds.push_back(end);
           if (recentFrameEnds.size() > 30) recentFrameEnds.pop_front();
 
+          std::vector<tissuemosaic::ModelArrays> released;  // freed after the lock, on this thread
           const std::lock_guard<std::mutex> lock(mutex);
+          released.swap(retired);
           if (model) published.model = std::move(model);
+          if (modelArrays) published.modelArrays = std::move(modelArrays);
           if (keyFrames) published.keyFrames = std::move(keyFrames);
           published.left = left;
           published.right = right;
@@ -205,6 +225,17 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
         }
       },
       errorText);
+  if (observer.scanEnded) {
+    std::string ignored;
+    runCatching(
+        [&] {
+          const bool any = pipeline && pipeline->frameCount() > 0;
+          const ModelPoints model = any ? pipeline->modelSnapshot() : ModelPoints{};
+          observer.scanEnded(any ? &model : nullptr, lastTimeS,
+                             !ranToEnd ? "failed: " + errorText : endState == StateStopped ? "stopped" : "finished");
+        },
+        ignored);
+  }
   publishEnd(ranToEnd ? endState : StateFailed, errorText);
 }
 
@@ -328,6 +359,7 @@ bool vtkTissueMosaicReconstructionLogic::SetFrameSourceFactory(const FrameSource
   this->SourceFactory = nullptr;
   this->InputDescription.clear();
   this->InputFrameCount = 0;
+  this->InputFrameSize = cv::Size();
   if (!factory) return this->Fail("no frame source");
   std::unique_ptr<StereoFrameSource> source;
   if (!runCatching([&] { source = factory(); }, this->LastErrorText)) return false;
@@ -335,6 +367,7 @@ bool vtkTissueMosaicReconstructionLogic::SetFrameSourceFactory(const FrameSource
   this->SourceFactory = factory;
   this->InputDescription = source->description();
   this->InputFrameCount = source->frameCount();
+  this->InputFrameSize = source->frameSize();
   this->Modified();
   return true;
 }
@@ -350,18 +383,27 @@ bool vtkTissueMosaicReconstructionLogic::OpenVideoPair(const std::string& leftVi
 }
 
 bool vtkTissueMosaicReconstructionLogic::OpenSideBySideVideo(const std::string& video) {
-  return this->SetFrameSourceFactory([=] { return StereoFrameSource::openSideBySideVideo(video); });
+  return this->OpenStereoVideo(video, tissuemosaic::VideoLayout::SideBySide);
+}
+
+bool vtkTissueMosaicReconstructionLogic::OpenStereoVideo(const std::string& video, tissuemosaic::VideoLayout layout) {
+  return this->SetFrameSourceFactory([=] { return StereoFrameSource::openStereoVideo(video, layout); });
 }
 
 bool vtkTissueMosaicReconstructionLogic::LoadCalibration(const std::string& path) {
+  return this->LoadCalibrationFiles({path});
+}
+
+bool vtkTissueMosaicReconstructionLogic::LoadCalibrationFiles(const std::vector<std::string>& paths) {
   tissuemosaic::StereoCalibration calibration;
   const bool loaded = runCatching(
       [&] {
-        calibration = tissuemosaic::StereoCalibration::read(path);
-        const tissuemosaic::StereoRectifier check(calibration);  // refuses rigs that cannot be rectified, now
+        calibration = tissuemosaic::readCalibrationFiles(paths).calibration;
+        // Refuses rigs that cannot be rectified, now; a file without image size is checked with the frames.
+        if (!calibration.imageSize.empty()) const tissuemosaic::StereoRectifier check(calibration);
       },
       this->LastErrorText);
-  if (!loaded) return this->Fail(path + ": " + this->LastErrorText);
+  if (!loaded) return this->Fail(this->LastErrorText);
   this->SetCalibration(calibration);
   return true;
 }
@@ -395,10 +437,27 @@ std::string vtkTissueMosaicReconstructionLogic::GetInputDescription() const { re
 
 int vtkTissueMosaicReconstructionLogic::GetInputFrameCount() const { return this->InputFrameCount; }
 
+std::string vtkTissueMosaicReconstructionLogic::GetStartProblem() const {
+  if (this->Current) return std::string();  // Start() resumes or says why it cannot
+  if (!this->HasInput()) return "no input: open a video, two frame folders or the demo";
+  if (!this->HasCalibration()) return "no calibration: load the stereo calibration of the video";
+  const cv::Size expected = this->Geometry ? this->Geometry->imageSize : this->Calibration->imageSize;
+  if (this->InputFrameSize.area() > 0 && this->InputFrameSize != expected) {
+    return "the calibration is for " + std::to_string(expected.width) + "x" + std::to_string(expected.height) +
+           " px but the frames are " + std::to_string(this->InputFrameSize.width) + "x" +
+           std::to_string(this->InputFrameSize.height) + " px: load the calibration of this video";
+  }
+  return std::string();
+}
+
+const tissuemosaic::RectifiedGeometry* vtkTissueMosaicReconstructionLogic::GetScanGeometry() const {
+  return this->Owned->geometry ? &*this->Owned->geometry : nullptr;
+}
+
 bool vtkTissueMosaicReconstructionLogic::CheckFrameSize(StereoFrameSource& source) {
   const cv::Size expected = this->Geometry ? this->Geometry->imageSize : this->Calibration->imageSize;
   const cv::Size frames = source.frameSize();
-  if (frames == expected) return true;
+  if (frames == expected || expected.empty()) return true;
   return this->Fail("the frames are " + std::to_string(frames.width) + "x" + std::to_string(frames.height) +
                     " px but the calibration is for " + std::to_string(expected.width) + "x" +
                     std::to_string(expected.height) + " px");
@@ -450,16 +509,21 @@ bool vtkTissueMosaicReconstructionLogic::Start() {
         tissuemosaic::require(session->source != nullptr, "the input could not be opened");
         if (this->Geometry) {
           session->geometry = *this->Geometry;
-        } else if (this->InputRectified) {
-          session->geometry = tissuemosaic::StereoRectifier(*this->Calibration).geometry();
         } else {
-          session->calibration = *this->Calibration;
+          tissuemosaic::StereoCalibration calibration = *this->Calibration;  // the frames give a missing size
+          calibration.adoptFrameSize(session->source->frameSize(), session->source->description());
+          if (this->InputRectified) {
+            session->geometry = tissuemosaic::StereoRectifier(calibration).geometry();
+          } else {
+            session->calibration = calibration;
+          }
         }
       },
       this->LastErrorText);
   if (!prepared || !this->CheckFrameSize(*session->source)) return false;
   session->parameters = this->Parameters;
   session->maximumFrames = this->MaximumFrames;
+  session->observer = this->Observer;
   session->workerNiceIncrement = this->WorkerNiceIncrement;
   session->published.status.state = StateRunning;
   session->published.status.framesInInput = this->InputFrameCount;
@@ -491,6 +555,8 @@ void vtkTissueMosaicReconstructionLogic::Stop() {
     this->Current->stopRequested = true;
   }
   this->Current->wake.notify_all();
+  // A live source may be waiting for its next frame: end the wait (the source is thread-safe for this).
+  if (this->Current->source) this->Current->source->interrupt();
   this->Modified();
 }
 
@@ -555,6 +621,8 @@ bool vtkTissueMosaicReconstructionLogic::UpdateOutputs() {
     Results& published = this->Current->published;
     taken.model = std::move(published.model);
     published.model.reset();
+    taken.modelArrays = std::move(published.modelArrays);
+    published.modelArrays.reset();
     taken.keyFrames = std::move(published.keyFrames);
     published.keyFrames.reset();
     taken.frames.swap(published.frames);
@@ -580,7 +648,14 @@ bool vtkTissueMosaicReconstructionLogic::UpdateOutputs() {
   }
   if (taken.model) {
     owned.model = std::move(taken.model);
-    tissuemosaic::updateGrowingModel(this->Model, owned.model->cloud);
+    if (taken.modelArrays) {
+      // Constant time; the arrays replaced go back to the worker, which frees them.
+      tissuemosaic::ModelArrays replaced = tissuemosaic::swapModelArrays(this->Model, std::move(*taken.modelArrays));
+      const std::lock_guard<std::mutex> lock(this->Current->mutex);
+      this->Current->retired.push_back(std::move(replaced));
+    } else {
+      tissuemosaic::updateGrowingModel(this->Model, owned.model->cloud);
+    }
   }
   const bool newKeyFrames = static_cast<bool>(taken.keyFrames);
   if (newKeyFrames) owned.keyFrames = std::move(taken.keyFrames);
@@ -628,17 +703,11 @@ vtkPolyData* vtkTissueMosaicReconstructionLogic::GetCurrentFrustum() { return th
 vtkPolyData* vtkTissueMosaicReconstructionLogic::GetTrajectory() { return this->Trajectory; }
 
 cv::Mat vtkTissueMosaicReconstructionLogic::GetDisparityColorImage() const {
-  if (this->DisparityPx.empty()) return cv::Mat();
   // Colours spread over this frame's disparities (the search range is usually much wider than the scene's).
-  const cv::Mat valid = this->DisparityPx == this->DisparityPx;  // NaN compares unequal to itself
-  double low = this->Parameters.stereo.minDisparityPx, high = this->Parameters.stereo.maxDisparityPx;
-  if (cv::countNonZero(valid) > 0) cv::minMaxLoc(this->DisparityPx, &low, &high, nullptr, nullptr, valid);
-  cv::Mat scaled;
-  this->DisparityPx.convertTo(scaled, CV_8U, 255.0 / std::max(high - low, 1.0), -low * 255.0 / std::max(high - low, 1.0));
-  cv::Mat colour;
-  cv::applyColorMap(scaled, colour, cv::COLORMAP_TURBO);
-  colour.setTo(cv::Scalar::all(0), ~valid);
-  return colour;
+  tissuemosaic::DisparityColouring colouring;
+  tissuemosaic::colourDisparity(this->DisparityPx, this->Parameters.stereo.minDisparityPx,
+                                this->Parameters.stereo.maxDisparityPx, colouring);
+  return colouring.bgr;
 }
 
 std::string vtkTissueMosaicReconstructionLogic::GetTrackingStateText() const {

@@ -1,5 +1,5 @@
 // tissuemosaic synth scan: writes a synthetic scanning video with its calibration and ground truth.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "SyntheticScan.h"
 
@@ -7,13 +7,12 @@
 
 #include <chrono>
 #include <iostream>
+#include <memory>
 
 namespace tissuemosaic::cli {
 
 namespace {
-const char* const help = R"(usage: tissuemosaic synth scan --out DIR [options]
-
-Renders a synthetic stereo-endoscope video that scans liver-like tissue along a smooth lawn-mower path
+const char* const details = R"(Renders a synthetic stereo-endoscope video that scans liver-like tissue along a smooth lawn-mower path
 (60-120 mm from the tissue, 3-30 mm/s at 30 fps, gentle tilt and roll, low-texture stretches) and writes
   DIR/left/000000.png ...              RECTIFIED left frames (track them with --rectified)
   DIR/right/000000.png ...             RECTIFIED right frames
@@ -27,57 +26,28 @@ Renders a synthetic stereo-endoscope video that scans liver-like tissue along a 
   DIR/groundtruth/highlight_mask_left_000000.png ...
                                        left rectified view: 255 where a specular highlight raises the grey level
                                        by 10 or more, 0 elsewhere
-The world frame has the tissue at Z = h(X, Y), +Z into the tissue.
+--lighting realistic: the light's look of `synth pair --lighting realistic` (bright, partly saturated tissue, wet
+glints, clipping); standard is the default.
+The world frame has the tissue at Z = h(X, Y), +Z into the tissue.)";
 
-options:
-  --frames N               number of frames (default 120)
-  --seed S                 random scene and path (default 1); the same seed gives identical files
-  --width W --height H     image size (default 960 x 540)
-  --fps F                  frame rate (default 30)
-  --min-distance MM        nearest working distance along the optical axis (default 70)
-  --max-distance MM        farthest working distance (default 100)
-  --min-speed MM_S         slowest scope speed (default 6)
-  --max-speed MM_S         fastest scope speed (default 20)
-  --noise GREY             sensor read noise in grey levels (default 1.5)
-  --supersampling N        N x N rays per pixel (default 2)
-  --lighting standard|realistic
-                           the light's look (default standard: small white highlights on darker tissue).
-                           realistic: the light at the scope tip with inverse-square fall-off exposed so that
-                           near pale tissue is bright and partly saturated, wet tissue whose highlights break
-                           into glints that sit on different surface points in each eye, sensor clipping at 255
-)";
+struct SynthScanOptions {
+  std::string out;
+  synthetic::SyntheticScanOptions scan;
+  int seed = static_cast<int>(synthetic::SyntheticScanOptions{}.seed);
+  std::string lighting = "standard";
+};
 
 void printProgress(int frame, int frames) {
   std::cerr << "\rrendered frame " << frame << " / " << frames << std::flush;
   if (frame == frames) std::cerr << "\n";
 }
-}  // namespace
 
-int runSynthScan(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly({"out", "frames", "seed", "width", "height", "fps", "min-distance", "max-distance", "min-speed",
-                       "max-speed", "noise", "supersampling", "lighting"});
-  const std::string out = arguments.required("out");
-  synthetic::SyntheticScanOptions options;
-  const int seed = arguments.integer("seed", static_cast<int>(options.seed));
-  require(seed >= 0, "--seed must be a non-negative integer");
-  options.seed = static_cast<uint32_t>(seed);
-  options.frames = arguments.integer("frames", options.frames);
-  options.width = arguments.integer("width", options.width);
-  options.height = arguments.integer("height", options.height);
-  options.fps = arguments.number("fps", options.fps);
-  options.minWorkingDistanceMm = arguments.number("min-distance", options.minWorkingDistanceMm);
-  options.maxWorkingDistanceMm = arguments.number("max-distance", options.maxWorkingDistanceMm);
-  options.minSpeedMmPerS = arguments.number("min-speed", options.minSpeedMmPerS);
-  options.maxSpeedMmPerS = arguments.number("max-speed", options.maxSpeedMmPerS);
-  options.noiseStdGrey = arguments.number("noise", options.noiseStdGrey);
-  options.supersampling = arguments.integer("supersampling", options.supersampling);
-  options.lighting = synthetic::parseSyntheticLighting(arguments.text("lighting", "standard"));
-
+void runSynthScan(const SynthScanOptions& given) {
+  require(given.seed >= 0, "--seed must be a non-negative integer");
+  synthetic::SyntheticScanOptions options = given.scan;
+  options.seed = static_cast<uint32_t>(given.seed);
+  options.lighting = synthetic::parseSyntheticLighting(given.lighting);
+  const std::string& out = given.out;
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScan scan(options);
   const int written = synthetic::writeSyntheticScan(scan, out, printProgress);
@@ -89,11 +59,37 @@ int runSynthScan(const Words& words) {
             << domain.height << " mm\n"
             << "wrote " << written << " files under " << out << " in " << cv::format("%.1f", seconds) << " s\n"
             << "  left/, right/       RECTIFIED frames (use `tissuemosaic track --rectified`)\n"
-            << "  rig.yml             unrectified rig calibration\n"
+            << "  rig.yml             unrectified rig calibration; the frames' rectified geometry is\n"
+            << "                      " << geometryOptionsText(scan.geometry()) << "\n"
             << "  groundtruth/        trajectory.txt (TUM, T_world_camera of the left rectified camera, mm),\n"
-            << "                      surface.ply (world frame mesh, mm), depth_NNNNNN.pfm (mm),\n"
-            << "                      highlight_mask_left_NNNNNN.png (255 on specular highlights)\n";
-  return 0;
+            << "                      surface.ply (world frame mesh, mm), depth_NNNNNN.pfm (mm)\n";
+}
+
+}  // namespace
+
+void setupSynthScan(CLI::App& synth) {
+  auto options = std::make_shared<SynthScanOptions>();
+  CLI::App* command = addCommand(synth, "scan", "a synthetic scanning video (rectified frames) with trajectory, "
+                                               "surface and depth ground truth", details);
+  synthetic::SyntheticScanOptions& scan = options->scan;
+  command->add_option("--out", options->out, "output folder (created)")->required()->type_name("DIR")
+      ->group(heading::output);
+  const auto add = [&](const std::string& name, auto& value, const std::string& description) {
+    command->add_option(name, value, description)->capture_default_str()->group(heading::options);
+  };
+  add("--frames", scan.frames, "number of frames");
+  add("--seed", options->seed, "random scene and path; the same seed gives identical files");
+  addImageSizeOptions(*command, scan.width, scan.height);
+  add("--fps", scan.fps, "frame rate");
+  add("--min-distance", scan.minWorkingDistanceMm, "nearest working distance along the optical axis, mm");
+  add("--max-distance", scan.maxWorkingDistanceMm, "farthest working distance, mm");
+  add("--min-speed", scan.minSpeedMmPerS, "slowest scope speed, mm/s");
+  add("--max-speed", scan.maxSpeedMmPerS, "fastest scope speed, mm/s");
+  add("--noise", scan.noiseStdGrey, "sensor read noise in grey levels");
+  add("--supersampling", scan.supersampling, "N x N rays per pixel");
+  add("--lighting", options->lighting, "the light's look: standard or realistic");
+  command->get_option("--lighting")->type_name("standard|realistic");
+  command->callback([options] { runSynthScan(*options); });
 }
 
 }  // namespace tissuemosaic::cli

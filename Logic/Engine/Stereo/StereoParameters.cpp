@@ -158,10 +158,14 @@ StereoParameters StereoParameters::readFile(const std::string& path) {
   try {
     storage.open(path, cv::FileStorage::READ);
   } catch (const cv::Exception& error) {
-    throw Error("cannot parse parameters file '" + path + "': " + error.what());
+    throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file (" + error.err + ")");
   }
-  if (!storage.isOpened()) throw Error("cannot open parameters file '" + path + "'");
-  return read(storage["stereo"]);
+  if (!storage.isOpened()) throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file");
+  try {
+    return read(storage["stereo"]);
+  } catch (const cv::Exception& error) {
+    throw Error("parameters file '" + path + "': a value has the wrong type (" + error.err + ")");
+  }
 }
 
 void StereoParameters::writeFile(const std::string& path) const {

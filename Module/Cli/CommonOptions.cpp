@@ -1,0 +1,204 @@
+#include "CommonOptions.h"
+#include "Commands.h"
+
+#include "Core/Error.h"
+#include "Core/RectifiedGeometryFromPinhole.h"
+#include "IO/Calibration/CalibrationFile.h"
+#include "Stereo/StereoParameters.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+namespace tissuemosaic::cli {
+
+CLI::App* addCommand(CLI::App& parent, const std::string& name, const std::string& summary,
+                     const std::string& details) {
+  CLI::App* command = parent.add_subcommand(name, summary);
+  command->footer(details);
+  return command;
+}
+
+CLI::Validator positiveNumber(const std::string& unit) {
+  return CLI::Validator(
+      [unit](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "";  // not a number at all: the conversion says so
+        if (value > 0 && std::isfinite(value)) return "";
+        return "must be a positive number" + (unit.empty() ? std::string() : " " + unit) + ", got '" + text + "'";
+      },
+      "");
+}
+
+void addInputOptions(CLI::App& command, InputOptions& input) {
+  CLI::Option* leftFrames = command.add_option("--left-frames", input.leftFrames,
+                                               "left frames (PNG/JPEG/BMP/TIFF..., taken in file-name order)");
+  CLI::Option* rightFrames = command.add_option("--right-frames", input.rightFrames,
+                                                "right frames, as many as left ones, paired in file-name order");
+  CLI::Option* leftVideo = command.add_option(
+      "--left-video", input.leftVideo, "left video: a file, a V4L2 device (/dev/videoN) or a GStreamer pipeline ending "
+                                       "in appsink (live: the newest frame first, docs/INPUT.md)");
+  CLI::Option* rightVideo = command.add_option("--right-video", input.rightVideo,
+                                               "right video, in lock step (files) or its newest frame (live)");
+  CLI::Option* video = command.add_option("--video", input.video, "one 3D video with both eyes in each frame (a file, "
+                                                                  "device or pipeline as above)");
+  CLI::Option* layout =
+      command.add_option("--video-layout", input.videoLayout,
+                         "how --video or --igtl-sbs packs the eyes: side by side, squeezed side by side, top bottom, "
+                         "squeezed top bottom, row-interlaced (even rows left)")
+          ->check(CLI::IsMember({"sbs", "sbs-half", "tb", "tb-half", "rows"}))
+          ->type_name("LAYOUT")
+          ->capture_default_str();
+  CLI::Option* igtlInput = command.add_option("--igtl-input", input.igtlInput,
+                                              "IMAGE messages from an OpenIGTLink server such as PLUS "
+                                              "(docs/OPENIGTLINK.md)");
+  CLI::Option* igtlLeft = command.add_option("--igtl-left", input.igtlLeft, "... the left eye's IMAGE device name");
+  CLI::Option* igtlRight = command.add_option("--igtl-right", input.igtlRight,
+                                              "... the right eye's, paired with the left by time stamp");
+  CLI::Option* igtlSbs = command.add_option("--igtl-sbs", input.igtlSbs,
+                                            "... or one IMAGE stream with both eyes (--video-layout)");
+  igtlInput->type_name("HOST:PORT");
+  igtlLeft->type_name("NAME")->needs(igtlInput)->needs(igtlRight);
+  igtlRight->type_name("NAME")->needs(igtlInput)->needs(igtlLeft);
+  igtlSbs->type_name("NAME")->needs(igtlInput)->excludes(igtlLeft)->excludes(igtlRight);
+  leftFrames->type_name("DIR")->needs(rightFrames);
+  rightFrames->type_name("DIR")->needs(leftFrames);
+  leftVideo->type_name("FILE")->needs(rightVideo);
+  rightVideo->type_name("FILE")->needs(leftVideo);
+  video->type_name("FILE");
+  command.add_option("--fps", input.fps, "frame rate of frame folders, for their time stamps (videos carry their own)")
+      ->check(positiveNumber("of frames per second"))
+      ->capture_default_str();
+  for (CLI::Option* option :
+       {leftFrames, rightFrames, leftVideo, rightVideo, video, layout, igtlInput, igtlLeft, igtlRight, igtlSbs})
+    option->group(heading::input);
+  command.get_option("--fps")->group(heading::input);
+}
+
+bool GeometryOptions::given() const { return !calib.empty() || focalPx || baselineMm; }
+
+void addGeometryOptions(CLI::App& command, GeometryOptions& geometry) {
+  CLI::Option* calib = command.add_option(
+      "--calib", geometry.calib,
+      "calibration of the unrectified rig, recognised by its keys (docs/CALIBRATION.md: OpenCV, stereo_calib / SCARED "
+      "/ SurgT, ROS camera_info, Kalibr, MATLAB): frames are rectified with it; without an image size the frames give "
+      "it");
+  CLI::Option* extrinsics = command.add_option(
+      "--calib-extrinsics", geometry.calibExtrinsics,
+      "with --calib intrinsics.yml: the stereo_calib sample's extrinsics.yml (R T)");
+  CLI::Option* right = command.add_option("--calib-right", geometry.calibRight,
+                                          "ROS camera_info: --calib is the left eye's file, this the right eye's");
+  extrinsics->type_name("FILE")->needs(calib)->excludes(right);
+  right->type_name("FILE")->needs(calib);
+  CLI::Option* rectified = command.add_flag(
+      "--rectified", geometry.rectified,
+      "with --calib: the frames are already rectified as StereoRectifier makes them from it (e.g. synth scan's)");
+  CLI::Option* focal = command.add_option("--focal-px", geometry.focalPx,
+                                          "rectified frames without a calibration: focal length in pixels");
+  CLI::Option* baseline = command.add_option("--baseline-mm", geometry.baselineMm, "... and baseline in mm");
+  CLI::Option* cx = command.add_option("--cx-px", geometry.cxPx, "... left principal point x (default: image centre)");
+  CLI::Option* cy = command.add_option("--cy-px", geometry.cyPx, "... principal point y (default: image centre)");
+  CLI::Option* doffs = command.add_option("--doffs-px", geometry.doffsPx,
+                                          "... cx_right - cx_left (default 0): depth = f B / (d + doffs)");
+  calib->type_name("FILE");
+  rectified->needs(calib);
+  focal->check(positiveNumber("of pixels"))->needs(baseline);
+  baseline->check(positiveNumber("of mm"))->needs(focal);
+  for (CLI::Option* option : {cx, cy, doffs}) option->needs(focal);
+  calib->excludes(focal)->excludes(baseline);
+  for (CLI::Option* option : {calib, extrinsics, right, rectified, focal, baseline, cx, cy, doffs})
+    option->group(heading::geometry);
+}
+
+StereoGeometry resolveGeometry(const GeometryOptions& options, const cv::Size& frameSize,
+                               const std::string& framesDescription) {
+  StereoGeometry geometry;
+  if (!options.calib.empty()) {
+    const CalibrationFileContent content =
+        readCalibrationFiles(CalibrationFiles{options.calib, options.calibExtrinsics, options.calibRight});
+    StereoCalibration calibration = content.calibration;
+    geometry.calibrationLayout = content.layout;
+    geometry.imageSizeFromFrames = calibration.imageSize.empty();
+    calibration.adoptFrameSize(frameSize, framesDescription);
+    auto rectifier = std::make_shared<const StereoRectifier>(calibration);
+    geometry.rectified = rectifier->geometry();
+    geometry.calibration = calibration;
+    if (!options.rectified) geometry.rectifier = rectifier;
+    return geometry;
+  }
+  if (!options.focalPx) {
+    throw UsageError("give the geometry: --calib rig.yml, or --focal-px and --baseline-mm for rectified frames");
+  }
+  const double unset = std::numeric_limits<double>::quiet_NaN();  // the image centre
+  geometry.rectified = rectifiedGeometryFromPinhole(frameSize, *options.focalPx, *options.baselineMm,
+                                                    options.cxPx.value_or(unset), options.cyPx.value_or(unset),
+                                                    options.doffsPx.value_or(0.0));
+  return geometry;
+}
+
+std::string geometryOptionsText(const RectifiedGeometry& geometry) {
+  return cv::format("--focal-px %.17g --baseline-mm %.17g --cx-px %.17g --cy-px %.17g --doffs-px %.17g",
+                    geometry.focalPx, geometry.baselineMm, geometry.cxLeftPx, geometry.cyPx, geometry.doffsPx);
+}
+
+void addDeviceOption(CLI::App& command, DeviceOption& device, const std::string& description) {
+  command.add_option("--device", device.name, description + " (default auto: CUDA when usable, else the CPU)")
+      ->type_name("cpu|cuda|auto")
+      ->group(heading::common);
+}
+
+void addParamsOption(CLI::App& command, std::optional<std::string>& path, const std::string& nodes) {
+  command
+      .add_option("--params", path,
+                  "parameters file (OpenCV YAML/XML; nodes " + nodes + "; missing keys keep the paper's defaults)")
+      ->type_name("p.yml")
+      ->group(heading::common);
+}
+
+void DisparityRangeOptions::applyTo(StereoParameters& parameters) const {
+  if (minPx) parameters.minDisparityPx = *minPx;
+  if (maxPx) parameters.maxDisparityPx = *maxPx;
+}
+
+void addDisparityRangeOptions(CLI::App& command, DisparityRangeOptions& range) {
+  const StereoParameters defaults;
+  command.add_option("--min-disparity", range.minPx,
+                     "smallest candidate disparity in px (default: the parameters file's, else " +
+                         std::to_string(defaults.minDisparityPx) + ")")
+      ->group(heading::disparityRange);
+  command.add_option("--max-disparity", range.maxPx,
+                     "largest candidate disparity in px, inclusive (default: the parameters file's, else " +
+                         std::to_string(defaults.maxDisparityPx) + ")")
+      ->group(heading::disparityRange);
+}
+
+void addQuietFlag(CLI::App& command, bool& quiet, const std::string& description) {
+  command.add_flag("--quiet", quiet, description)->group(heading::common);
+}
+
+void addImageSizeOptions(CLI::App& command, int& width, int& height) {
+  command.add_option("--width", width, "image width in pixels")->capture_default_str()->group(heading::options);
+  command.add_option("--height", height, "image height in pixels")->capture_default_str()->group(heading::options);
+}
+
+void addBenchDisparitiesOption(CLI::App& command, std::optional<int>& disparities) {
+  command.add_option("--disparities", disparities,
+                     "disparities searched (default: the paper's 101, -20..80 px, scaled by width / 960)")
+      ->check(CLI::Range(2, 1024))
+      ->group(heading::options);
+}
+
+void applyBenchDisparityRange(StereoParameters& parameters, int widthPx, const std::optional<int>& disparities,
+                              bool fromParametersFile) {
+  if (fromParametersFile && !disparities) return;
+  const double scale = widthPx / 960.0;  // the synthetic scene's focal length grows with the width
+  const StereoParameters paper;
+  if (!fromParametersFile) {
+    parameters.minDisparityPx = static_cast<int>(std::lround(paper.minDisparityPx * scale));
+    parameters.maxDisparityPx = static_cast<int>(std::lround(paper.maxDisparityPx * scale));
+  }
+  if (disparities) parameters.maxDisparityPx = parameters.minDisparityPx + *disparities - 1;
+}
+
+}  // namespace tissuemosaic::cli
