@@ -2,6 +2,7 @@
 
 #include "qTissueMosaicMessageLine.h"
 #include "qTissueMosaicReconstructionParametersWidget.h"
+#include "qTissueMosaicStereoParametersWidget.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
 
 #include <vtkNew.h>
@@ -72,6 +73,7 @@ public:
   qTissueMosaicMessageLine* inputMessage = nullptr;
   qTissueMosaicMessageLine* scanMessage = nullptr;
   qTissueMosaicMessageLine* exportMessage = nullptr;
+  QLabel* disparityRangeLabel = nullptr;
   QGroupBox* parametersBox = nullptr;
   QCheckBox* rectifiedCheckBox = nullptr;
   QComboBox* layoutComboBox = nullptr;
@@ -161,12 +163,18 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   stateLabel->setObjectName("stateLabel");
   stateLabel->setWordWrap(true);
   scanLayout->addWidget(stateLabel, 1, 0, 1, 4);
+  disparityRangeLabel = new QLabel(q);
+  disparityRangeLabel->setObjectName("disparityRangeLabel");
+  disparityRangeLabel->setWordWrap(true);
+  disparityRangeLabel->setToolTip(QObject::tr("The stereo matcher's disparity range and how it was chosen (the "
+                                              "parameters' Disparity range)"));
+  scanLayout->addWidget(disparityRangeLabel, 2, 0, 1, 4);
   startProblemLabel = new qTissueMosaicMessageLine(q);
   startProblemLabel->setObjectName("startProblemLabel");
-  scanLayout->addWidget(startProblemLabel, 2, 0, 1, 4);
+  scanLayout->addWidget(startProblemLabel, 3, 0, 1, 4);
   scanMessage = new qTissueMosaicMessageLine(q);
   scanMessage->setObjectName("scanMessage");
-  scanLayout->addWidget(scanMessage, 3, 0, 1, 4);
+  scanLayout->addWidget(scanMessage, 4, 0, 1, 4);
   layout->addWidget(scanBox);
 
   auto* exportBox = new QGroupBox(QObject::tr("Export"), q);
@@ -211,6 +219,8 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   parameters = new qTissueMosaicReconstructionParametersWidget(q);
   parameters->setObjectName("reconstructionParametersPanel");
   parameters->setReconstructionLogic(logic);
+  QObject::connect(parameters, &qTissueMosaicReconstructionParametersWidget::parametersChanged, q,
+                   [this] { updateControls(); });  // the disparity range line says what the parameters ask for
   parametersLayout->addWidget(parameters);
   layout->addWidget(parametersBox);
   layout->addStretch(1);
@@ -345,6 +355,11 @@ void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
                                     : QObject::tr("; calibrated");
   inputLabel->setText(input);
   stateLabel->setText(QString::fromStdString(logic->GetTrackingStateText()));
+  disparityRangeLabel->setText(
+      QObject::tr("Disparities: %1").arg(QString::fromStdString(logic->GetDisparityRangeText())));
+  tissuemosaic::RectifiedGeometry geometry;
+  const bool known = logic->GetRectifiedGeometry(geometry);
+  parameters->stereoPanel()->setRigGeometry(known ? &geometry : nullptr);
 }
 
 void qTissueMosaicReconstructionWidgetPrivate::updateTimingTable() {

@@ -5,6 +5,8 @@
 #include "qTissueMosaicWheelGuard.h"
 #include "vtkTissueMosaicStereoLogic.h"
 
+#include "Stereo/DisparityRange.h"
+
 #include <vtkSmartPointer.h>
 
 #include <QComboBox>
@@ -17,8 +19,10 @@
 #include <QVBoxLayout>
 
 #include <algorithm>
+#include <exception>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <vector>
 
 namespace {
@@ -27,9 +31,10 @@ using tissuemosaic::StereoMethod;
 using tissuemosaic::StereoParameters;
 namespace widgets = tissuemosaic::widgets;
 
-/// Matching: what both methods use; Zncc, Outliers and Refinement: the paper's method (section II); AdCensus: the
-/// optional second method. The groups of the method not chosen are disabled.
-enum Group { Matching, Zncc, Outliers, Refinement, AdCensus, GroupCount };
+/// Range: the disparity range (both methods); Matching: what else both methods use; Zncc, Outliers and Refinement:
+/// the paper's method (section II); AdCensus: the optional second method. The groups of the method not chosen are
+/// disabled.
+enum Group { Range, Matching, Zncc, Outliers, Refinement, AdCensus, GroupCount };
 
 using Field = widgets::ParameterField<StereoParameters>;
 
@@ -38,12 +43,20 @@ using Field = widgets::ParameterField<StereoParameters>;
 /// with its message, shown at the fields.
 const std::vector<Field>& fields() {
   static const std::vector<Field> table = {
-    {"minDisparityPx", "Min disparity", Matching, TM_PARAMETER_FIELD(StereoParameters, minDisparityPx), -1000, 1000, 1, 0, " px",
-     "Smallest candidate disparity (a left pixel x matches right pixel x - d). Paper IV: candidates from -20 to "
-     "80 px. Must not exceed the max disparity; at most 1024 candidates."},
-    {"maxDisparityPx", "Max disparity", Matching, TM_PARAMETER_FIELD(StereoParameters, maxDisparityPx), -1000, 1000, 1, 0, " px",
-     "Largest candidate disparity, inclusive. Paper IV: 80 px (range -20..80). The matching cost grows with the "
-     "number of candidates."},
+    {"minDisparityPx", "Min disparity", Range, TM_PARAMETER_FIELD(StereoParameters, minDisparityPx), -1000, 1000, 1, 0, " px",
+     "Smallest candidate disparity (a left pixel x matches right pixel x - d) of a fixed range; editing it fixes "
+     "the range. Paper IV: candidates from -20 to 80 px. Must not exceed the max disparity; at most 1024 "
+     "candidates."},
+    {"maxDisparityPx", "Max disparity", Range, TM_PARAMETER_FIELD(StereoParameters, maxDisparityPx), -1000, 1000, 1, 0, " px",
+     "Largest candidate disparity of a fixed range, inclusive; editing it fixes the range. Paper IV: 80 px (range "
+     "-20..80). The matching cost grows with the number of candidates."},
+    {"workingDistanceNearMm", "Working distance from", Range, TM_PARAMETER_FIELD(StereoParameters, workingDistanceNearMm), 1.0,
+     10000.0, 5.0, 1, " mm",
+     "The nearest tissue, in mm from the scope (along its axis); editing it sets the range from the working "
+     "distance, through the calibration: d = f B / Z - doffs."},
+    {"workingDistanceFarMm", "Working distance to", Range, TM_PARAMETER_FIELD(StereoParameters, workingDistanceFarMm), 1.0,
+     10000.0, 5.0, 1, " mm",
+     "The farthest tissue, in mm from the scope; editing it sets the range from the working distance."},
     {"leftRightMaxDifferencePx", "Left-right check", Matching, TM_PARAMETER_FIELD(StereoParameters, leftRightMaxDifferencePx), -1, 1000, 1, 0, " px",
      "Winners whose right-view winner disagrees by more than this are dropped (occlusions, fattened depth edges). "
      "-1 switches the check off. An addition to the paper."},
@@ -159,8 +172,23 @@ int methodIndex(StereoMethod method) {
   return static_cast<int>(choice - std::begin(methodChoices));
 }
 
+struct RangeChoice {
+  tissuemosaic::DisparityRangeMode mode;
+  const char* label;
+};
+const RangeChoice rangeChoices[] = {
+    {tissuemosaic::DisparityRangeMode::Automatic, "Automatic (from the video)"},
+    {tissuemosaic::DisparityRangeMode::Fixed, "Fixed: min..max disparity"},
+    {tissuemosaic::DisparityRangeMode::WorkingDistance, "Working distance (mm)"}};
+
+int rangeIndex(tissuemosaic::DisparityRangeMode mode) {
+  const auto* choice = std::find_if(std::begin(rangeChoices), std::end(rangeChoices),
+                                    [mode](const RangeChoice& c) { return c.mode == mode; });
+  return static_cast<int>(choice - std::begin(rangeChoices));
+}
+
 bool sameParameters(const StereoParameters& a, const StereoParameters& b) {
-  if (a.method != b.method) return false;
+  if (a.method != b.method || a.disparityRangeMode != b.disparityRangeMode) return false;
   for (const Field& field : fields()) {
     if (field.get(a) != field.get(b)) return false;
   }
@@ -184,6 +212,13 @@ public:
   bool store(const StereoParameters& parameters);
   /// Marks the refused fields (reason empty: none) and tells the owner when that changed.
   void markRefused(const QString& reason);
+  /// Says what the working distance fields mean in disparities (with the rig's geometry, when known).
+  void showWorkingDistanceDisparities();
+  /// The rig's geometry: the logic's when it has one, else what setRigGeometry gave.
+  const tissuemosaic::RectifiedGeometry* geometry() const {
+    if (logic && logic->HasRectifiedGeometry()) return &logic->GetRectifiedGeometry();
+    return rigGeometry ? &*rigGeometry : nullptr;
+  }
 
   qTissueMosaicStereoParametersWidget* const q_ptr;
   StereoParameters ownParameters;
@@ -192,6 +227,9 @@ public:
   QString refusal;  ///< why the values shown were not applied; empty when they are the object's
   std::map<QString, StereoParameters> presets;
   QComboBox* methodComboBox = nullptr;  ///< items parallel to methodChoices
+  QComboBox* rangeComboBox = nullptr;   ///< items parallel to rangeChoices
+  QLabel* workingDistanceLabel = nullptr;
+  std::optional<tissuemosaic::RectifiedGeometry> rigGeometry;
   QGroupBox* groupBoxes[GroupCount] = {};
   widgets::PresetRow presetRow;
   QLabel* errorLabel = nullptr;
@@ -209,7 +247,7 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
   // Beside Load/Save: where a file's error belongs.
   errorLabel = widgets::addErrorLabel(q, layout, "");
 
-  const char* const groupTitles[GroupCount] = {"Matching", "ZNCC matching (paper II.A)",
+  const char* const groupTitles[GroupCount] = {"Disparity range", "Matching", "ZNCC matching (paper II.A)",
                                                "Outlier removal and hole filling (II.B)",
                                                "Improved Laplacian refinement (II.C)",
                                                "AD-Census (optional second method)"};
@@ -219,6 +257,18 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
     forms[group] = new QFormLayout(groupBoxes[group]);
     layout->addWidget(groupBoxes[group]);
   }
+  rangeComboBox = new QComboBox(q);
+  rangeComboBox->setObjectName("disparityRangeModeComboBox");
+  for (const RangeChoice& choice : rangeChoices) rangeComboBox->addItem(QObject::tr(choice.label));
+  rangeComboBox->setToolTip(
+      QObject::tr("How the candidate disparities are chosen. Automatic: from sparse feature matches of the first "
+                  "frames, then following the tissue as the scope moves (the default: no number to know). Fixed: "
+                  "the min..max below. Working distance: the tissue's distance from the scope in mm, turned into "
+                  "disparities through the calibration."));
+  forms[Range]->addRow(QObject::tr("Range"), rangeComboBox);
+  QObject::connect(rangeComboBox, QOverload<int>::of(&QComboBox::currentIndexChanged), q,
+                   &qTissueMosaicStereoParametersWidget::updateParametersFromGUI);
+  widgets::guardWheel(rangeComboBox);
   methodComboBox = new QComboBox(q);
   methodComboBox->setObjectName("methodComboBox");
   for (const MethodChoice& choice : methodChoices) methodComboBox->addItem(QObject::tr(choice.label));
@@ -232,6 +282,10 @@ void qTissueMosaicStereoParametersWidgetPrivate::setupUi() {
                    &qTissueMosaicStereoParametersWidget::updateParametersFromGUI);
   widgets::guardWheel(methodComboBox);
   spinBoxes.create(q, fields(), forms, [q] { q->updateParametersFromGUI(); });
+  workingDistanceLabel = new QLabel(q);
+  workingDistanceLabel->setObjectName("workingDistanceDisparitiesLabel");
+  workingDistanceLabel->setWordWrap(true);
+  forms[Range]->addRow(QString(), workingDistanceLabel);
 
   layout->addStretch(1);
 
@@ -264,6 +318,27 @@ void qTissueMosaicStereoParametersWidgetPrivate::markRefused(const QString& reas
   refusal = reason;
   spinBoxes.markRefused(current(), reason);
   if (changed) emit q->validityChanged();
+}
+
+void qTissueMosaicStereoParametersWidgetPrivate::showWorkingDistanceDisparities() {
+  const StereoParameters& p = current();
+  const QString distance = QObject::tr("%1..%2 mm").arg(p.workingDistanceNearMm).arg(p.workingDistanceFarMm);
+  QString text;
+  if (const tissuemosaic::RectifiedGeometry* rig = geometry()) {
+    try {
+      const tissuemosaic::DisparityRange range =
+          tissuemosaic::disparityRangeForDepthMm(*rig, p.workingDistanceNearMm, p.workingDistanceFarMm);
+      text = QObject::tr("A working distance of %1 is %2 with this rig.").arg(distance, QString::fromStdString(range.text()));
+    } catch (const std::exception& error) {
+      text = QString::fromStdString(error.what());
+    }
+  } else {
+    text = QObject::tr("A working distance of %1: its disparities show once the calibration is known.").arg(distance);
+  }
+  if (p.disparityRangeMode == tissuemosaic::DisparityRangeMode::Automatic) {
+    text = QObject::tr("Chosen from the video's first frames and followed during the scan. ") + text;
+  }
+  workingDistanceLabel->setText(text);
 }
 
 bool qTissueMosaicStereoParametersWidgetPrivate::store(const StereoParameters& parameters) {
@@ -321,6 +396,18 @@ QString qTissueMosaicStereoParametersWidget::errorText() const {
   return d->errorLabel->text();
 }
 
+void qTissueMosaicStereoParametersWidget::setRigGeometry(const tissuemosaic::RectifiedGeometry* geometry) {
+  Q_D(qTissueMosaicStereoParametersWidget);
+  if (geometry) d->rigGeometry = *geometry;
+  else d->rigGeometry.reset();
+  d->showWorkingDistanceDisparities();
+}
+
+QString qTissueMosaicStereoParametersWidget::workingDistanceText() const {
+  Q_D(const qTissueMosaicStereoParametersWidget);
+  return d->workingDistanceLabel->text();
+}
+
 bool qTissueMosaicStereoParametersWidget::hasRefusedValues() const {
   Q_D(const qTissueMosaicStereoParametersWidget);
   return !d->refusal.isEmpty();
@@ -338,24 +425,44 @@ void qTissueMosaicStereoParametersWidget::updateGUIFromParameters() {
     const QSignalBlocker blocker(d->methodComboBox);
     d->methodComboBox->setCurrentIndex(methodIndex(parameters.method));
   }
+  {
+    const QSignalBlocker blocker(d->rangeComboBox);
+    d->rangeComboBox->setCurrentIndex(rangeIndex(parameters.disparityRangeMode));
+  }
   d->enableMethodGroups(parameters.method);
   d->spinBoxes.show(parameters);
   widgets::showError(d->errorLabel, QString());
   d->markRefused(QString());
+  d->showWorkingDistanceDisparities();
   d->selectMatchingPreset();
 }
 
 bool qTissueMosaicStereoParametersWidget::updateParametersFromGUI() {
   Q_D(qTissueMosaicStereoParametersWidget);
-  StereoParameters parameters = d->current();
+  const StereoParameters before = d->current();
+  StereoParameters parameters = before;
   parameters.method = methodChoices[d->methodComboBox->currentIndex()].method;
   d->spinBoxes.read(parameters);
+  // Typing a range or a working distance means using it; otherwise the range combo box says how.
+  if (parameters.minDisparityPx != before.minDisparityPx || parameters.maxDisparityPx != before.maxDisparityPx) {
+    parameters.disparityRangeMode = tissuemosaic::DisparityRangeMode::Fixed;
+  } else if (parameters.workingDistanceNearMm != before.workingDistanceNearMm ||
+             parameters.workingDistanceFarMm != before.workingDistanceFarMm) {
+    parameters.disparityRangeMode = tissuemosaic::DisparityRangeMode::WorkingDistance;
+  } else {
+    parameters.disparityRangeMode = rangeChoices[d->rangeComboBox->currentIndex()].mode;
+  }
   if (!d->store(parameters)) {
     // Shown at the fields, in red, until fixed; the object keeps its last valid values.
     d->markRefused(d->errorLabel->text());
     return false;
   }
   d->markRefused(QString());
+  {
+    const QSignalBlocker blocker(d->rangeComboBox);
+    d->rangeComboBox->setCurrentIndex(rangeIndex(parameters.disparityRangeMode));
+  }
+  d->showWorkingDistanceDisparities();
   d->enableMethodGroups(parameters.method);
   d->selectMatchingPreset();
   emit parametersChanged();

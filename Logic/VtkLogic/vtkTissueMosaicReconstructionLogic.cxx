@@ -215,6 +215,8 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           status.inliers = result.inliers;
           status.trackingMessage = result.trackingMessage;
           status.elapsedS = busyS;
+          status.disparityRange = result.disparityRange;
+          status.disparityRangeText = pipeline->disparityRangeDescription();
           if (recentFrameEnds.size() >= 2) {
             const double spanS = std::chrono::duration<double>(recentFrameEnds.back() - recentFrameEnds.front()).count();
             status.framesPerSecond = spanS > 0 ? (recentFrameEnds.size() - 1) / spanS : 0;
@@ -278,6 +280,7 @@ void vtkTissueMosaicReconstructionLogic::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "ScanState: " << GetScanStateAsString(this->GetScanState()) << "\n";
   os << indent << "FramesProcessed: " << this->Status.framesProcessed << "\n";
   os << indent << "KeyFrames: " << this->Status.keyFrames << "\n";
+  os << indent << "DisparityRange: " << this->GetDisparityRangeText() << "\n";
   os << indent << "ModelPoints: " << this->Model->GetNumberOfPoints() << "\n";
   os << indent << "MaximumFrames: " << this->MaximumFrames << "\n";
   os << indent << "FrustumDepthMm: " << this->FrustumDepthMm << "\n";
@@ -411,6 +414,14 @@ bool vtkTissueMosaicReconstructionLogic::LoadCalibrationFiles(const std::vector<
 void vtkTissueMosaicReconstructionLogic::SetCalibration(const tissuemosaic::StereoCalibration& calibration) {
   this->Reset();
   this->Calibration = std::make_unique<tissuemosaic::StereoCalibration>(calibration);
+  this->CalibrationGeometry.reset();
+  std::string ignored;  // a rig that cannot be rectified fails at Start(), with the reason
+  runCatching(
+      [&] {
+        this->CalibrationGeometry =
+            std::make_unique<tissuemosaic::RectifiedGeometry>(tissuemosaic::StereoRectifier(calibration).geometry());
+      },
+      ignored);
   this->Geometry.reset();
   this->Modified();
 }
@@ -419,7 +430,15 @@ void vtkTissueMosaicReconstructionLogic::SetRectifiedGeometry(const tissuemosaic
   this->Reset();
   this->Geometry = std::make_unique<tissuemosaic::RectifiedGeometry>(geometry);
   this->Calibration.reset();
+  this->CalibrationGeometry.reset();
   this->Modified();
+}
+
+bool vtkTissueMosaicReconstructionLogic::GetRectifiedGeometry(tissuemosaic::RectifiedGeometry& geometry) const {
+  const tissuemosaic::RectifiedGeometry* known = this->Geometry ? this->Geometry.get() : this->CalibrationGeometry.get();
+  if (!known) return false;
+  geometry = *known;
+  return true;
 }
 
 void vtkTissueMosaicReconstructionLogic::SetInputRectified(bool rectified) {
@@ -722,6 +741,29 @@ std::string vtkTissueMosaicReconstructionLogic::GetTrackingStateText() const {
   if (!status.tracked && !status.trackingMessage.empty()) text += " (" + status.trackingMessage + ")";
   if (status.state != StateRunning) text += std::string(", ") + GetScanStateAsString(status.state);
   return text;
+}
+
+std::string vtkTissueMosaicReconstructionLogic::GetDisparityRangeText() const {
+  if (!this->Status.disparityRangeText.empty()) return this->Status.disparityRangeText;
+  const tissuemosaic::StereoParameters& stereo = this->Parameters.stereo;
+  switch (stereo.disparityRangeMode) {
+    case tissuemosaic::DisparityRangeMode::Automatic: return "auto: from the first frame's feature matches";
+    case tissuemosaic::DisparityRangeMode::Fixed:
+      return "fixed: " + tissuemosaic::DisparityRange{stereo.minDisparityPx, stereo.maxDisparityPx}.text();
+    default: break;
+  }
+  std::string text = cv::format("working distance %g..%g mm: ", stereo.workingDistanceNearMm, stereo.workingDistanceFarMm);
+  tissuemosaic::RectifiedGeometry geometry;
+  if (!this->GetRectifiedGeometry(geometry)) return text + "disparities once a calibration is loaded";
+  std::string errorText;
+  tissuemosaic::DisparityRange range;
+  if (!runCatching([&] {
+        range = tissuemosaic::disparityRangeForDepthMm(geometry, stereo.workingDistanceNearMm, stereo.workingDistanceFarMm);
+      },
+                   errorText)) {
+    return text + errorText;
+  }
+  return text + range.text();
 }
 
 std::vector<vtkTissueMosaicReconstructionLogic::TimingRow> vtkTissueMosaicReconstructionLogic::GetTimingTable() const {

@@ -20,6 +20,7 @@
 #include "Core/StereoRig.h"
 #include "IO/StereoVideoLayout.h"
 #include "Reconstruction/ReconstructionParameters.h"
+#include "Stereo/DisparityRange.h"
 
 #include <vtkObject.h>
 #include <vtkSmartPointer.h>
@@ -108,6 +109,9 @@ public:
   bool GetInputRectified() const { return this->InputRectified; }
   bool HasInput() const;
   bool HasCalibration() const;
+  /// The rectified geometry the scan will use (set directly, or what the calibration's rectification gives), e.g.
+  /// to show what a working distance means in disparities. False without a calibration.
+  bool GetRectifiedGeometry(tissuemosaic::RectifiedGeometry& geometry) const;
   /// "frames in DIR and DIR", "video FILE", ... (empty without an input).
   std::string GetInputDescription() const;
   /// Frames in the input (-1 when the container does not say, 0 without an input).
@@ -203,6 +207,8 @@ public:
     std::string trackingMessage;  ///< why the last frame was lost (empty when tracked)
     double framesPerSecond = 0;   ///< over the last frames (wall clock); once ended, the scan's average
     double elapsedS = 0;          ///< since the scan started, pauses excluded
+    tissuemosaic::DisparityRange disparityRange;  ///< the last frame's
+    std::string disparityRangeText;  ///< how the ranges were chosen (ReconstructionPipeline::disparityRangeDescription)
     std::string device;           ///< where the pipeline runs ("cpu", "cuda")
     std::string errorText;        ///< StateFailed: why
   };
@@ -210,6 +216,10 @@ public:
   const ScanStatus& GetStatus() const { return this->Status; }
   /// One line for a status bar, e.g. "Tracking: 12 fps, 5 key frames, 1.2 M points".
   std::string GetTrackingStateText() const;
+  /// The stereo disparity range: as chosen in the scan so far ("auto: 64..95 px (from 412 left-right feature
+  /// matches)"), or before the first frame what the parameters ask for ("auto: from the first frame's feature
+  /// matches", "fixed: -20..80 px", "working distance 30..150 mm: 28..143 px").
+  std::string GetDisparityRangeText() const;
 
   /// The paper's runtime table (ms, tissuemosaic::TimingTable's stages in the paper's order): per stage the last
   /// frame, and the median and mean over the key frames (the paper averages over key frames) and the median over
@@ -259,6 +269,7 @@ private:
   cv::Size InputFrameSize;
   std::unique_ptr<tissuemosaic::StereoCalibration> Calibration;
   std::unique_ptr<tissuemosaic::RectifiedGeometry> Geometry;  ///< set directly (rectified input)
+  std::unique_ptr<tissuemosaic::RectifiedGeometry> CalibrationGeometry;  ///< what Calibration's rectification gives
   bool InputRectified = false;
 
   std::unique_ptr<Session> Current;

@@ -42,9 +42,13 @@ surface (RMSE, 95th percentile, shares beyond 1, 5 and 50 mm), the share of the 
 that are gross errors (> 3 px from the truth, or where the truth has no surface), the model size
 and the peak host and device memory. "stereo_parts_*_ms" and "tracking_parts_*_ms" split the stereo and ORB +
 voting stages over all frames (host grey conversion and copies beside the GPU's stages; extraction, matching,
-sub-pixel refinement, voting), "refinement_parts_*_ms" the key frames' refinement. "disparity_range_px" is the range
-searched (see --disparities) and "key_frame_true_disparity_px" the key frames' true disparities: the scan keeps its
-field of view and working distance at every size, so its disparities grow with the width.
+sub-pixel refinement, voting), "refinement_parts_*_ms" the key frames' refinement. The range searched is fixed by
+default, so that figures compare across sizes and runs: the paper's -20..80 px scaled by width / 960 (--disparities
+N changes its count); --disparity-range auto times the automatic range (the scene's, about 36 candidates on the
+default scan) and the Disparity range options ask for others. "disparity_range_px" is the widest range searched,
+"disparity_range" says how the ranges were chosen and "key_frame_true_disparity_px" gives the key frames' true
+disparities: the scan keeps its field of view and working distance at every size, so its disparities grow with the
+width.
 
 --stream renders each frame just before it is processed (outside the timed stages) instead of all of them first,
 so that the peak host memory is the pipeline's own: for long runs (a 5-minute scan at 30 fps is --frames 9000).
@@ -65,6 +69,7 @@ struct BenchReconstructOptions {
   std::optional<int> supersampling, chunk, threads, disparities;
   std::optional<std::string> params, out;
   bool stream = false;
+  DisparityRangeOptions range;
   DeviceOption device;
 };
 
@@ -127,6 +132,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   ReconstructionParameters parameters;
   if (settings.params) parameters = ReconstructionParameters::readFile(*settings.params);
   applyBenchDisparityRange(parameters.stereo, options.width, settings.disparities, settings.params.has_value());
+  settings.range.applyTo(parameters.stereo);
   parameters.validate();
 
   const synthetic::SyntheticScan scan(options);
@@ -173,6 +179,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   int worstKeyFrame = -1, keyFramesScored = 0;
   // The true disparities of the key frames: whether the range searched held the scene.
   float trueDisparityMin = INFINITY, trueDisparityMax = -INFINITY;
+  std::vector<double> rangeMs;  // the automatic range's sparse matching, beside the stereo (0 for a given range)
   for (int k = 0; k < scan.frameCount(); ++k) {
     if (stream && k % chunk == 0) {  // the next chunk, rendered before any of it is processed
       rendered.clear();
@@ -188,6 +195,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
     lost += !result.tracked;
     if (frame.index > 0) {
       stereoParts.add(result.stereoPartsMs);
+      rangeMs.push_back(result.disparityRangeMs);
       trackingParts.add(result.trackingPartsMs);
     }
     if (result.keyFrame && frame.index > 0) {
@@ -279,6 +287,9 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   const auto meanOf = [](const std::vector<double>& values) { return mean(values); };
+  const DisparityRangeHistory& ranges = pipeline.disparityRangeHistory();
+  const DisparityRange searched =
+      ranges.first ? ranges.widest : DisparityRange{parameters.stereo.minDisparityPx, parameters.stereo.maxDisparityPx};
   std::string memoryJson = "[";
   for (std::size_t i = 0; i < memory.size(); ++i) {
     memoryJson += cv::format("%s{\"frame\": %d, \"host_resident_mib\": %.1f, \"peak_device_mib\": %.1f, \"model_points\": %zu}",
@@ -297,11 +308,10 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
               "\"stereo_parts_median_ms\": %s,\n \"stereo_parts_mean_ms\": %s,\n \"stereo_parts_p99_ms\": %s,\n "
               "\"tracking_parts_median_ms\": %s,\n \"tracking_parts_mean_ms\": %s,\n \"tracking_parts_p99_ms\": %s,\n "
               "\"refinement_matching\": {\"key_frames_matched\": %d, "
-              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"timing\": %s}\n",
+              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"disparity_range\": %s, \"disparity_range_median_ms\": %.3f,\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
-              usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), parameters.stereo.minDisparityPx,
-              parameters.stereo.maxDisparityPx, trueDisparityMin, trueDisparityMax, shareBeyond(1), shareBeyond(5),
+              usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), searched.minPx, searched.maxPx, trueDisparityMin, trueDisparityMax, shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
               memoryJson.c_str(), refinementParts.json(median).c_str(), refinementParts.json(largest).c_str(),
@@ -310,7 +320,8 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
               trackingParts.json(median).c_str(), trackingParts.json(meanOf).c_str(),
               trackingParts.json(percentile99).c_str(),
               keyFramesMatched, keyFramesGuided, intermediateFrames,
-              intermediateFramesGuided, keyFramesJson.c_str(), timing.toJson().c_str());
+              intermediateFramesGuided, keyFramesJson.c_str(),
+              disparityRangeJson(pipeline.disparityRangeHistory()).c_str(), median(rangeMs), timing.toJson().c_str());
 }
 
 }  // namespace
@@ -336,6 +347,7 @@ void setupBenchReconstruct(CLI::App& bench) {
   command->add_option("--threads", options->threads, "cap on the engine's CPU threads (default all cores)")
       ->group(heading::options);
   addBenchDisparitiesOption(*command, options->disparities);
+  addDisparityRangeOptions(*command, options->range);
   addDeviceOption(*command, options->device);
   addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
   command->callback([options] { runBenchReconstruct(*options); });

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
+#include <utility>
 
 namespace tissuemosaic::cli {
 
@@ -156,21 +158,97 @@ void addParamsOption(CLI::App& command, std::optional<std::string>& path, const 
       ->group(heading::common);
 }
 
+namespace {
+
+/// "A:B" as two finite numbers; nullopt for anything else.
+std::optional<std::pair<double, double>> numberPair(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) return std::nullopt;
+  const std::string first = text.substr(0, colon), second = text.substr(colon + 1);
+  char *end1 = nullptr, *end2 = nullptr;
+  const double a = std::strtod(first.c_str(), &end1), b = std::strtod(second.c_str(), &end2);
+  if (first.empty() || second.empty() || *end1 != '\0' || *end2 != '\0' || !std::isfinite(a) || !std::isfinite(b)) {
+    return std::nullopt;
+  }
+  return std::make_pair(a, b);
+}
+
+/// --disparity-range: "auto", or MIN:MAX whole pixels with MIN < MAX.
+std::string checkDisparityRange(const std::string& text) {
+  if (text == "auto") return "";
+  const auto pair = numberPair(text);
+  if (pair && pair->first == std::floor(pair->first) && pair->second == std::floor(pair->second) &&
+      pair->first < pair->second) {
+    return "";
+  }
+  return "expects auto or MIN:MAX in whole pixels with MIN < MAX (e.g. 0:120), got '" + text + "'";
+}
+
+/// --depth-range-mm: NEAR:FAR with 0 < NEAR < FAR.
+std::string checkDepthRange(const std::string& text) {
+  const auto pair = numberPair(text);
+  if (pair && pair->first > 0 && pair->second > pair->first) return "";
+  return "expects NEAR:FAR in mm with 0 < NEAR < FAR (e.g. 30:150), got '" + text + "'";
+}
+
+}  // namespace
+
 void DisparityRangeOptions::applyTo(StereoParameters& parameters) const {
-  if (minPx) parameters.minDisparityPx = *minPx;
-  if (maxPx) parameters.maxDisparityPx = *maxPx;
+  if (depthMm) {
+    const auto nearFar = *numberPair(*depthMm);  // checked when parsed
+    parameters.disparityRangeMode = DisparityRangeMode::WorkingDistance;
+    parameters.workingDistanceNearMm = static_cast<float>(nearFar.first);
+    parameters.workingDistanceFarMm = static_cast<float>(nearFar.second);
+  } else if (range && *range == "auto") {
+    parameters.disparityRangeMode = DisparityRangeMode::Automatic;
+  } else if (range) {
+    const auto minMax = *numberPair(*range);
+    parameters.setFixedDisparityRange(static_cast<int>(minMax.first), static_cast<int>(minMax.second));
+  }
+  if (minPx || maxPx) {
+    parameters.setFixedDisparityRange(minPx.value_or(parameters.minDisparityPx),
+                                      maxPx.value_or(parameters.maxDisparityPx));
+  }
 }
 
 void addDisparityRangeOptions(CLI::App& command, DisparityRangeOptions& range) {
   const StereoParameters defaults;
+  CLI::Option* automatic =
+      command
+          .add_option("--disparity-range", range.range,
+                      "auto (the default, unless the parameters file fixes a range): chosen from sparse feature "
+                      "matches of the first frame and following the tissue; or MIN:MAX in px")
+          ->type_name("auto|MIN:MAX")
+          ->check(CLI::Validator(checkDisparityRange, ""));
+  CLI::Option* depth =
+      command
+          .add_option("--depth-range-mm", range.depthMm,
+                      "the working distance: tissue from NEAR to FAR mm in front of the scope, turned into the "
+                      "disparity range through the geometry (d = f B / Z - doffs)")
+          ->type_name("NEAR:FAR")
+          ->check(CLI::Validator(checkDepthRange, ""));
+  depth->excludes(automatic);
   command.add_option("--min-disparity", range.minPx,
-                     "smallest candidate disparity in px (default: the parameters file's, else " +
-                         std::to_string(defaults.minDisparityPx) + ")")
-      ->group(heading::disparityRange);
-  command.add_option("--max-disparity", range.maxPx,
-                     "largest candidate disparity in px, inclusive (default: the parameters file's, else " +
-                         std::to_string(defaults.maxDisparityPx) + ")")
-      ->group(heading::disparityRange);
+                     "fixes the range: its smallest candidate disparity in px (over the other options; the other "
+                     "end from --max-disparity, else the parameters file, else " +
+                         std::to_string(defaults.minDisparityPx) + ".." + std::to_string(defaults.maxDisparityPx) +
+                         ")");
+  command.add_option("--max-disparity", range.maxPx, "fixes the range: its largest candidate disparity in px, inclusive");
+  for (const char* name : {"--disparity-range", "--depth-range-mm", "--min-disparity", "--max-disparity"}) {
+    command.get_option(name)->group(heading::disparityRange);
+  }
+}
+
+void requireGeometryForWorkingDistance(const StereoParameters& parameters, bool haveGeometry) {
+  if (parameters.disparityRangeMode == DisparityRangeMode::WorkingDistance && !haveGeometry) {
+    throw UsageError("a working distance (--depth-range-mm, or the parameters file's) needs the geometry to become "
+                     "disparities: --calib rig.yml, or --focal-px and --baseline-mm");
+  }
+}
+
+void rethrowWithRangeOptions(const std::exception& error) {
+  throw Error(std::string(error.what()) +
+              " (--disparity-range MIN:MAX, --min-disparity/--max-disparity or --depth-range-mm NEAR:FAR)");
 }
 
 void addQuietFlag(CLI::App& command, bool& quiet, const std::string& description) {
@@ -194,11 +272,13 @@ void applyBenchDisparityRange(StereoParameters& parameters, int widthPx, const s
   if (fromParametersFile && !disparities) return;
   const double scale = widthPx / 960.0;  // the synthetic scene's focal length grows with the width
   const StereoParameters paper;
+  int minPx = parameters.minDisparityPx, maxPx = parameters.maxDisparityPx;
   if (!fromParametersFile) {
-    parameters.minDisparityPx = static_cast<int>(std::lround(paper.minDisparityPx * scale));
-    parameters.maxDisparityPx = static_cast<int>(std::lround(paper.maxDisparityPx * scale));
+    minPx = static_cast<int>(std::lround(paper.minDisparityPx * scale));
+    maxPx = static_cast<int>(std::lround(paper.maxDisparityPx * scale));
   }
-  if (disparities) parameters.maxDisparityPx = parameters.minDisparityPx + *disparities - 1;
+  if (disparities) maxPx = minPx + *disparities - 1;
+  parameters.setFixedDisparityRange(minPx, maxPx);
 }
 
 }  // namespace tissuemosaic::cli

@@ -91,13 +91,22 @@ void addDeviceOption(CLI::App& command, DeviceOption& device, const std::string&
 /// --params p.yml: OpenCV YAML/XML parameters; `nodes` says which nodes this command reads.
 void addParamsOption(CLI::App& command, std::optional<std::string>& path, const std::string& nodes);
 
-/// The stereo disparity range, overriding the parameters file's.
+/// The stereo disparity range, overriding the parameters file's (whose default is the automatic range).
 struct DisparityRangeOptions {
   std::optional<int> minPx, maxPx;
-  /// Sets the range of `parameters` from the options given (the one place that does).
+  std::optional<std::string> range;     ///< --disparity-range auto | MIN:MAX
+  std::optional<std::string> depthMm;   ///< --depth-range-mm NEAR:FAR
+  /// Sets the range of `parameters` from the options given (the one place that does): --min/--max-disparity fix it
+  /// (over everything else; the other end from the file or the default), else --depth-range-mm sets a working
+  /// distance, else --disparity-range auto or MIN:MAX.
   void applyTo(StereoParameters& parameters) const;
 };
 void addDisparityRangeOptions(CLI::App& command, DisparityRangeOptions& range);
+
+/// UsageError when the parameters ask for a working distance and there is no geometry to turn it into disparities.
+void requireGeometryForWorkingDistance(const StereoParameters& parameters, bool haveGeometry);
+/// The automatic range's failure (too few feature matches), said with the options that avoid it.
+[[noreturn]] void rethrowWithRangeOptions(const std::exception& error);
 
 /// --quiet: no progress output.
 void addQuietFlag(CLI::App& command, bool& quiet, const std::string& description = "no progress output");

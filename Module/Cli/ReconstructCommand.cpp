@@ -16,6 +16,7 @@
 #include "IO/TrajectoryTum.h"
 #include "Reconstruction/ReconstructionPipeline.h"
 #include "Reconstruction/TimingTable.h"
+#include "Stereo/DisparityRangeEstimator.h"
 
 #include <opencv2/core.hpp>
 
@@ -36,7 +37,9 @@ timing table (median and mean milliseconds per key frame and per other frame) an
 world frame is the first left rectified camera (or --start-tum's pose), in millimetres; .vtp output needs a build
 with VTK, and so does --snapshot (a private Xvfb when there is no display). Live inputs (devices, pipelines,
 OpenIGTLink) are read in real time, the newest frame first; the summary counts the frames dropped. Ctrl-C or SIGTERM
-stops the scan cleanly and writes the outputs; a second one ends the program at once.)";
+stops the scan cleanly and writes the outputs; a second one ends the program at once. Without a disparity range it is
+chosen from the first frame's sparse feature matches and follows the tissue as the scope moves (printed at the end,
+and in --timing-json as "disparity_range").)";
 
 struct ReconstructOptions {
   InputOptions input;
@@ -102,7 +105,12 @@ void runReconstruct(const ReconstructOptions& options) {
     if (!source->next(frame)) break;
     lastTimeS = frame.timeS;
     const double readMs = millisecondsSince(readStart);
-    FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
+    FrameResult result;
+    try {
+      result = pipeline->process(frame.left, frame.right, frame.timeS);
+    } catch (const DisparityRangeError& error) {
+      rethrowWithRangeOptions(error);
+    }
     result.timesMs.videoReading += readMs;
     result.timesMs.total += readMs;
     timing.add(result);
@@ -166,7 +174,8 @@ void runReconstruct(const ReconstructOptions& options) {
   const double deviceMb = pipeline->peakDeviceBytes() / (1024.0 * 1024.0);
   std::cout << "reconstructed " << frames << " frames (" << frames - lost << " tracked, " << lost << " lost, "
             << pipeline->keyFrames().size() << " key frames) on " << deviceDescription(device) << "\n"
-            << "model: " << model.size() << " points -> " << options.out << "\n\n"
+            << "model: " << model.size() << " points -> " << options.out << "\n"
+            << "disparity range " << pipeline->disparityRangeDescription() << "\n\n"
             << timing.format() << "\n"
             << cv::format("peak memory: host %.0f MiB (resident), device %.0f MiB (in use, with the CUDA context)\n",
                           hostMb, deviceMb);
@@ -192,7 +201,8 @@ void runReconstruct(const ReconstructOptions& options) {
          << ", \"live\": " << (source->isLive() ? "true" : "false") << ", \"dropped_frames\": "
          << source->droppedFrames() << ", \"stopped_by_signal\": " << (stop.requested() ? "true" : "false")
          << ", \"peak_host_mib\": " << cv::format("%.1f", hostMb) << ", \"peak_device_mib\": "
-         << cv::format("%.1f", deviceMb) << ", \"timing\": " << timing.toJson() << "}\n";
+         << cv::format("%.1f", deviceMb) << ", \"disparity_range\": "
+         << disparityRangeJson(pipeline->disparityRangeHistory()) << ", \"timing\": " << timing.toJson() << "}\n";
     require(json.good(), "cannot write '" + *options.timingJson + "' (disk full?)");
   }
 }

@@ -6,6 +6,7 @@
 #include "IO/DisparityPfm.h"
 #include "IO/ImageFile.h"
 #include "IO/PointCloudPly.h"
+#include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
 
@@ -27,7 +28,9 @@ improved Laplacian refinement. --method ad-census runs AD-Census instead (census
 cross-based aggregation, scanline optimisation: sharper at depth edges, see docs/STEREO.md).
 The pair is rectified first when --calib is given without --rectified; the geometry (--calib, or --focal-px and
 --baseline-mm) also gives --cloud its depth. --params gives the stereo parameters (node "stereo");
---min/--max-disparity and --method override it.)";
+--min/--max-disparity, --disparity-range, --depth-range-mm and --method override it. Without a range the disparity
+range is chosen from the pair (sparse feature matches, robust ends and a margin) and printed; a pair with too few
+matches (dark, blurred, not rectified) is an error, never a silent default.)";
 
 struct StereoOptions {
   std::string left, right, out;
@@ -83,7 +86,15 @@ void runStereo(const StereoOptions& options) {
     throw Error("cannot write '" + *options.rectifiedLeft + "'");
   }
 
+  requireGeometryForWorkingDistance(parameters, geometry.has_value());
+  DisparityRangeFollower range(parameters, geometry ? geometry->rectified : RectifiedGeometry{}, device);
   StereoMatcher matcher(device, parameters);
+  try {
+    matcher.setDisparityRange(range.beforeFrame(left, right));
+  } catch (const DisparityRangeError& error) {
+    rethrowWithRangeOptions(error);
+  }
+  std::printf("disparity range %s\n", range.description().c_str());
   StereoTimingsMs timings;
   StereoExplanation explanation;
   const cv::Mat disparity =

@@ -7,7 +7,9 @@
 
 #include <chrono>
 #include <iostream>
+#include <map>
 #include <memory>
+#include <string>
 
 namespace tissuemosaic::cli {
 
@@ -28,7 +30,11 @@ const char* const details = R"(Renders a synthetic stereo-endoscope video that s
                                        by 10 or more, 0 elsewhere
 --lighting realistic: the light's look of `synth pair --lighting realistic` (bright, partly saturated tissue, wet
 glints, clipping); standard is the default.
-The world frame has the tissue at Z = h(X, Y), +Z into the tissue.)";
+The world frame has the tissue at Z = h(X, Y), +Z into the tissue. --path approach moves the scope in from
+--max-distance to --min-distance over the scan instead of up and down between them (add --auto-exposure, or the
+nearest frames get several times the light of the farthest); --focal-px, --baseline-mm and --doffs-px choose the
+scope and so the disparities (f B / Z - doffs). With --doffs-px the frames are not what rig.yml's rectification
+gives: use the printed geometry options instead of --calib rig.yml --rectified.)";
 
 struct SynthScanOptions {
   std::string out;
@@ -60,7 +66,8 @@ void runSynthScan(const SynthScanOptions& given) {
             << "wrote " << written << " files under " << out << " in " << cv::format("%.1f", seconds) << " s\n"
             << "  left/, right/       RECTIFIED frames (use `tissuemosaic track --rectified`)\n"
             << "  rig.yml             unrectified rig calibration; the frames' rectified geometry is\n"
-            << "                      " << geometryOptionsText(scan.geometry()) << "\n"
+            << "                      " << geometryOptionsText(scan.geometry())
+            << (options.rectifiedDisparityOffsetPx != 0 ? " (not rig.yml's: --doffs-px)" : "") << "\n"
             << "  groundtruth/        trajectory.txt (TUM, T_world_camera of the left rectified camera, mm),\n"
             << "                      surface.ply (world frame mesh, mm), depth_NNNNNN.pfm (mm)\n";
 }
@@ -87,6 +94,23 @@ void setupSynthScan(CLI::App& synth) {
   add("--max-speed", scan.maxSpeedMmPerS, "fastest scope speed, mm/s");
   add("--noise", scan.noiseStdGrey, "sensor read noise in grey levels");
   add("--supersampling", scan.supersampling, "N x N rays per pixel");
+  add("--focal-px", scan.focalPx, "focal length of the rectified views in px (0: 1000 px x width / 960)");
+  add("--baseline-mm", scan.baselineMm, "stereo baseline, mm");
+  add("--doffs-px", scan.rectifiedDisparityOffsetPx,
+      "the right rectified principal point this far right of the left's: disparities f B / Z - doffs");
+  const std::map<std::string, synthetic::WorkingDistanceProfile> paths = {
+      {"oscillate", synthetic::WorkingDistanceProfile::Oscillating},
+      {"approach", synthetic::WorkingDistanceProfile::Approaching}};
+  command->add_option("--path", scan.distanceProfile,
+                      "oscillate: the working distance goes up and down between the two; approach: from the "
+                      "maximum down to the minimum over the scan")
+      ->transform(CLI::CheckedTransformer(paths))
+      ->type_name("oscillate|approach")
+      ->default_str("oscillate")
+      ->group(heading::options);
+  command->add_flag("--auto-exposure", scan.autoExposure,
+                    "the exposure follows the working distance (as a scope's automatic exposure)")
+      ->group(heading::options);
   add("--lighting", options->lighting, "the light's look: standard or realistic");
   command->get_option("--lighting")->type_name("standard|realistic");
   command->callback([options] { runSynthScan(*options); });

@@ -10,6 +10,7 @@
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryError.h"
 #include "IO/TrajectoryTum.h"
+#include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
 
@@ -32,7 +33,9 @@ stamps or frame index / --fps. The world frame is the first frame's left rectifi
 of a pose. The stereo depth runs on --device, and so do the features with --features tissuemosaic; the pose
 solver runs on the CPU. --groundtruth prints the errors against a TUM file: poses associated by time stamp (within
 half a frame at --fps), no alignment (give --start-tum the same file for a common start); absolute error (ATE)
-and relative pose error between consecutive frames (RPE), as `tissuemosaic eval` computes them.
+and relative pose error between consecutive frames (RPE), as `tissuemosaic eval` computes them. Without a
+disparity range it is chosen from the first frame's sparse feature matches and follows the tissue from frame to
+frame (docs/STEREO.md); the ranges used are printed at the end.
 Exit status 1 when tracking was lost on every frame after the first.)";
 
 struct TrackOptions {
@@ -78,6 +81,7 @@ void runTrack(const TrackOptions& options) {
   const std::unique_ptr<StereoFrameSource> source = openInput(options.input);
   const StereoGeometry geometry = resolveGeometry(options.geometry, source->frameSize(), source->description());
   StereoMatcher matcher(device, stereoParameters);
+  DisparityRangeFollower range(stereoParameters, geometry.rectified, device);
   FrameTracker tracker(geometry.rectified, trackerOptions, T_world_start);
   std::ofstream file(options.out);
   require(file.good(), "cannot write trajectory '" + options.out + "'");
@@ -97,9 +101,15 @@ void runTrack(const TrackOptions& options) {
     cv::Mat left = frame.left, right = frame.right;
     if (geometry.rectifier) geometry.rectifier->rectify(frame.left, frame.right, left, right);
     const auto t2 = std::chrono::steady_clock::now();
+    try {
+      matcher.setDisparityRange(range.beforeFrame(left, right));  // fixed for the frame
+    } catch (const DisparityRangeError& error) {
+      rethrowWithRangeOptions(error);
+    }
     const cv::Mat disparity = matcher.computeDisparity(left, right);
     const auto t3 = std::chrono::steady_clock::now();
     const TrackResult result = tracker.track(left, disparity);
+    range.afterFrame(left, right);  // the next frame's range, from this frame's sparse matches
     const auto t4 = std::chrono::steady_clock::now();
     const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
     loadMs.push_back(ms(t0, t1));
@@ -134,7 +144,8 @@ void runTrack(const TrackOptions& options) {
   require(file.good(), "cannot write trajectory '" + options.out + "' (disk full?)");
 
   std::cout << "tracked " << count - lost << " of " << count << " frames (" << lost << " lost, " << keyFrames
-            << " key frames) on " << deviceDescription(device) << "; wrote " << options.out << "\n";
+            << " key frames) on " << deviceDescription(device) << "; wrote " << options.out << "\n"
+            << "disparity range " << range.description() << "\n";
   std::cout << cv::format("per-frame milliseconds (median / mean): load %.1f / %.1f, rectify %.1f / %.1f, stereo "
                           "%.1f / %.1f, ORB + voting %.1f / %.1f, DynamicR1PPnP %.1f / %.1f, total %.1f / %.1f\n",
                           median(loadMs), mean(loadMs), median(rectifyMs), mean(rectifyMs), median(stereoMs),

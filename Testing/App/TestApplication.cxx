@@ -118,8 +118,7 @@ TEST(Application, DemoScanEndToEnd) {
 
   // A narrower disparity range for speed (the demo's disparities are about 15-25 px at this size).
   tissuemosaic::ReconstructionParameters parameters = panel->parametersPanel()->parameters();
-  parameters.stereo.minDisparityPx = 0;
-  parameters.stereo.maxDisparityPx = 40;
+  parameters.stereo.setFixedDisparityRange(0, 40);
   parameters.tracking.keyFrameMinGapFrames = 4;
   parameters.tracking.keyFramePoseThreshold = 2.0;
   ASSERT_TRUE(panel->parametersPanel()->setParameters(parameters)) << panel->parametersPanel()->errorText().toStdString();

@@ -257,8 +257,7 @@ protected:
   /// frames (a short scan).
   static tissuemosaic::ReconstructionParameters parameters() {
     tissuemosaic::ReconstructionParameters parameters;
-    parameters.stereo.minDisparityPx = 0;
-    parameters.stereo.maxDisparityPx = 40;
+    parameters.stereo.setFixedDisparityRange(0, 40);
     parameters.tracking.keyFrameMinGapFrames = 4;
     parameters.tracking.keyFramePoseThreshold = 2.0;
     return parameters;
@@ -303,6 +302,8 @@ TEST_F(ReconstructionLogicScan, OutputsAreThePipelinesAndMatchTheGroundTruth) {
   EXPECT_EQ(status.framesProcessed, frameCount);
   EXPECT_EQ(status.lostFrames, 0);
   EXPECT_EQ(status.device, "cpu");
+  EXPECT_EQ(status.disparityRange, (tissuemosaic::DisparityRange{0, 40}));
+  EXPECT_EQ(logic->GetDisparityRangeText(), "fixed: 0..40 px");
 
   // Frusta: one per key frame, at the pipeline's (refined) key-frame poses, and near the true poses.
   vtkPolyData* frusta = logic->GetKeyFrameFrusta();
@@ -562,4 +563,43 @@ TEST_F(ReconstructionLogicScan, OwnerNeverWaitsForTheWorker) {
   EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Stop(); }, 20.0)) << "Stop waited for the worker";
   EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Reset(); }, 20.0)) << "Reset waited for the worker";
   gate->open();
+}
+
+TEST_F(ReconstructionLogicScan, SaysWhichDisparityRangeItUses) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  setUp(logic);
+  // Before a scan: what the parameters ask for, in disparities where the rig is known.
+  tissuemosaic::ReconstructionParameters distance = parameters();
+  distance.stereo.disparityRangeMode = tissuemosaic::DisparityRangeMode::WorkingDistance;
+  distance.stereo.workingDistanceNearMm = 50;
+  distance.stereo.workingDistanceFarMm = 150;
+  ASSERT_TRUE(logic->SetParameters(distance)) << logic->GetLastErrorText();
+  tissuemosaic::RectifiedGeometry geometry;
+  ASSERT_TRUE(logic->GetRectifiedGeometry(geometry));
+  const tissuemosaic::DisparityRange expected = tissuemosaic::disparityRangeForDepthMm(geometry, 50, 150);
+  EXPECT_EQ(logic->GetDisparityRangeText(), "working distance 50..150 mm: " + expected.text());
+
+  // The automatic range (the default): chosen from the first frame, then reported as the scan goes.
+  tissuemosaic::ReconstructionParameters automatic = parameters();
+  automatic.stereo.disparityRangeMode = tissuemosaic::DisparityRangeMode::Automatic;
+  ASSERT_TRUE(logic->SetParameters(automatic)) << logic->GetLastErrorText();
+  EXPECT_EQ(logic->GetDisparityRangeText(), "auto: from the first frame's feature matches");
+  logic->SetMaximumFrames(3);
+  ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+  ASSERT_TRUE(logic->WaitForScanEnd(120.0));
+  logic->UpdateOutputs();
+  const auto& status = logic->GetStatus();
+  ASSERT_EQ(status.state, vtkTissueMosaicReconstructionLogic::StateFinished) << status.errorText;
+  const auto frame = scan_->renderFrame(2);
+  double low = 1e9, high = -1e9;
+  for (int i = 0; i < static_cast<int>(frame.disparityPx.total()); ++i) {
+    const float d = frame.disparityPx.at<float>(i);
+    if (!std::isfinite(d)) continue;
+    low = std::min<double>(low, d);
+    high = std::max<double>(high, d);
+  }
+  EXPECT_LE(status.disparityRange.minPx, low);
+  EXPECT_GE(status.disparityRange.maxPx, high);
+  EXPECT_EQ(logic->GetDisparityRangeText().rfind("auto: " + status.disparityRange.text(), 0), 0u)
+      << logic->GetDisparityRangeText();
 }

@@ -22,6 +22,7 @@
 #include <QLabel>
 #include <QApplication>
 #include <QDoubleSpinBox>
+#include <QLabel>
 #include <QPushButton>
 #include <QSignalSpy>
 #include <QSpinBox>
@@ -442,4 +443,23 @@ TEST(ReconstructionParametersWidget, ABrokenParameterFileIsExplainedBesideLoadIn
   EXPECT_GE(errorTop, loadBottom);
   EXPECT_LT(errorTop - loadBottom, 60);
   EXPECT_LT(errorTop, intBox(panel, "minDisparityPx")->mapTo(&panel, QPoint(0, 0)).y());
+}
+
+TEST(ReconstructionModulePanel, ShowsTheDisparityRangeAndWhatAWorkingDistanceMeans) {
+  qTissueMosaicReconstructionWidget panel;
+  auto* range = panel.findChild<QLabel*>("disparityRangeLabel");
+  ASSERT_NE(range, nullptr);
+  EXPECT_TRUE(range->text().contains("auto: from the first frame")) << range->text().toStdString();
+
+  // With the rig known (f B = 300 px mm), a working distance of 10..30 mm is 10..30 px: 8..31 px on the grid, both
+  // in the scan's line and beside the working distance fields.
+  vtkTissueMosaicReconstructionLogic* logic = panel.reconstructionLogic();
+  ASSERT_TRUE(logic->SetFrameSourceFactory([] { return std::make_unique<EmptySource>(); }));
+  logic->SetRectifiedGeometry(emptyGeometry());
+  realBox(panel, "workingDistanceFarMm")->setValue(30);
+  realBox(panel, "workingDistanceNearMm")->setValue(10);
+  EXPECT_EQ(logic->GetParameters().stereo.disparityRangeMode, tissuemosaic::DisparityRangeMode::WorkingDistance);
+  EXPECT_TRUE(range->text().contains("working distance 10..30 mm: 8..31 px")) << range->text().toStdString();
+  const QString beside = panel.parametersPanel()->stereoPanel()->workingDistanceText();
+  EXPECT_TRUE(beside.contains("10..30 mm is 8..31 px")) << beside.toStdString();
 }

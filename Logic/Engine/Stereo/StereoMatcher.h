@@ -3,6 +3,7 @@
 /// @brief Section II of the paper as one call: ZNCC matching, iterative outlier removal with hole filling, and
 /// the improved Laplacian refinement, on the CPU or on a CUDA GPU.
 #include "Core/Device.h"
+#include "Stereo/DisparityRange.h"
 #include "StereoExplanation.h"
 #include "StereoParameters.h"
 
@@ -44,6 +45,12 @@ public:
   /// and the discrete disparities after outlier removal and hole filling.
   cv::Mat lastZnccDisparity() const;
   cv::Mat lastFilledDisparity() const;
+
+  /// Matches later pairs over this range (between frames: never while computeDisparity runs). Throws Error for a
+  /// range StereoParameters refuses. A range of the same count keeps the workspace (the cost volumes); another count
+  /// replaces it at the next call, as a new image size does. Cheap when the range is unchanged.
+  void setDisparityRange(const DisparityRange& range);
+  DisparityRange disparityRange() const;
 
   Device device() const;
   const StereoParameters& parameters() const;
