@@ -61,12 +61,13 @@ const std::vector<Field>& fields() {
      "Winners whose right-view winner disagrees by more than this are dropped (occlusions, fattened depth edges). "
      "-1 switches the check off. An addition to the paper."},
     {"specularMarginPx", "Highlight margin", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMarginPx), 0, 20, 1, 0, " px",
-     "Estimates within this distance of a highlight (the left pixel, or its match in the right eye) are removed and "
-     "refilled from the tissue around. The margin follows the highlight's outline. An addition to the paper."},
+     "Estimates within this distance of a highlight (the left pixel, or its match in the right eye) that disagree "
+     "with the tissue around it are removed and refilled from that tissue. The margin follows the highlight's "
+     "outline. An addition to the paper."},
     {"specularMaxRadiusPx", "Highlight max. radius", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMaxRadiusPx), 1, 100, 1, 0,
      " px",
      "A saturated area reaching this far on both sides of a pixel (along a row or column) is bright tissue, not a "
-     "highlight. Surroundings are sampled just beyond the run and its matching windows."},
+     "highlight. Surroundings are sampled just beyond the bright spot and its matching windows."},
     {"znccWindowPx", "ZNCC window", Zncc, TM_PARAMETER_FIELD(StereoParameters, znccWindowPx), 3, 21, 2, 0, " px",
      "Side of the square ZNCC matching window, odd. Paper II.A: 11x11, using every other pixel (a chessboard)."},
     {"outlierIterations", "Iterations", Outliers, TM_PARAMETER_FIELD(StereoParameters, outlierIterations), 0, 10, 1, 0, "",
@@ -107,20 +108,17 @@ const std::vector<Field>& fields() {
      "Mei et al.'s 4."},
     {"pathEdgeGrey", "Path edge tau_SO", AdCensus, TM_PARAMETER_FIELD(StereoParameters, pathEdgeGrey), 1, 256, 1, 0, "",
      "A grey step of this much along a scanline path is an edge: the path penalties shrink there. Mei et al.: 15."},
-};
-
-const RealField realFields[] = {
     {"specularMinGrey", "Highlight grey level", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMinGrey), 1.0, 256.0, 1.0, 1, "",
      "Grey level from which a pixel may be a specular highlight, which sits on a different surface point in each "
      "eye and matches consistently but falsely. 256 switches highlight removal off. An addition to the paper."},
     {"specularMinContrastGrey", "Highlight contrast", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMinContrastGrey), 0.0,
      255.0, 1.0, 1, "",
-     "A highlight is brighter than the mean of its surroundings by at least this many grey levels; bright tissue "
-     "is about as bright as its surroundings."},
+     "A highlight is brighter than the mean of its surroundings by at least this many grey levels (by half the "
+     "headroom to 255 on bright tissue); bright tissue is about as bright as its surroundings."},
     {"specularViewToleranceGrey", "Highlight view tolerance", Matching, TM_PARAMETER_FIELD(StereoParameters, specularViewToleranceGrey),
      0.0, 255.0, 1.0, 1, "",
-     "A highlight is view-dependent: at its surroundings' disparity the other eye is darker by more than this. "
-     "Bright diffuse tissue looks alike to both eyes and keeps its estimates."},
+     "A highlight is view-dependent: at its surroundings' disparity the other eye is darker by more than this (or "
+     "the highlight matched elsewhere). Bright diffuse tissue looks alike to both eyes and keeps its estimates."},
     {"minWindowStdDev", "Min window std. dev.", Zncc, TM_PARAMETER_FIELD(StereoParameters, minWindowStdDev), 0.0, 100.0, 0.5, 2, "",
      "Grey-level standard deviation below which a window counts as textureless and gets no ZNCC estimate "
      "(an engine safeguard; not in the paper)."},
