@@ -12,7 +12,7 @@ namespace tissuemosaic::test {
 
 /// Numeric fields of StereoParameters, besides the method and the disparity range's mode; the lists below must
 /// name every one of them.
-constexpr std::size_t kStereoParameterNumericFields = 39;
+constexpr std::size_t kStereoParameterNumericFields = 40;
 static_assert(sizeof(StereoParameters) ==
                       sizeof(StereoMethod) + sizeof(DisparityRangeMode) + kStereoParameterNumericFields * sizeof(int) &&
                   sizeof(int) == sizeof(float),
@@ -51,6 +51,7 @@ inline StereoParameters unusualParameters() {
   p.specularMaxRadiusPx = 15;
   p.specularMinContrastGrey = 35.5f;
   p.specularViewToleranceGrey = 22.5f;
+  p.trackingHighlightMarginPx = 11;
   p.censusWidthPx = 7;
   p.censusHeightPx = 5;
   p.censusLambda = 25.0f;
@@ -84,6 +85,7 @@ struct StereoParameterFields {
       {"leftRightMaxDifferencePx", &StereoParameters::leftRightMaxDifferencePx},
       {"specularMarginPx", &StereoParameters::specularMarginPx},
       {"specularMaxRadiusPx", &StereoParameters::specularMaxRadiusPx},
+      {"trackingHighlightMarginPx", &StereoParameters::trackingHighlightMarginPx},
       {"censusWidthPx", &StereoParameters::censusWidthPx},
       {"censusHeightPx", &StereoParameters::censusHeightPx},
       {"armMaxPx", &StereoParameters::armMaxPx},

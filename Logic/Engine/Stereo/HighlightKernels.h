@@ -169,6 +169,14 @@ struct MarkNearHighlight {
   }
 };
 
+/// A box-sum consumer of DiscreteDisparityValue over the left seeds: mask[i] = 1 where a seed lies within the box,
+/// else 0. Tracking and fusion leave those pixels out: a highlight slides over the tissue as the camera moves, so a
+/// feature on it, or a point fused from it, carries the wrong surface point even where its refilled depth is right.
+struct MarkHighlightNeighbourhood {
+  ImageView<uint8_t> mask;
+  TM_HOST_DEVICE void operator()(int64_t index, int64_t, int count) const { mask[index] = count != 0 ? 1 : 0; }
+};
+
 /// True where disparity d of left pixel (x, y) lies near a highlight of either eye (the left pixel, or its match
 /// x - d in the right eye) and differs from that highlight's surroundings by more than kHighlightKeepSlackPx.
 TM_HOST_DEVICE TM_FORCE_INLINE bool disagreesWithHighlight(ImageView<const int16_t> leftNear,

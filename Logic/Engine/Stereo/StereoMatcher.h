@@ -45,6 +45,11 @@ public:
   /// and the discrete disparities after outlier removal and hole filling.
   cv::Mat lastZnccDisparity() const;
   cv::Mat lastFilledDisparity() const;
+  /// CV_8U of the last call: 1 within trackingHighlightMarginPx (a square) of a left-image highlight seed
+  /// (HighlightKernels.h), 0 elsewhere and everywhere with highlight removal off. The disparity there is the
+  /// surrounding tissue's, but a highlight slides over the tissue as the camera moves: tracking and fusion leave
+  /// these pixels out (withoutHighlightNeighbourhood).
+  cv::Mat lastHighlightNeighbourhood() const;
 
   /// Matches later pairs over this range (between frames: never while computeDisparity runs). Throws Error for a
   /// range StereoParameters refuses. A range of the same count keeps the workspace (the cost volumes); another count
@@ -59,5 +64,9 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// A copy of disparityPx (CV_32F) with NaN where highlightNeighbourhood (CV_8U, same size) is non-zero: the
+/// disparity that tracking lifts its features with and that fusion takes its points from.
+cv::Mat withoutHighlightNeighbourhood(const cv::Mat& disparityPx, const cv::Mat& highlightNeighbourhood);
 
 }  // namespace tissuemosaic

@@ -70,6 +70,7 @@ void StereoParameters::validate() const {
   requireRange("specularMaxRadiusPx", specularMaxRadiusPx, 1, 100);
   requireRange("specularMinContrastGrey", specularMinContrastGrey, 0.0f, 255.0f);
   requireRange("specularViewToleranceGrey", specularViewToleranceGrey, 0.0f, 255.0f);
+  requireRange("trackingHighlightMarginPx", trackingHighlightMarginPx, 0, 50);
   requireRange("outlierIterations", outlierIterations, 0, 10);
   requireRange("outlierRadiusStartPx", outlierRadiusStartPx, 1, 200);
   requireRange("outlierRadiusStepPx", outlierRadiusStepPx, 0, 200);
@@ -114,6 +115,7 @@ void StereoParameters::write(cv::FileStorage& storage) const {
   storage << "specularMinGrey" << specularMinGrey << "specularMarginPx" << specularMarginPx;
   storage << "specularMaxRadiusPx" << specularMaxRadiusPx << "specularMinContrastGrey" << specularMinContrastGrey;
   storage << "specularViewToleranceGrey" << specularViewToleranceGrey;
+  storage << "trackingHighlightMarginPx" << trackingHighlightMarginPx;
   storage << "outlierIterations" << outlierIterations << "outlierRadiusStartPx" << outlierRadiusStartPx;
   storage << "outlierRadiusStepPx" << outlierRadiusStepPx << "outlierSmoothnessPx" << outlierSmoothnessPx;
   storage << "holeRadialRadiusPx" << holeRadialRadiusPx << "holeRadialMinLines" << holeRadialMinLines;
@@ -158,6 +160,7 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
   readKey(node, "specularMaxRadiusPx", p.specularMaxRadiusPx);
   readKey(node, "specularMinContrastGrey", p.specularMinContrastGrey);
   readKey(node, "specularViewToleranceGrey", p.specularViewToleranceGrey);
+  readKey(node, "trackingHighlightMarginPx", p.trackingHighlightMarginPx);
   readKey(node, "outlierIterations", p.outlierIterations);
   readKey(node, "outlierRadiusStartPx", p.outlierRadiusStartPx);
   readKey(node, "outlierRadiusStepPx", p.outlierRadiusStepPx);

@@ -64,6 +64,9 @@ struct StereoParameters {
   int specularMaxRadiusPx = 48;            ///< a saturated core this far on both sides of a pixel is tissue
   float specularMinContrastGrey = 40.0f;   ///< a seed is brighter than the mean of its surroundings by this much
   float specularViewToleranceGrey = 30.0f; ///< a seed is brighter than the other eye at its surroundings' match
+  /// Tracking and fusion leave out the pixels within this (a square) of a left seed: the disparity there is the
+  /// tissue's, but a highlight slides over the tissue as the camera moves, so features on it mislead tracking.
+  int trackingHighlightMarginPx = 14;
 
   // Iterative outlier removal and hole filling (II.B).
   int outlierIterations = 3;          ///< removal + filling rounds

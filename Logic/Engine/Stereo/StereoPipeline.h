@@ -62,6 +62,9 @@ struct StereoWorkspace {
   /// specularMarginPx of them.
   Image<int16_t> leftHighlightSeeds, rightHighlightSeeds;
   Image<int16_t> leftNearHighlight, rightNearHighlight;
+  /// 1 within trackingHighlightMarginPx of a left seed, else 0 (all 0 with highlight removal off): what tracking
+  /// and fusion leave out (MarkHighlightNeighbourhood).
+  Image<uint8_t> highlightNeighbourhood;
   Buffer<int16_t> radialHitDistance, radialHitValue;  ///< CPU radial filling: nearest estimate per ray [8][pixels]
   Buffer<uint8_t> rayPasses;  ///< CPU outlier test: 1 where a pixel's ray of direction k passes [8][pixels]
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)

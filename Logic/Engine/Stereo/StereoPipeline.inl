@@ -163,6 +163,8 @@ struct PipelineSteps {
             MarkNearHighlight{w.leftNearHighlight.view()});
     boxSums(DiscreteDisparityValue{w.rightHighlightSeeds.view()}, p.specularMarginPx,
             MarkNearHighlight{w.rightNearHighlight.view()});
+    boxSums(DiscreteDisparityValue{w.leftHighlightSeeds.view()}, p.trackingHighlightMarginPx,
+            MarkHighlightNeighbourhood{w.highlightNeighbourhood.view()});
   }
 
   void outliersAndHoles() {
@@ -337,6 +339,7 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
   StageClock clock(w.device);
 
   parallelFor<Backend>(steps.pixels(), GreyToFloat{w.leftGrey.view(), w.rightGrey.view(), w.left.view(), w.right.view()});
+  if (!steps.specularMasking()) w.highlightNeighbourhood.buffer().setZero();  // no seeds: nothing to leave out
 
   if (p.method == StereoMethod::AdCensus) {
     // The same three timed stages: cost and aggregation; scanline optimisation and winners; median, checks.
