@@ -93,6 +93,10 @@ TEST(StereoCuda, MatchesCpuBitForBitWithHighlights) {
     const cv::Mat gpuDisparity = gpu.computeDisparity(pair.leftRectified, pair.rightRectified, nullptr, &gpuCounts);
     std::printf("%s: cpu %s\n     gpu %s\n", what, cpuCounts.json().c_str(), gpuCounts.json().c_str());
     EXPECT_EQ(countDifferent(cpuDisparity, gpuDisparity), 0) << what;
+    // What tracking and fusion leave out: the same pixels.
+    const cv::Mat cpuNear = cpu.lastHighlightNeighbourhood(), gpuNear = gpu.lastHighlightNeighbourhood();
+    EXPECT_GT(cv::countNonZero(cpuNear), 0) << what;
+    EXPECT_EQ(cv::countNonZero(cpuNear != gpuNear), 0) << what;
     EXPECT_GT(cpuCounts.highlight, 0) << what;
     EXPECT_EQ(cpuCounts.json(), gpuCounts.json()) << what;
   }
