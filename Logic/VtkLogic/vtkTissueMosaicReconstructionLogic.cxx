@@ -1,5 +1,6 @@
 #include "vtkTissueMosaicReconstructionLogic.h"
 
+#include "IO/AtomicFile.h"
 #include "IO/Calibration/CalibrationFile.h"
 #include "vtkTissueMosaicDisparityColours.h"
 #include "vtkTissueMosaicRunCatching.h"
@@ -806,13 +807,17 @@ bool vtkTissueMosaicReconstructionLogic::ExportModel(const std::string& path) {
         this->LastErrorText);
   }
   if (extension == ".vtp") {
-    vtkNew<vtkXMLPolyDataWriter> writer;
-    writer->SetFileName(path.c_str());
-    writer->SetInputData(this->Model);
-    writer->SetDataModeToBinary();
-    if (writer->Write() != 1) return this->Fail("cannot write the model file " + path);
-    this->LastErrorText.clear();
-    return true;
+    return runCatching(
+        [&] {
+          tissuemosaic::writeFileAtomically(path, "model file", [&](const std::string& temporaryPath) {
+            vtkNew<vtkXMLPolyDataWriter> writer;
+            writer->SetFileName(temporaryPath.c_str());
+            writer->SetInputData(this->Model);
+            writer->SetDataModeToBinary();
+            return writer->Write() == 1;
+          });
+        },
+        this->LastErrorText);
   }
   return this->Fail("unknown model file type '" + extension + "' of " + path + ": use .ply or .vtp");
 }

@@ -11,6 +11,7 @@
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
 #include "Core/Stopwatch.h"
+#include "IO/AtomicFile.h"
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
@@ -26,6 +27,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 namespace tissuemosaic::cli {
 
@@ -61,7 +63,14 @@ double peakHostMegabytes() {
 
 void runReconstruct(const ReconstructOptions& options) {
   checkModelOutputPath(options.out);
-  if (options.snapshot) checkSnapshotAvailable();
+  // Every output is checked before any work: a bad secondary path found after the scan would waste it.
+  if (options.trajectory) requireWritableOutput(*options.trajectory, "trajectory (--trajectory)");
+  if (options.framesTrajectory) requireWritableOutput(*options.framesTrajectory, "trajectory (--frames-trajectory)");
+  if (options.timingJson) requireWritableOutput(*options.timingJson, "timing JSON (--timing-json)");
+  if (options.snapshot) {
+    checkSnapshotAvailable();
+    requireWritableOutput(*options.snapshot, "snapshot (--snapshot)");
+  }
   const int maxFrames = options.maxFrames.value_or(-1);
   require(!options.maxFrames || maxFrames > 0, "--max-frames must be positive");
 
@@ -81,6 +90,7 @@ void runReconstruct(const ReconstructOptions& options) {
   std::unique_ptr<StereoFrameSource> source = openInput(options.input);
   const cv::Size frameSize = source->frameSize();
   const StereoGeometry geometry = resolveGeometry(options.geometry, frameSize, source->description());
+  requireDisparityRangeMeetsImage(parameters.stereo, frameSize.width);
   const std::unique_ptr<IgtLinkSender> igtl = startIgtLinkSender(options.igtl, std::cerr);
   StereoFrameSource* const sourceToStop = source.get();
   const StopOnSignal stop([sourceToStop] { sourceToStop->interrupt(); });
@@ -149,6 +159,7 @@ void runReconstruct(const ReconstructOptions& options) {
                        (stop.requested() ? " (stopped by a signal)" : ""));
   }
   require(model.size() > 0, "the reconstruction produced no model points (tracking never started?)");
+  OutputBatch outputs;  // the model, trajectories, snapshot and timing replace existing files together, or not at all
   writeModelFile(options.out, model.cloud, "TissueMosaic reconstruct: world frame = first left rectified camera, mm");
   if (options.trajectory) {
     Trajectory keyFrames;
@@ -193,8 +204,7 @@ void runReconstruct(const ReconstructOptions& options) {
   }
   if (igtl) std::cout << igtl->summary() << "\n";
   if (options.timingJson) {
-    std::ofstream json(*options.timingJson);
-    require(json.good(), "cannot write '" + *options.timingJson + "'");
+    std::ostringstream json;
     json << "{\"device\": \"" << deviceDescription(device) << "\", \"width\": " << frameSize.width
          << ", \"height\": " << frameSize.height << ", \"frames\": " << frames << ", \"lost\": " << lost
          << ", \"key_frames\": " << pipeline->keyFrames().size() << ", \"model_points\": " << model.size()
@@ -203,8 +213,9 @@ void runReconstruct(const ReconstructOptions& options) {
          << ", \"peak_host_mib\": " << cv::format("%.1f", hostMb) << ", \"peak_device_mib\": "
          << cv::format("%.1f", deviceMb) << ", \"disparity_range\": "
          << disparityRangeJson(pipeline->disparityRangeHistory()) << ", \"timing\": " << timing.toJson() << "}\n";
-    require(json.good(), "cannot write '" + *options.timingJson + "' (disk full?)");
+    writeStreamAtomically(*options.timingJson, "timing JSON", [&](std::ostream& out) { out << json.str(); });
   }
+  outputs.commit();
 }
 
 }  // namespace

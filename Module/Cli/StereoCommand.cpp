@@ -2,10 +2,12 @@
 #include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
+#include "IO/AtomicFile.h"
 #include "Core/StereoRig.h"
 #include "IO/DisparityPfm.h"
 #include "IO/ImageFile.h"
 #include "IO/PointCloudPly.h"
+#include "Reconstruction/ReconstructionParameters.h"
 #include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
@@ -64,13 +66,20 @@ void runStereo(const StereoOptions& options) {
     throw UsageError("--cloud needs --calib (or --focal-px and --baseline-mm): depth needs the rig's focal length "
                      "and baseline");
   }
-  StereoParameters parameters = options.params ? StereoParameters::readFile(*options.params) : StereoParameters{};
+  // Every output is checked before any work: a bad secondary path found after the run would leave --out replaced.
+  requireWritableOutput(options.out, "PFM");
+  if (options.cloud) requireWritableOutput(*options.cloud, "PLY (--cloud)");
+  if (options.rectifiedLeft) requireWritableOutput(*options.rectifiedLeft, "image (--rectified-left)");
+  // The whole file is read (and checked strictly), as reconstruct reads it; stereo uses its stereo node.
+  StereoParameters parameters =
+      options.params ? ReconstructionParameters::readFile(*options.params).stereo : StereoParameters{};
   options.range.applyTo(parameters);
   if (options.method) parameters.method = parseStereoMethod(*options.method);
   parameters.validate();
   const Device device = options.device.resolve();
 
   const ImagePair pair = loadImagePair(options.left, options.right);
+  requireDisparityRangeMeetsImage(parameters, pair.left.cols);
   cv::Mat left = pair.left, right = pair.right;
   std::optional<StereoGeometry> geometry;
   if (options.geometry.given()) {
@@ -82,8 +91,11 @@ void runStereo(const StereoOptions& options) {
       right = rightRectified;
     }
   }
-  if (options.rectifiedLeft && !cv::imwrite(*options.rectifiedLeft, left)) {
-    throw Error("cannot write '" + *options.rectifiedLeft + "'");
+  OutputBatch outputs;  // the disparity, cloud and image replace existing files together, or not at all
+  if (options.rectifiedLeft) {
+    writeFileAtomically(*options.rectifiedLeft, "image", [&](const std::string& temporaryPath) {
+      return cv::imwrite(temporaryPath, left);
+    });
   }
 
   requireGeometryForWorkingDistance(parameters, geometry.has_value());
@@ -104,6 +116,11 @@ void runStereo(const StereoOptions& options) {
   std::printf("disparity %dx%d on %s: %d of %d pixels estimated (%.1f%%), written to %s\n", disparity.cols,
               disparity.rows, deviceDescription(device).c_str(), estimated, disparity.rows * disparity.cols,
               100.0 * estimated / (disparity.rows * disparity.cols), options.out.c_str());
+  if (estimated == 0) {
+    std::fprintf(stderr, "warning: no pixel has a disparity: the images may be uniform (black, saturated) or "
+                         "featureless, or the range %d..%d px misses the scene\n",
+                 parameters.minDisparityPx, parameters.maxDisparityPx);
+  }
   // The timing fields are shared; AD-Census's three stages are named by what they are.
   const bool adCensus = parameters.method == StereoMethod::AdCensus;
   std::printf("time: %s %.2f ms, %s %.2f ms, %s %.2f ms, total %.2f ms\n", adCensus ? "cost+aggregation" : "zncc",
@@ -127,7 +144,18 @@ void runStereo(const StereoOptions& options) {
     std::printf("point cloud: %zu points, centroid (%.3f, %.3f, %.3f) mm, written to %s\n", cloud.size(),
                 centroidMm[0], centroidMm[1], centroidMm[2], options.cloud->c_str());
   }
-  if (options.groundTruth) printScore(disparity, readPfm(*options.groundTruth));
+  outputs.commit();
+  if (options.groundTruth) {
+    const cv::Mat truth = readPfm(*options.groundTruth);
+    require(truth.channels() == 1, "--ground-truth '" + *options.groundTruth + "' is a colour PFM ('PF', " +
+                                       std::to_string(truth.channels()) +
+                                       " channels): a disparity map has one channel ('Pf')");
+    require(truth.size() == disparity.size(),
+            "--ground-truth '" + *options.groundTruth + "' is " + std::to_string(truth.cols) + "x" +
+                std::to_string(truth.rows) + " but the disparity is " + std::to_string(disparity.cols) + "x" +
+                std::to_string(disparity.rows));
+    printScore(disparity, truth);
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include "Core/Error.h"
 #include "Core/ParameterChecks.h"
+#include "Core/ParameterFileKeys.h"
 
 #include <opencv2/core.hpp>
 
@@ -191,15 +192,16 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
 }
 
 StereoParameters StereoParameters::readFile(const std::string& path) {
-  cv::FileStorage storage;
+  const cv::FileStorage storage = parameters::openParameterFile(path);
   try {
-    storage.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception& error) {
-    throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file (" + error.err + ")");
-  }
-  if (!storage.isOpened()) throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file");
-  try {
+    // The stereo node's keys are checked here; a whole pipeline's file is checked by ReconstructionParameters.
+    cv::FileStorage known(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+    StereoParameters{}.write(known);
+    const cv::FileStorage knownRead(known.releaseAndGetString(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    parameters::requireKnownKeys(storage["stereo"], knownRead["stereo"], "stereo", false);
     return read(storage["stereo"]);
+  } catch (const Error& error) {
+    throw Error("parameters file '" + path + "': " + error.what());
   } catch (const cv::Exception& error) {
     throw Error("parameters file '" + path + "': a value has the wrong type (" + error.err + ")");
   }

@@ -310,9 +310,8 @@ struct PipelineSteps {
     parallelFor<Backend>(pixels(), Median3x3{w.correction.view(), w.smoothed.view()});
     winnersAfterLeftRightCheck();
     if (explain) explainWinners();
-    if (p.leftRightMaxDifferencePx >= 0) {
-      parallelFor<Backend>(pixels(), DropWhereNoDiscrete{w.discrete.view(), w.smoothed.view()});
-    }
+    // Always: pixels without a winner (uniform costs) are dropped even where the left-right check is off.
+    parallelFor<Backend>(pixels(), DropWhereNoDiscrete{w.discrete.view(), w.smoothed.view()});
     const long beforeHighlights = explain ? countEstimates(w.smoothed) : 0;
     if (specularMasking()) {
       specularMasks();
