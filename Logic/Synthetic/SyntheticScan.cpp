@@ -167,6 +167,7 @@ struct SyntheticScan::Impl {
   std::unique_ptr<ScanPath> path;
   std::unique_ptr<TissueSurface> surface;
   std::unique_ptr<TissueTexture> texture;
+  std::unique_ptr<RealisticLighting> realisticLighting;  ///< with SyntheticLighting::Realistic only
   cv::Rect2d domainMm;
 
   struct Cameras {
@@ -266,6 +267,9 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
   double texelMm = 0.8 * nearestMm / s.geometry.focalPx;
   texelMm = std::max(texelMm, std::sqrt(s.domainMm.area() / 16e6));
   s.texture = std::make_unique<TissueTexture>(s.domainMm, texelMm, options.seed);
+  if (options.lighting == SyntheticLighting::Realistic) {
+    s.realisticLighting = std::make_unique<RealisticLighting>(*s.texture, options.seed);
+  }
 }
 
 SyntheticScan::~SyntheticScan() = default;
@@ -306,9 +310,11 @@ SyntheticScanFrame SyntheticScan::renderFrame(int index) const {
                                  : 0.5 * (s.options.minWorkingDistanceMm + s.options.maxWorkingDistanceMm);
   shading.noiseStdGrey = s.options.noiseStdGrey;
   shading.supersampling = s.options.supersampling;
+  shading.realistic = s.realisticLighting.get();
   // Each frame and eye has its own noise stream.
   const auto stream = static_cast<uint32_t>(2 * index);
-  frame.leftRectified = renderView(c.leftRect, c.leftRaw, *s.surface, *s.texture, shading, s.options.seed, stream + 1);
+  frame.leftRectified = renderView(c.leftRect, c.leftRaw, *s.surface, *s.texture, shading, s.options.seed, stream + 1,
+                                   &frame.highlightMaskLeft);
   frame.rightRectified = renderView(c.rightRect, c.rightRaw, *s.surface, *s.texture, shading, s.options.seed, stream + 2);
   renderRectifiedGroundTruth(c.leftRect, c.rightRect, *s.surface, frame.disparityPx, frame.depthMm);
   return frame;

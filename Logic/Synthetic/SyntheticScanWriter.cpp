@@ -41,6 +41,7 @@ int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory, 
     image(root / "right" / (name + ".png"), frame.rightRectified);
     writePfm((root / "groundtruth" / ("depth_" + name + ".pfm")).string(), frame.depthMm);
     ++written;
+    image(root / "groundtruth" / ("highlight_mask_left_" + name + ".png"), frame.highlightMaskLeft);
     TimedPose pose;
     pose.timeS = frame.timeS;
     pose.T_world_camera = frame.T_world_camera;

@@ -37,10 +37,21 @@ matches (dark, blurred, not rectified) is an error, never a silent default.)";
 struct StereoOptions {
   std::string left, right, out;
   GeometryOptions geometry;
-  std::optional<std::string> cloud, rectifiedLeft, groundTruth, method, params;
+  std::optional<std::string> cloud, rectifiedLeft, groundTruth, method, params, explain;
   DisparityRangeOptions range;
   DeviceOption device;
 };
+
+void writeExplanation(const std::string& path, const StereoExplanation& explanation, const cv::Mat& disparity,
+                      const StereoParameters& parameters) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) throw Error("cannot write '" + path + "'");
+  const int written = std::fprintf(file, "{\"command\": \"stereo\", \"width\": %d, \"height\": %d, \"method\": \"%s\", "
+                                         "\"min_disparity\": %d, \"max_disparity\": %d,\n \"explain\": %s}\n",
+                                   disparity.cols, disparity.rows, stereoMethodName(parameters.method),
+                                   parameters.minDisparityPx, parameters.maxDisparityPx, explanation.json().c_str());
+  if (std::fclose(file) != 0 || written < 0) throw Error("cannot write '" + path + "'");
+}
 
 void printScore(const cv::Mat& disparity, const cv::Mat& truth) {
   const DisparityScore score = scoreDisparity(disparity, truth);
@@ -97,7 +108,9 @@ void runStereo(const StereoOptions& options) {
   }
   std::printf("disparity range %s\n", range.description().c_str());
   StereoTimingsMs timings;
-  const cv::Mat disparity = matcher.computeDisparity(left, right, &timings);
+  StereoExplanation explanation;
+  const cv::Mat disparity =
+      matcher.computeDisparity(left, right, &timings, options.explain ? &explanation : nullptr);
   writePfm(options.out, disparity);
   const int estimated = cv::countNonZero(disparity == disparity);
   std::printf("disparity %dx%d on %s: %d of %d pixels estimated (%.1f%%), written to %s\n", disparity.cols,
@@ -114,6 +127,14 @@ void runStereo(const StereoOptions& options) {
               timings.zncc, adCensus ? "paths+winners" : "outliers+holes", timings.outliersHoles,
               adCensus ? "median+checks" : "refinement", timings.refinement, timings.total());
 
+  if (options.explain) {
+    writeExplanation(*options.explain, explanation, disparity, parameters);
+    std::printf("removed: outside the right image %ld, textureless window %ld, left-right check %ld, highlight %ld, "
+                "outlier sweeps %ld; hole filling gave back %ld, left %ld unfilled; written to %s\n",
+                explanation.outsideRightImage, explanation.texturelessWindow, explanation.leftRightCheck,
+                explanation.highlight, explanation.outlierSweeps, explanation.filledBack, explanation.notFilled,
+                options.explain->c_str());
+  }
   if (options.cloud) {
     const ColoredPointCloud cloud = disparityToPointCloud(disparity, left, geometry->rectified);
     writePly(*options.cloud, cloud, "TissueMosaic stereo cloud, mm, left rectified camera frame");
@@ -161,6 +182,12 @@ void setupStereo(CLI::App& tool) {
                       "print density, bad-1 and bad-2 against a ground-truth disparity (PFM, NaN = unknown)")
       ->type_name("GT.pfm")
       ->group(heading::options);
+  command->add_option("--explain", options->explain,
+                      "write JSON: how many pixels each step removed (outside the right image, textureless window, "
+                      "left-right check, highlight, outlier sweeps), how many the hole filling gave back and how "
+                      "many it left unfilled (docs/STEREO.md)")
+      ->type_name("explain.json")
+      ->group(heading::output);
   addDisparityRangeOptions(*command, options->range);
   addDeviceOption(*command, options->device, "where to compute");
   addParamsOption(*command, options->params, "stereo");

@@ -25,6 +25,11 @@ const char* const details = R"(Renders a synthetic stereo-endoscope video that s
                                        rectified views, 5 px border, in some frame), triangle mesh, world frame, mm:
                                        the reference of `tissuemosaic eval`
   DIR/groundtruth/depth_000000.pfm ... depth (mm) along the left rectified optical axis, NaN = not seen by both eyes
+  DIR/groundtruth/highlight_mask_left_000000.png ...
+                                       left rectified view: 255 where a specular highlight raises the grey level
+                                       by 10 or more, 0 elsewhere
+--lighting realistic: the light's look of `synth pair --lighting realistic` (bright, partly saturated tissue, wet
+glints, clipping); standard is the default.
 The world frame has the tissue at Z = h(X, Y), +Z into the tissue. --path approach moves the scope in from
 --max-distance to --min-distance over the scan instead of up and down between them (add --auto-exposure, or the
 nearest frames get several times the light of the farthest); --focal-px, --baseline-mm and --doffs-px choose the
@@ -35,6 +40,7 @@ struct SynthScanOptions {
   std::string out;
   synthetic::SyntheticScanOptions scan;
   int seed = static_cast<int>(synthetic::SyntheticScanOptions{}.seed);
+  std::string lighting = "standard";
 };
 
 void printProgress(int frame, int frames) {
@@ -46,6 +52,7 @@ void runSynthScan(const SynthScanOptions& given) {
   require(given.seed >= 0, "--seed must be a non-negative integer");
   synthetic::SyntheticScanOptions options = given.scan;
   options.seed = static_cast<uint32_t>(given.seed);
+  options.lighting = synthetic::parseSyntheticLighting(given.lighting);
   const std::string& out = given.out;
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScan scan(options);
@@ -104,6 +111,8 @@ void setupSynthScan(CLI::App& synth) {
   command->add_flag("--auto-exposure", scan.autoExposure,
                     "the exposure follows the working distance (as a scope's automatic exposure)")
       ->group(heading::options);
+  add("--lighting", options->lighting, "the light's look: standard or realistic");
+  command->get_option("--lighting")->type_name("standard|realistic");
   command->callback([options] { runSynthScan(*options); });
 }
 

@@ -116,7 +116,9 @@ void runTrack(const TrackOptions& options) {
     } catch (const DisparityRangeError& error) {
       rethrowWithRangeOptions(error);
     }
-    const cv::Mat disparity = matcher.computeDisparity(left, right);
+    // As the reconstruction pipeline does: features near a highlight get no depth (StereoMatcher.h).
+    const cv::Mat stereo = matcher.computeDisparity(left, right);
+    const cv::Mat disparity = withoutHighlightNeighbourhood(stereo, matcher.lastHighlightNeighbourhood());
     const auto t3 = std::chrono::steady_clock::now();
     const TrackResult result = tracker.track(left, disparity);
     range.afterFrame(left, right);  // the next frame's range, from this frame's sparse matches
