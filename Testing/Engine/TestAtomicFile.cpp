@@ -1,6 +1,7 @@
 // Atomic outputs: a write that fails midway (file-size limit, an error in the writer) leaves an existing file exactly
 // as it was and no temporary file behind; a path that cannot be written is refused before any work, with its reason.
 #include "Core/Error.h"
+#include "ErrorText.h"
 #include "IO/AtomicFile.h"
 #include "IO/DisparityPfm.h"
 #include "IO/TrajectoryTum.h"
@@ -34,15 +35,6 @@ void writeBytes(const std::string& path, const std::string& bytes) { std::ofstre
 
 std::size_t filesIn(const std::string& folder) {
   return static_cast<std::size_t>(std::distance(fs::directory_iterator(folder), fs::directory_iterator()));
-}
-
-std::string errorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "no error";
 }
 
 /// Lowers the file-size limit (as `ulimit -f` does) for its lifetime.

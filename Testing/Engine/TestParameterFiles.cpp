@@ -1,6 +1,7 @@
 // Parameters files are strict (issue 32): a misspelt node or key is an error naming it and the nearest known name;
 // an empty file says so. Every key the structs write is accepted back.
 #include "Core/Error.h"
+#include "ErrorText.h"
 #include "Reconstruction/ReconstructionParameters.h"
 #include "Stereo/StereoParameters.h"
 
@@ -12,15 +13,6 @@
 
 namespace tissuemosaic {
 namespace {
-
-std::string errorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const Error& error) {
-    return error.what();
-  }
-  return "no error";
-}
 
 std::string writeFile(const std::string& name, const std::string& text) {
   const std::string folder = std::string(TM_TEST_OUTPUT_DIR) + "/ParameterFiles";
