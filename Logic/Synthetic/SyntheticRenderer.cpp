@@ -54,7 +54,7 @@ cv::Vec3d shade(const cv::Vec3d& origin, const cv::Vec3d& ray, double t, const c
 
 cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCamera, const TissueSurface& surface,
                    const TissueTexture& texture, const ShadingParameters& shading, uint32_t seed,
-                   uint32_t noiseStream) {
+                   uint32_t noiseStream, const RayOccluder* occluder) {
   const int width = camera.imageSize.width, height = camera.imageSize.height;
   const int n = std::max(1, shading.supersampling);
   cv::Mat image(camera.imageSize, CV_8UC3);
@@ -83,10 +83,16 @@ cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCam
             const double guess = beforeLast[sy] > 0 ? 2 * last[sy] - beforeLast[sy] : last[sy];
             // 1 um along the ray is far below a texel: plenty for shading.
             const double t = surface.intersect(camera.centreWorldMm, ray, guess, &gradient, 1e-3);
-            if (!std::isfinite(t)) continue;  // looking away from the tissue: black
-            beforeLast[sy] = last[sy];
-            last[sy] = t;
-            sum += shade(camera.centreWorldMm, ray, t, gradient, texture, shading);
+            if (std::isfinite(t)) {
+              beforeLast[sy] = last[sy];
+              last[sy] = t;
+            }
+            cv::Vec3d occluded;
+            if (occluder && occluder->shade(camera.centreWorldMm, ray, std::isfinite(t) ? t : HUGE_VAL, shading, occluded)) {
+              sum += occluded;  // an instrument in front of the tissue
+            } else if (std::isfinite(t)) {  // else looking away from the tissue: black
+              sum += shade(camera.centreWorldMm, ray, t, gradient, texture, shading);
+            }
           }
         }
         const double vignette = vignettingFactor(lensCamera, centreRay, shading.vignetting);

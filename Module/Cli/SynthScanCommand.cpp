@@ -6,6 +6,7 @@
 #include "Core/Error.h"
 
 #include <chrono>
+#include <cstdio>
 #include <iostream>
 
 namespace tissuemosaic::cli {
@@ -37,6 +38,22 @@ options:
   --max-speed MM_S         fastest scope speed (default 20)
   --noise GREY             sensor read noise in grey levels (default 1.5)
   --supersampling N        N x N rays per pixel (default 2)
+
+hard mode (real surgery, each with its ground truth; deterministic from the seed):
+  --breathing-mm A         part of the tissue (a disc of 18 mm radius, flat over its inner 10 mm) rises toward the
+                           scope by up to A mm and falls back once per breath; depth_NNNNNN.pfm is the tissue at
+                           that frame, groundtruth/static_surface.ply the part of surface.ply that never moves
+  --breathing-period-s T   one breath (default 4)
+  --instruments N          N rigid instruments (steel shaft, serrated jaws) enter, move over the tissue and leave;
+                           groundtruth/instrument_mask_NNNNNN.png (255: an instrument covers the left pixel; the
+                           depth is the tissue's behind it) and groundtruth/instruments.ply (their surfaces at every
+                           frame, one mesh: `tissuemosaic eval --reference` on it gives share_within_1mm, the share
+                           of a model's points within 1 mm of an instrument)
+  --camera-out S:E         frames S to E-1 show no tissue (the scope withdrawn: smoke, dark, a smeared lens) and have
+                           no line in trajectory.txt; at frame E the camera is back about 10 mm and 10 degrees from
+                           where it left
+  --smoke                  a drifting haze over the tissue in every frame
+groundtruth/scene.yml then says what breathes, when each instrument is in and the camera-out span.
 )";
 
 void printProgress(int frame, int frames) {
@@ -52,7 +69,8 @@ int runSynthScan(const Words& words) {
   }
   const Arguments arguments(words);
   arguments.allowOnly({"out", "frames", "seed", "width", "height", "fps", "min-distance", "max-distance", "min-speed",
-                       "max-speed", "noise", "supersampling"});
+                       "max-speed", "noise", "supersampling", "breathing-mm", "breathing-period-s", "instruments",
+                       "camera-out", "smoke"});
   const std::string out = arguments.required("out");
   synthetic::SyntheticScanOptions options;
   const int seed = arguments.integer("seed", static_cast<int>(options.seed));
@@ -68,6 +86,21 @@ int runSynthScan(const Words& words) {
   options.maxSpeedMmPerS = arguments.number("max-speed", options.maxSpeedMmPerS);
   options.noiseStdGrey = arguments.number("noise", options.noiseStdGrey);
   options.supersampling = arguments.integer("supersampling", options.supersampling);
+  synthetic::SyntheticHardModeOptions& hard = options.hardMode;
+  hard.breathingAmplitudeMm = arguments.number("breathing-mm", hard.breathingAmplitudeMm);
+  hard.breathingPeriodS = arguments.number("breathing-period-s", hard.breathingPeriodS);
+  hard.instruments = arguments.integer("instruments", hard.instruments);
+  if (arguments.has("camera-out")) {
+    const std::string span = arguments.required("camera-out");
+    int start = -1, end = -1;
+    char colon = 0, extra = 0;
+    require(std::sscanf(span.c_str(), "%d%c%d%c", &start, &colon, &end, &extra) == 3 && colon == ':',
+            "--camera-out must be S:E (first frame without tissue, first frame back), got '" + span + "'");
+    require(start >= 0, "--camera-out S:E needs S >= 1, got '" + span + "'");
+    hard.cameraOutStart = start;
+    hard.cameraOutEnd = end;
+  }
+  hard.smoke = arguments.has("smoke");
 
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScan scan(options);
