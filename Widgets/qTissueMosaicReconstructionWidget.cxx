@@ -19,6 +19,7 @@
 #include <QTimer>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <map>
 
 namespace {
@@ -28,7 +29,8 @@ QString stageLabel(const std::string& key) {
   static const std::map<std::string, const char*> labels = {
       {"video_reading", "video reading"},   {"stereo", "stereo matching"},
       {"orb_voting", "ORB + voting"},       {"dynamic_r1ppnp", "DynamicR1PPnP"},
-      {"refinement", "refinement"},         {"tsdf", "TSDF"},
+      {"model_agreement", "model agreement"}, {"refinement", "refinement"},
+      {"tsdf", "TSDF"},
       {"total", "total"}};
   const auto label = labels.find(key);
   return label != labels.end() ? QObject::tr(label->second) : QString::fromStdString(key);
@@ -61,6 +63,7 @@ public:
   QTableWidget* timing = nullptr;
   QLabel* inputLabel = nullptr;
   QLabel* stateLabel = nullptr;
+  QLabel* agreementLabel = nullptr;  ///< the quality signal: green / amber / red with the numbers
   QLabel* messageLabel = nullptr;
   QGroupBox* parametersBox = nullptr;
   QCheckBox* rectifiedCheckBox = nullptr;
@@ -128,6 +131,13 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   stateLabel->setObjectName("stateLabel");
   stateLabel->setWordWrap(true);
   scanLayout->addWidget(stateLabel, 1, 0, 1, 4);
+  agreementLabel = new QLabel(q);
+  agreementLabel->setObjectName("modelAgreementLabel");
+  agreementLabel->setToolTip(QObject::tr(
+      "How well the model, seen from the tracked pose, agrees with this frame's stereo depth: the share of depths "
+      "within 1 mm of the model and the median difference. Green: trust the model here; amber: part of the view "
+      "moved or is covered; red: do not trust it. Thresholds: the agreement parameters."));
+  scanLayout->addWidget(agreementLabel, 2, 0, 1, 4);
   layout->addWidget(scanBox);
 
   auto* exportBox = new QGroupBox(QObject::tr("Export"), q);
@@ -272,7 +282,16 @@ void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
   }
   input += logic->HasCalibration() ? QObject::tr("; calibrated") : QObject::tr("; no calibration");
   inputLabel->setText(input);
+  const auto& status = logic->GetStatus();
   stateLabel->setText(QString::fromStdString(logic->GetTrackingStateText()));
+  const bool lost = status.framesProcessed > 0 && !status.tracked && status.state != Logic::StateIdle;
+  stateLabel->setStyleSheet(lost ? "QLabel { color: #c62828; font-weight: bold; }" : QString());
+  agreementLabel->setText(QString::fromStdString(logic->GetAgreementText()));
+  // The traffic light: tissuemosaic::AgreementLevel (none, good, fair, poor).
+  static const char* const colours[] = {"#9e9e9e", "#2e7d32", "#f9a825", "#c62828"};
+  const int level = lost ? 0 : std::clamp(status.agreementLevel, 0, 3);
+  agreementLabel->setStyleSheet(QString("QLabel { background-color: %1; color: white; padding: 2px 6px; }").arg(colours[level]));
+  agreementLabel->setProperty("agreementLevel", level);
 }
 
 void qTissueMosaicReconstructionWidgetPrivate::updateTimingTable() {

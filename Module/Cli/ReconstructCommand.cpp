@@ -12,6 +12,7 @@
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
+#include "Reconstruction/QualityLog.h"
 #include "Reconstruction/ReconstructionPipeline.h"
 #include "Reconstruction/TimingTable.h"
 
@@ -49,7 +50,12 @@ Outputs:
                            rectified camera (or --start-tum's pose), millimetres.
   --trajectory traj.txt    the key frames' refined poses, TUM (t tx ty tz qx qy qz qw, T_world_camera, mm)
   --frames-trajectory T    every tracked frame's pose, TUM (lost frames as comments)
-  --timing-json t.json     the timing table and memory figures as JSON
+  --timing-json t.json     the timing table and memory figures as JSON, with "lost_spans" ([[first, last], ...]:
+                           frames reported lost) and "relocalisations" ([frame, ...]: the first frame tracked
+                           again after each span)
+  --quality-json q.json    the model agreement of every frame (docs/RECONSTRUCTION.md), a JSON array of records
+                           {"frame", "status" (tracked | lost | relocalised), "median_depth_difference_mm",
+                           "share_within_1mm" (null where not measured: lost, or no model in view), "inliers"}
   --snapshot view.png      an offscreen rendering of the model and the key-frame frusta (needs VTK; uses a
                            private Xvfb when there is no display)
 Options:
@@ -108,7 +114,8 @@ int runReconstruct(const Words& words) {
   const Arguments arguments(words);
   arguments.allowOnly({"left-frames", "right-frames", "left-video", "right-video", "video", "calib", "rectified",
                        "focal-px", "baseline-mm", "cx-px", "cy-px", "doffs-px", "out", "trajectory",
-                       "frames-trajectory", "timing-json", "snapshot", "params", "device", "fps", "max-frames",
+                       "frames-trajectory", "timing-json", "quality-json", "snapshot", "params", "device", "fps",
+                       "max-frames",
                        "start-tum", "min-disparity", "max-disparity", "quiet"});
   const std::string out = arguments.required("out");
   checkModelOutputPath(out);
@@ -163,6 +170,7 @@ int runReconstruct(const Words& words) {
   Trajectory framePoses;
   std::string framesLog;
   int lost = 0;
+  QualityLog quality;
   bool budgetWarned = false;
   StereoFrame frame;
   for (int index = 0; maxFrames < 0 || index < maxFrames; ++index) {
@@ -173,6 +181,7 @@ int runReconstruct(const Words& words) {
     result.timesMs.videoReading += readMs;
     result.timesMs.total += readMs;
     timing.add(result);
+    quality.add(result);
     if (result.tracked) {
       TimedPose pose;
       pose.timeS = frame.timeS;
@@ -188,8 +197,8 @@ int runReconstruct(const Words& words) {
       progress.message("the model reached its point budget (" + std::to_string(parameters.fusion.maxPoints) +
                        " points, fusion parameter maxPoints): new surface is no longer added");
     }
-    progress.update(index + 1, cv::format("%d key frames, %zu points%s", static_cast<int>(pipeline->keyFrames().size()),
-                                          result.modelPoints, result.tracked ? "" : ", LOST"));
+    progress.update(index + 1, cv::format("%d key frames, %zu points, %s", static_cast<int>(pipeline->keyFrames().size()),
+                                          result.modelPoints, QualityLog::progressText(result).c_str()));
   }
   progress.finish();
   const int frames = pipeline->frameCount();
@@ -228,6 +237,7 @@ int runReconstruct(const Words& words) {
             << cv::format("peak memory: host %.0f MiB (resident), device %.0f MiB (in use, with the CUDA context)\n",
                           hostMb, deviceMb);
   if (!snapshotLine.empty()) std::cout << snapshotLine << "\n";
+  if (arguments.has("quality-json")) quality.writeJson(arguments.required("quality-json"));
   if (arguments.has("timing-json")) {
     std::ofstream json(arguments.required("timing-json"));
     require(json.good(), "cannot write '" + arguments.required("timing-json") + "'");
@@ -235,7 +245,8 @@ int runReconstruct(const Words& words) {
          << ", \"height\": " << frameSize.height << ", \"frames\": " << frames << ", \"lost\": " << lost
          << ", \"key_frames\": " << pipeline->keyFrames().size() << ", \"model_points\": " << model.size()
          << ", \"peak_host_mib\": " << cv::format("%.1f", hostMb) << ", \"peak_device_mib\": "
-         << cv::format("%.1f", deviceMb) << ", \"timing\": " << timing.toJson() << "}\n";
+         << cv::format("%.1f", deviceMb) << ", \"lost_spans\": " << quality.lostSpansJson()
+         << ", \"relocalisations\": " << quality.relocalisationsJson() << ", \"timing\": " << timing.toJson() << "}\n";
     require(json.good(), "cannot write '" + arguments.required("timing-json") + "' (disk full?)");
   }
   return 0;

@@ -56,6 +56,16 @@ TM_HOST_DEVICE TM_FORCE_INLINE uint32_t floatBits(float value) {
 #endif
 }
 
+TM_HOST_DEVICE TM_FORCE_INLINE float floatFromBits(uint32_t bits) {
+#if defined(__CUDA_ARCH__)
+  return __uint_as_float(bits);
+#else
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+#endif
+}
+
 // ---- data -----------------------------------------------------------------------------------------------------------
 
 /// Four floats, 16-byte aligned so a GPU thread loads one in a single transaction.
@@ -64,11 +74,16 @@ struct alignas(16) Float4 {
 };
 
 TM_HOST_DEVICE TM_FORCE_INLINE Float3 xyz(Float4 a) { return {a.x, a.y, a.z}; }
+/// A model point still in the model (its positionWeight's weight is positive).
+TM_HOST_DEVICE TM_FORCE_INLINE bool isLive(Float4 positionWeight) { return positionWeight.w > 0; }
 
 /// The model on the device, structure of arrays indexed by point.
 struct ModelArrays {
-  Float4* positionWeight;  ///< world position (mm); w = TSDF weight (merged observations, capped)
-  Float4* normal;          ///< world unit normal; w unused (0)
+  /// world position (mm); w = TSDF weight (merged observations, capped, less what motion took: Fusion/
+  /// AgreementKernels.h). A point whose weight reached 0 has left the model: every step skips it until the store is
+  /// compacted.
+  Float4* positionWeight;
+  Float4* normal;          ///< world unit normal; w = motion evidence (AgreementKernels.h), 0 for a new point
   Float4* colourWeight;    ///< RGB 0..255 (running average); w = accumulated colour weight (capped)
 };
 
@@ -177,6 +192,7 @@ struct MergeModelPoints {
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const Float4 positionWeight = model.positionWeight[index];
+    if (!isLive(positionWeight)) return;
     const Float3 p = xyz(positionWeight);
     const Float3 pc = pose.worldToCamera(p);
     int px, py;
@@ -220,7 +236,7 @@ struct MergeModelPoints {
       const float norm = length(sum);
       if (norm > 0) {
         const Float3 n = (1.0f / norm) * sum;
-        model.normal[index] = {n.x, n.y, n.z, 0.0f};
+        model.normal[index] = {n.x, n.y, n.z, model.normal[index].w};  // w: the motion evidence, kept
       }
     }
 
@@ -292,6 +308,27 @@ struct CopyModelPoints {
   }
 };
 
+/// Per model point: 1 where it is live (the prefix sum of these flags places it in a compacted store).
+struct FlagLivePoints {
+  const Float4* positionWeight;
+  int* flags;
+  TM_HOST_DEVICE void operator()(int64_t index) const { flags[index] = isLive(positionWeight[index]) ? 1 : 0; }
+};
+
+/// Per model point: a live point moves to its prefix-sum place in the other store (order kept).
+struct CompactLivePoints {
+  ModelArrays from, to;
+  const int* flags;
+  const int* offsets;
+  TM_HOST_DEVICE void operator()(int64_t index) const {
+    if (!flags[index]) return;
+    const int64_t target = offsets[index];
+    to.positionWeight[target] = from.positionWeight[index];
+    to.normal[target] = from.normal[index];
+    to.colourWeight[target] = from.colourWeight[index];
+  }
+};
+
 struct ClearDepthKeys {
   uint64_t* keys;
   TM_HOST_DEVICE void operator()(int64_t index) const { keys[index] = kEmptyDepthKey; }
@@ -308,7 +345,9 @@ struct ProjectToDepthKeys {
   uint64_t* keys;
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
-    const Float3 pc = pose.worldToCamera(xyz(positionWeight[index]));
+    const Float4 point = positionWeight[index];
+    if (!isLive(point)) return;
+    const Float3 pc = pose.worldToCamera(xyz(point));
     int x, y;
     if (!camera.project(pc, x, y)) return;
     if (dot(pose.worldToCamera.rotate(xyz(normal[index])), pc) >= 0) return;  // back-facing: hidden
@@ -332,12 +371,20 @@ struct SampleGrid {
   }
 };
 
-/// Per grid cell: 1 where its sample pixel holds a visible model point.
+/// Per grid cell: 1 where its sample pixel holds a visible model point that no recent frame contradicted.
+/// A point whose motion evidence (normal.w, AgreementKernels.h) is at least this is not sampled: a recent frame
+/// contradicted it, and the refinement's ICP term would pull the pose toward tissue that moved.
+constexpr float kMaxSampledMotionEvidence = 0.5f;
+
 struct FlagGridSamples {
   const uint64_t* keys;
+  const Float4* normal;
   SampleGrid grid;
   int* flags;
-  TM_HOST_DEVICE void operator()(int64_t cell) const { flags[cell] = keys[grid.pixelOf(cell)] != kEmptyDepthKey; }
+  TM_HOST_DEVICE void operator()(int64_t cell) const {
+    const uint64_t key = keys[grid.pixelOf(cell)];
+    flags[cell] = key != kEmptyDepthKey && normal[static_cast<uint32_t>(key & 0xffffffffu)].w < kMaxSampledMotionEvidence;
+  }
 };
 
 /// Per grid cell: writes the visible model point of a flagged cell at its prefix-sum offset.

@@ -16,6 +16,7 @@ ReconstructionParameters readStorage(const cv::FileStorage& storage) {
   p.tracking = TrackingParameters::read(storage["tracking"]);
   p.refinement = RefinementParameters::read(storage["refinement"]);
   p.fusion = FusionParameters::read(storage["fusion"]);
+  p.agreement = AgreementParameters::read(storage["agreement"]);
   const cv::FileNode extractor = storage["pipeline"]["extractor"];
   if (!extractor.empty()) {
     const std::string name = extractor.isString() ? static_cast<std::string>(extractor) : std::string();
@@ -35,6 +36,7 @@ void ReconstructionParameters::validate() const {
   tracking.validate();
   refinement.validate();
   fusion.validate();
+  agreement.validate();
 }
 
 ReconstructionParameters ReconstructionParameters::readFile(const std::string& path) {
@@ -79,6 +81,7 @@ void ReconstructionParameters::writeFile(const std::string& path) const {
   tracking.write(storage);
   refinement.write(storage);
   fusion.write(storage);
+  agreement.write(storage);
 }
 
 }  // namespace tissuemosaic

@@ -3,6 +3,7 @@
 /// @brief Section II of the paper as one call: ZNCC matching, iterative outlier removal with hole filling, and
 /// the improved Laplacian refinement, on the CPU or on a CUDA GPU.
 #include "Core/Device.h"
+#include "Core/Image.h"
 #include "StereoParameters.h"
 
 #include <opencv2/core.hpp>
@@ -41,6 +42,11 @@ public:
   /// and the discrete disparities after outlier removal and hole filling.
   cv::Mat lastZnccDisparity() const;
   cv::Mat lastFilledDisparity() const;
+  /// The last computeDisparity result where it was computed (device memory on CUDA, host memory on the CPU), until
+  /// the next call: per-frame steps on the same device read it there instead of uploading the returned Mat again.
+  /// A thread other than the one that computed it may read it once that call has returned (it synchronises).
+  /// Throws Error before the first call.
+  ImageView<const float> lastDisparity() const;
 
   Device device() const;
   const StereoParameters& parameters() const;
