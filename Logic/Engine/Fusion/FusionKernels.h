@@ -126,6 +126,9 @@ struct FusionSettings {
   int newPointStepPx;
   float colourFullWeightFraction, colourMinWeight;
   float conflictMinWeight;        ///< FusionParameters::conflictMinWeight; 0: off
+  /// A measurement this far or more in front of a model point (along the point's viewing ray) is something passing
+  /// in front of the tissue (an instrument, smoke): its pixel counts as covered, so it adds no point. 0: off.
+  float occluderMarginMm;
 };
 
 constexpr uint64_t kEmptyDepthKey = ~uint64_t(0);
@@ -175,6 +178,13 @@ TM_HOST_DEVICE TM_FORCE_INLINE bool measurementAgrees(const MeasurementView& m, 
   return fabsf(alongRayMm) <= s.truncationMm;
 }
 
+/// True when the measured point q (camera frame) lies at least marginMm nearer to the camera than the model point pc
+/// along pc's viewing ray (its depth below pc's by marginMm times the ray's length per unit depth).
+TM_HOST_DEVICE TM_FORCE_INLINE bool inFrontOf(Float3 q, Float3 pc, float marginMm) {
+  if (!isFinite(q) || !(pc.z > 0)) return false;
+  return (pc.z - q.z) * length(pc) / pc.z >= marginMm;
+}
+
 // ---- kernels ------------------------------------------------------------------------------------------------------
 
 /// Per model point: project it into the key frame; every pixel of its (2r+1)^2 neighbourhood whose measurement
@@ -206,7 +216,12 @@ struct MergeModelPoints {
       for (int x = px - r; x <= px + r; ++x) {
         if (x < 0 || x >= width) continue;
         float rayScale;
-        if (!measurementAgrees(measurement, x, y, pc, nc, settings, rayScale)) continue;
+        if (!measurementAgrees(measurement, x, y, pc, nc, settings, rayScale)) {
+          if (settings.occluderMarginMm > 0 && inFrontOf(measurement.pointsMm.at(x, y), pc, settings.occluderMarginMm)) {
+            setFlag(covered + static_cast<int64_t>(y) * width + x);
+          }
+          continue;
+        }
         setFlag(covered + static_cast<int64_t>(y) * width + x);
         if (x == px && y == py) {
           ownAgrees = true;

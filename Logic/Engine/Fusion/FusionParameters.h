@@ -43,7 +43,8 @@ struct FusionParameters {
   double motionMinThresholdMm = 0.3;
   double motionNoiseFactor = 4.0;
   /// A measurement more than this in front of a point is something passing in front of it (an instrument), not
-  /// evidence that the point moved.
+  /// evidence that the point moved; while motionPenalty > 0, a key frame does not fuse such a measurement either
+  /// (instruments in front of fused tissue leave no points).
   double occlusionMarginMm = 3.0;
   /// Frames whose share of depths within 1 mm of the model is below this give no motion evidence (the pose or the
   /// whole view may be off).

@@ -69,6 +69,8 @@ fusion::FusionSettings fusionSettings(const RectifiedGeometry& geometry, const F
   s.colourFullWeightFraction = static_cast<float>(p.colourFullWeightFraction);
   s.colourMinWeight = static_cast<float>(p.colourMinWeight);
   s.conflictMinWeight = static_cast<float>(p.conflictMinWeight);
+  // Part of the scene-motion handling (motionPenalty > 0): what passes in front of the model is not fused.
+  s.occluderMarginMm = p.motionPenalty > 0 ? static_cast<float>(p.occlusionMarginMm) : 0.0f;
   return s;
 }
 

@@ -75,6 +75,9 @@ RelocalisationResult Relocaliser::relocalise(const StereoFeatures& features, con
   struct Solved {
     PnpResult pnp;
     int frameIndex = -1;
+    Points3d points;  ///< the matched key-frame points (world) and this frame's pixels, for the joint polish
+    Pixels2d pixels;
+    std::vector<std::vector<CandidateMatch>> candidates;
   };
   std::vector<Solved> solved(chosen.size());
   const Eigen::Matrix4d T_camera_world_guess = inverseRigid(T_world_lastTracked);
@@ -108,16 +111,41 @@ RelocalisationResult Relocaliser::relocalise(const StereoFeatures& features, con
         const HistogramVote vote = histogramVote(fromPx, pixels, s.features.voteBinPx);
         out.pnp = solveDynamicR1Ppnp(points, pixels, candidates, intrinsics, s.tracking, vote.order,
                                      &T_camera_world_guess, kHypothesesAtOnce);
+        out.points = std::move(points);
+        out.pixels = std::move(pixels);
+        out.candidates = std::move(candidates);
       },
       1);
   result.keyFramesTried = static_cast<int>(chosen.size());
+  const Solved* best = nullptr;
   for (const Solved& candidate : solved) {
     const int inliers = candidate.pnp.success ? static_cast<int>(candidate.pnp.inlierIndices.size()) : 0;
     if (inliers < s.tracking.relocalisationMinInliers || inliers <= result.inliers) continue;
+    best = &candidate;
     result.success = true;
     result.inliers = inliers;
     result.keyFrame = candidate.frameIndex;
     result.T_world_camera = inverseRigid(candidate.pnp.T_camera_world);
+  }
+  if (best) {
+    // One key frame's inliers fix the pose only roughly (a few dozen after the camera was out): the best pose is
+    // polished on the matches of every key frame tried that sit where it projects them, within the tracker's
+    // final-fit bound. At 480x270 this halves the relocalised pose's error (RobustTracking tests).
+    Points3d points;
+    Pixels2d pixels;
+    std::vector<std::vector<CandidateMatch>> candidates;
+    for (const Solved& set : solved) {
+      points.insert(points.end(), set.points.begin(), set.points.end());
+      pixels.insert(pixels.end(), set.pixels.begin(), set.pixels.end());
+      candidates.insert(candidates.end(), set.candidates.begin(), set.candidates.end());
+    }
+    const double boundPx = s.tracking.dynamicResidualPx > 0 ? s.tracking.dynamicResidualPx : s.tracking.inlierThresholdPx;
+    const PnpResult joint = polishPnpPose(points, pixels, candidates, intrinsics, best->pnp.T_camera_world, boundPx,
+                                          s.tracking.relocalisationMinInliers);
+    if (joint.success && static_cast<int>(joint.inlierIndices.size()) >= result.inliers) {
+      result.inliers = static_cast<int>(joint.inlierIndices.size());
+      result.T_world_camera = inverseRigid(joint.T_camera_world);
+    }
   }
   if (!result.success) {
     result.message = "no stored key frame matched with " + std::to_string(s.tracking.relocalisationMinInliers) +
