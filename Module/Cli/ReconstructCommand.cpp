@@ -22,6 +22,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -119,6 +120,14 @@ int runReconstruct(const Words& words) {
                        "start-tum", "min-disparity", "max-disparity", "quiet"});
   const std::string out = arguments.required("out");
   checkModelOutputPath(out);
+  // The reports are written after the run: a folder that does not exist is refused before it starts.
+  for (const char* report : {"quality-json", "timing-json", "frames-trajectory", "trajectory"}) {
+    if (!arguments.has(report)) continue;
+    const std::filesystem::path parent = std::filesystem::path(arguments.required(report)).parent_path();
+    require(parent.empty() || std::filesystem::is_directory(parent),
+            std::string("cannot write --") + report + " '" + arguments.required(report) + "': the folder '" +
+                parent.string() + "' does not exist");
+  }
   if (arguments.has("snapshot")) checkSnapshotAvailable();
   const double fps = arguments.number("fps", 30.0);
   require(fps > 0 && std::isfinite(fps), "--fps must be positive");
