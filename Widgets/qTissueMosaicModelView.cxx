@@ -1,16 +1,24 @@
 #include "qTissueMosaicModelView.h"
 
+#include "qTissueMosaicViewLegends.h"
 #include "vtkTissueMosaicModelScene.h"
+#include "vtkTissueMosaicPointCloud.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
 
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkCallbackCommand.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkPoints.h>
+#include <vtkPointData.h>
+#include <vtkFloatArray.h>
+#include <vtkCellArray.h>
 #include <vtkCamera.h>
 #include <vtkInteractorObserver.h>
 #include <vtkInteractorStyle.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkNew.h>
+#include <vtkOrientationMarkerWidget.h>
 #include <vtkPNGWriter.h>
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
@@ -23,6 +31,7 @@
 #include <QVBoxLayout>
 
 #include <algorithm>
+#include <memory>
 
 class qTissueMosaicModelView::Private {
 public:
@@ -31,6 +40,8 @@ public:
   vtkNew<vtkRenderer> renderer;
   vtkNew<vtkTissueMosaicModelScene> scene;
   vtkSmartPointer<vtkPolyData> model;
+  vtkSmartPointer<vtkPolyData> keyFrameFrusta, currentFrustum, trajectory;
+  bool warmedUp = false;  ///< the scene's shaders are compiled
   bool renderPending = false;
   QElapsedTimer sinceRender;  ///< since the last render ended
   qint64 lastRenderMs = 0;
@@ -42,6 +53,7 @@ public:
   double msPerPoint = 0;    ///< of the last full render of a large model
   bool live = false;        ///< a scan is running: reduce renders that would be slow
   vtkNew<vtkCallbackCommand> interaction;
+  std::unique_ptr<qTissueMosaicViewLegends> legends;  ///< axes and scale bar
 
   /// The smallest level of detail; also what is drawn while the speed of this view is still unknown.
   static constexpr vtkIdType kSmallestSubsample = 20000;
@@ -60,6 +72,47 @@ public:
                    : kSmallestSubsample;
     }
     scene->SetInteractivePointBudget(budget);
+  }
+  /// Draws a three-point model and a line through the scene's actors once, so that OpenGL compiles their shaders
+  /// now, before any scan: the first frame with a model had taken 50 ms of this thread and 400 ms of software
+  /// OpenGL (llvmpipe compiles shaders), a stall in the middle of the scan.
+  void warmUp() {
+    warmedUp = true;
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToFloat();
+    vtkNew<vtkCellArray> vertices, lines;
+    for (vtkIdType i = 0; i < 3; ++i) {
+      points->InsertNextPoint(double(i), 0.0, 100.0);
+      vertices->InsertNextCell(1, &i);
+    }
+    const vtkIdType line[2] = {0, 1};
+    lines->InsertNextCell(2, line);
+    vtkNew<vtkUnsignedCharArray> colours;
+    colours->SetName(tissuemosaic::kPointCloudColorArrayName);
+    colours->SetNumberOfComponents(3);
+    vtkNew<vtkFloatArray> normals;
+    normals->SetName("Normals");
+    normals->SetNumberOfComponents(3);
+    for (int i = 0; i < 3; ++i) {
+      colours->InsertNextTuple3(200, 100, 90);
+      normals->InsertNextTuple3(0, 0, -1);
+    }
+    vtkNew<vtkPolyData> dummyModel, dummyLines;
+    dummyModel->SetPoints(points);
+    dummyModel->SetVerts(vertices);
+    dummyModel->GetPointData()->SetScalars(colours);
+    dummyModel->GetPointData()->SetNormals(normals);
+    dummyLines->SetPoints(points);
+    dummyLines->SetLines(lines);
+    scene->SetModel(dummyModel);
+    scene->SetKeyFrameFrusta(dummyLines);
+    scene->SetCurrentFrustum(dummyLines);
+    scene->SetTrajectory(dummyLines);
+    window->Render();
+    scene->SetModel(model);
+    scene->SetKeyFrameFrusta(keyFrameFrusta);
+    scene->SetCurrentFrustum(currentFrustum);
+    scene->SetTrajectory(trajectory);
   }
   static void onInteraction(vtkObject*, unsigned long event, void* clientData, void*) {
     auto* self = static_cast<Private*>(clientData);
@@ -83,13 +136,14 @@ qTissueMosaicModelView::qTissueMosaicModelView(QWidget* parent) : QWidget(parent
   // 8 on llvmpipe) for edges that points barely have; the offscreen snapshot draws without it too.
   d->window->SetMultiSamples(0);
   d->scene->AddToRenderer(d->renderer);
-  vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
+  vtkTissueMosaicModelScene::ResetScopeView(d->renderer, d->scene->GetModelActor());
   d->interaction->SetClientData(d);
   d->interaction->SetCallback(&Private::onInteraction);
   if (vtkInteractorObserver* style = d->widget->interactor()->GetInteractorStyle()) {
     style->AddObserver(vtkCommand::StartInteractionEvent, d->interaction);
     style->AddObserver(vtkCommand::EndInteractionEvent, d->interaction);
   }
+  d->legends = std::make_unique<qTissueMosaicViewLegends>(d->renderer, d->widget->interactor());
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addWidget(d->widget);
@@ -110,6 +164,9 @@ void qTissueMosaicModelView::setReconstructionLogic(vtkTissueMosaicReconstructio
 void qTissueMosaicModelView::setSceneData(vtkPolyData* model, vtkPolyData* keyFrameFrusta, vtkPolyData* currentFrustum,
                                           vtkPolyData* trajectory) {
   d->model = model;
+  d->keyFrameFrusta = keyFrameFrusta;
+  d->currentFrustum = currentFrustum;
+  d->trajectory = trajectory;
   d->scene->SetModel(model);
   d->scene->SetKeyFrameFrusta(keyFrameFrusta);
   d->scene->SetCurrentFrustum(currentFrustum);
@@ -119,6 +176,8 @@ void qTissueMosaicModelView::setSceneData(vtkPolyData* model, vtkPolyData* keyFr
 }
 
 vtkTissueMosaicModelScene* qTissueMosaicModelView::scene() const { return d->scene; }
+QString qTissueMosaicModelView::scaleBarText() const { return QString::fromStdString(d->legends->scaleBarLabel()); }
+bool qTissueMosaicModelView::axesShown() const { return d->legends->axes()->GetEnabled() != 0; }
 vtkRenderer* qTissueMosaicModelView::renderer() const { return d->renderer; }
 vtkRenderWindow* qTissueMosaicModelView::renderWindow() const { return d->window; }
 QVTKOpenGLNativeWidget* qTissueMosaicModelView::vtkWidget() const { return d->widget; }
@@ -154,11 +213,13 @@ void qTissueMosaicModelView::renderWhenLoopIsFree(unsigned request, bool mayGive
 
 void qTissueMosaicModelView::render() {
   d->renderPending = false;
+  if (!d->warmedUp && d->widget->isValid()) d->warmUp();
   // The scan starts from nothing and grows: keep it framed until the user takes the camera (resetView() and a
   // new, empty model hand it back).
   if (d->model && d->model->GetNumberOfPoints() == 0) d->userMovedCamera = false;
   if (!d->userMovedCamera && d->model && d->model->GetNumberOfPoints() > 0) {
-    vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
+    vtkTissueMosaicModelScene::ResetScopeView(d->renderer, d->scene->GetModelActor());
+    d->scene->FitPointSizeToView(d->renderer);
   }
   d->renderer->ResetCameraClippingRange();
   auto* style = vtkInteractorStyle::SafeDownCast(d->widget->interactor()->GetInteractorStyle());
@@ -198,7 +259,7 @@ double qTissueMosaicModelView::interactiveFrameTimeMs() const { return d->intera
 
 void qTissueMosaicModelView::resetView() {
   d->userMovedCamera = false;
-  vtkTissueMosaicModelScene::ResetScopeView(d->renderer);
+  vtkTissueMosaicModelScene::ResetScopeView(d->renderer, d->scene->GetModelActor());
   this->requestRender();
 }
 

@@ -33,6 +33,10 @@ public:
                     vtkPolyData* trajectory);
 
   vtkTissueMosaicModelScene* scene() const;
+  /// The scale bar's label as of the last render ("10 mm"); empty before the first render.
+  QString scaleBarText() const;
+  /// Whether the orientation axes are shown in the corner.
+  bool axesShown() const;
   vtkRenderer* renderer() const;
   vtkRenderWindow* renderWindow() const;
   QVTKOpenGLNativeWidget* vtkWidget() const;

@@ -1,5 +1,7 @@
 #include "qTissueMosaicPresetControls.h"
 
+#include "qTissueMosaicWheelGuard.h"
+
 #include <QBoxLayout>
 #include <QComboBox>
 #include <QDir>
@@ -42,6 +44,7 @@ PresetRow addPresetRow(QWidget* owner, QBoxLayout* layout, const PresetRowDescri
   row.comboBox = new QComboBox(owner);
   row.comboBox->setObjectName(prefixedName(prefix, "presetComboBox"));
   row.comboBox->setToolTip(QObject::tr("Replace all values with a preset from Resources/Presets."));
+  guardWheel(row.comboBox);
   rowLayout->addWidget(row.comboBox, 1);
   row.loadButton = new QPushButton(QObject::tr("Load..."), owner);
   row.loadButton->setObjectName(prefixedName(prefix, "loadButton"));

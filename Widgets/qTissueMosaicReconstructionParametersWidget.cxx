@@ -1,7 +1,9 @@
 #include "qTissueMosaicReconstructionParametersWidget.h"
 
+#include "qTissueMosaicParameterFields.h"
 #include "qTissueMosaicPresetControls.h"
 #include "qTissueMosaicStereoParametersWidget.h"
+#include "qTissueMosaicWheelGuard.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
 
 #include "Core/Device.h"
@@ -35,77 +37,55 @@ namespace widgets = tissuemosaic::widgets;
 
 enum Group { Tracking, KeyFrames, Refinement, Fusion };
 
-/// One spin box per field outside the stereo panel. The spin-box range is wider than validate()'s, so that an
-/// out-of-range value reaches validate() and is refused with its message instead of being clamped silently.
-struct Field {
-  const char* key;  ///< the file key; the spin box is named key + "SpinBox"
-  const char* label;
-  Group group;
-  bool integer;
-  std::function<double(const Parameters&)> get;
-  std::function<void(Parameters&, double)> set;
-  double minimum, maximum, step;
-  int decimals;
-  const char* suffix;
-  const char* toolTip;
-};
+using Field = widgets::ParameterField<Parameters>;
 
-template <class T>
-T fromSpinBox(double value) {
-  if constexpr (std::is_integral_v<T>) return static_cast<T>(std::lround(value));
-  else return static_cast<T>(value);
-}
-
-#define TM_ACCESS(path)                                                                  \
-  [](const Parameters& p) { return static_cast<double>(p.path); },                     \
-      [](Parameters& p, double v) { p.path = fromSpinBox<std::decay_t<decltype(p.path)>>(v); }
-
+/// One spin box per field outside the stereo panel (qTissueMosaicParameterFields.h). The spin-box range is wider
+/// than validate()'s, so that an out-of-range value reaches validate() and is refused with its message instead of
+/// being clamped silently.
 const std::vector<Field>& fields() {
   static const std::vector<Field> table = {
-      {"inlierThresholdPx", "Inlier threshold H", Tracking, false, TM_ACCESS(tracking.inlierThresholdPx), 0, 1000, 0.5,
+      {"inlierThresholdPx", "Inlier threshold H", Tracking, TM_PARAMETER_FIELD(Parameters, tracking.inlierThresholdPx), 0, 1000, 0.5,
        2, " px",
        "DynamicR1PPnP (paper III.B): a match whose reprojection error is at most H pixels is an inlier; it is also "
        "the knee of the re-weighting. Paper: 5 px."},
-      {"candidateEta", "Candidate factor eta", Tracking, false, TM_ACCESS(tracking.candidateEta), 0, 100, 0.1, 2, "",
+      {"candidateEta", "Candidate factor eta", Tracking, TM_PARAMETER_FIELD(Parameters, tracking.candidateEta), 0, 100, 0.1, 2, "",
        "DynamicR1PPnP: a further candidate match enters when its error is below eta * H (eta > 1). Paper: 2."},
-      {"candidateRampIterations", "Candidate ramp T", Tracking, true, TM_ACCESS(tracking.candidateRampIterations), 0,
+      {"candidateRampIterations", "Candidate ramp T", Tracking, TM_PARAMETER_FIELD(Parameters, tracking.candidateRampIterations), 0,
        1000, 1, 0, " iterations",
        "DynamicR1PPnP: a newly admitted candidate's weight ramps in over T iterations. Paper: 5."},
-      {"keyFramePoseThreshold", "Key frame threshold", KeyFrames, false, TM_ACCESS(tracking.keyFramePoseThreshold), 0,
+      {"keyFramePoseThreshold", "Key frame threshold", KeyFrames, TM_PARAMETER_FIELD(Parameters, tracking.keyFramePoseThreshold), 0,
        1e6, 0.5, 2, "",
        "Paper III.C: a new key frame when the pose difference ||dt|| (mm) + 20 min(||dE||, 2 pi - ||dE||) to the last "
        "key frame exceeds this. Paper: 10 for most videos (3 to 5 for slow, close scans)."},
-      {"keyFrameMinGapFrames", "Key frame min gap", KeyFrames, true, TM_ACCESS(tracking.keyFrameMinGapFrames), -1,
+      {"keyFrameMinGapFrames", "Key frame min gap", KeyFrames, TM_PARAMETER_FIELD(Parameters, tracking.keyFrameMinGapFrames), -1,
        100000, 1, 0, " frames", "Paper III.C: at least this many frames since the last key frame. Paper: 10."},
-      {"keyFrameMinInliers", "Key frame min inliers", KeyFrames, true, TM_ACCESS(tracking.keyFrameMinInliers), 0,
+      {"keyFrameMinInliers", "Key frame min inliers", KeyFrames, TM_PARAMETER_FIELD(Parameters, tracking.keyFrameMinInliers), 0,
        100000, 5, 0, "", "Paper III.C: a key frame needs at least this many DynamicR1PPnP inliers. Paper: 50."},
-      {"icpWeightFactor", "ICP weight factor", Refinement, false, TM_ACCESS(refinement.icpWeightFactor), -1, 1e6, 0.05,
+      {"icpWeightFactor", "ICP weight factor", Refinement, TM_PARAMETER_FIELD(Parameters, refinement.icpWeightFactor), -1, 1e6, 0.05,
        3, "",
        "Paper III.D: beta = factor * feature residuals / ICP points balances bundle adjustment against "
        "point-to-plane ICP. Paper: 0.1."},
-      {"icpTukeyMm", "ICP Tukey constant", Refinement, false, TM_ACCESS(refinement.icpTukeyMm), 0, 1000, 0.5, 3, " mm",
+      {"icpTukeyMm", "ICP Tukey constant", Refinement, TM_PARAMETER_FIELD(Parameters, refinement.icpTukeyMm), 0, 1000, 0.5, 3, " mm",
        "Paper III.D: point-to-plane residuals beyond this are outliers (Tukey's biweight)."},
-      {"maxMatchedKeyFrames", "Matched key frames", Refinement, true, TM_ACCESS(refinement.maxMatchedKeyFrames), -1,
+      {"maxMatchedKeyFrames", "Matched key frames", Refinement, TM_PARAMETER_FIELD(Parameters, refinement.maxMatchedKeyFrames), -1,
        1000, 1, 0, "", "Earlier key frames matched at most when refining a key frame (the most overlapping first)."},
-      {"truncationMm", "TSDF truncation", Fusion, false, TM_ACCESS(fusion.truncationMm), 0, 1000, 0.1, 3, " mm",
+      {"truncationMm", "TSDF truncation", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.truncationMm), 0, 1000, 0.1, 3, " mm",
        "Paper III.E: a measurement within this distance along the ray of a model point is merged into it (running "
        "average); farther ones add new points."},
-      {"colourMinWeight", "Edge colour weight", Fusion, false, TM_ACCESS(fusion.colourMinWeight), 0, 1, 0.05, 3, "",
+      {"colourMinWeight", "Edge colour weight", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.colourMinWeight), 0, 1, 0.05, 3, "",
        "Paper III.E: the colour weight falls from 1 in the image centre to this at the corners, so the model "
        "takes colours from where the scope's light is even."},
-      {"newPointStepPx", "New point step", Fusion, true, TM_ACCESS(fusion.newPointStepPx), 0, 1000, 1, 0, " px",
+      {"newPointStepPx", "New point step", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.newPointStepPx), 0, 1000, 1, 0, " px",
        "New model points at every k-th pixel in x and y (1: the video's full resolution, as the paper)."},
-      {"conflictMinWeight", "Outlier guard", Fusion, true, TM_ACCESS(fusion.conflictMinWeight), 0, 1000000, 1, 0,
+      {"conflictMinWeight", "Outlier guard", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.conflictMinWeight), 0, 1000000, 1, 0,
        " observations",
        "A measurement that contradicts a model point seen at least this many times is taken as a stereo outlier and "
        "not added (0: off). Keeps long scans free of piled-up outliers."},
-      {"maxPoints", "Point budget", Fusion, true, TM_ACCESS(fusion.maxPoints), 0, 2000000000, 100000, 0, " points",
+      {"maxPoints", "Point budget", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.maxPoints), 0, 2000000000, 100000, 0, " points",
        "New points are refused once the model holds this many (memory bound of a long scan)."},
   };
   return table;
 }
-
-#undef TM_ACCESS
 
 /// The parameters as YAML text: two objects are equal when their texts are.
 std::string canonicalText(const Parameters& p) {
@@ -132,13 +112,16 @@ public:
   void selectMatchingPreset();
   const Parameters& current() const { return logic ? logic->GetParameters() : ownParameters; }
   bool store(const Parameters& parameters);
+  /// Marks the refused fields (reason empty: none) and tells the owner when that changed.
+  void markRefused(const QString& reason);
 
   qTissueMosaicReconstructionParametersWidget* const q_ptr;
   Parameters ownParameters;
   int ownDeviceChoice = vtkTissueMosaicReconstructionLogic::DeviceAuto;
   vtkSmartPointer<vtkTissueMosaicReconstructionLogic> logic;
   qTissueMosaicStereoParametersWidget* stereoPanel = nullptr;
-  std::vector<QAbstractSpinBox*> spinBoxes;  ///< parallel to fields()
+  widgets::ParameterSpinBoxes<Parameters> spinBoxes;  ///< parallel to fields()
+  QString refusal;  ///< why the values shown were not applied; empty when they are the object's
   std::map<QString, Parameters> presets;
   widgets::PresetRow presetRow;
   QComboBox* deviceComboBox = nullptr;
@@ -159,6 +142,8 @@ void qTissueMosaicReconstructionParametersWidgetPrivate::setupUi() {
        QObject::tr("Load reconstruction parameters"), QObject::tr("Save reconstruction parameters"),
        [q](const QString& path) { q->loadParametersFile(path); },
        [q](const QString& path) { q->saveParametersFile(path); }});
+  // Beside Load/Save: where a file's error belongs.
+  errorLabel = widgets::addErrorLabel(q, layout, "reconstruction");
 
   auto* deviceRow = new QHBoxLayout();
   deviceRow->addWidget(new QLabel(QObject::tr("Device:"), q));
@@ -176,6 +161,7 @@ void qTissueMosaicReconstructionParametersWidgetPrivate::setupUi() {
     cuda->setEnabled(false);
     cuda->setToolTip(QString::fromStdString(tissuemosaic::cudaUnavailableReason()));
   }
+  widgets::guardWheel(deviceComboBox);
   deviceRow->addWidget(deviceComboBox, 1);
   layout->addLayout(deviceRow);
 
@@ -190,43 +176,19 @@ void qTissueMosaicReconstructionParametersWidgetPrivate::setupUi() {
 
   const char* const groupTitles[] = {"Camera tracking (III.A-B)", "Key frames (III.C)", "Key-frame refinement (III.D)",
                                      "Fusion (III.E)"};
-  QFormLayout* forms[4];
+  std::vector<QFormLayout*> forms(4);
   for (int group = 0; group < 4; ++group) {
     auto* box = new QGroupBox(QObject::tr(groupTitles[group]), q);
     forms[group] = new QFormLayout(box);
     layout->addWidget(box);
   }
-  for (const Field& field : fields()) {
-    QAbstractSpinBox* box;
-    if (field.integer) {
-      auto* spinBox = new QSpinBox(q);
-      spinBox->setRange(static_cast<int>(field.minimum), static_cast<int>(field.maximum));
-      spinBox->setSingleStep(static_cast<int>(field.step));
-      spinBox->setSuffix(field.suffix);
-      QObject::connect(spinBox, QOverload<int>::of(&QSpinBox::valueChanged), q,
-                       &qTissueMosaicReconstructionParametersWidget::updateParametersFromGUI);
-      box = spinBox;
-    } else {
-      auto* spinBox = new QDoubleSpinBox(q);
-      spinBox->setDecimals(field.decimals);
-      spinBox->setRange(field.minimum, field.maximum);
-      spinBox->setSingleStep(field.step);
-      spinBox->setSuffix(field.suffix);
-      QObject::connect(spinBox, QOverload<double>::of(&QDoubleSpinBox::valueChanged), q,
-                       &qTissueMosaicReconstructionParametersWidget::updateParametersFromGUI);
-      box = spinBox;
-    }
-    box->setObjectName(QString(field.key) + "SpinBox");
-    box->setToolTip(QObject::tr(field.toolTip));
-    forms[field.group]->addRow(QObject::tr(field.label), box);
-    spinBoxes.push_back(box);
-  }
-
-  errorLabel = widgets::addErrorLabel(q, layout, "reconstruction");
+  spinBoxes.create(q, fields(), forms, [q] { q->updateParametersFromGUI(); });
   layout->addStretch(1);
 
   QObject::connect(stereoPanel, &qTissueMosaicStereoParametersWidget::parametersChanged, q,
                    &qTissueMosaicReconstructionParametersWidget::updateParametersFromGUI);
+  QObject::connect(stereoPanel, &qTissueMosaicStereoParametersWidget::validityChanged, q,
+                   &qTissueMosaicReconstructionParametersWidget::validityChanged);
   QObject::connect(deviceComboBox, QOverload<int>::of(&QComboBox::activated), q, [this](int index) {
     Q_Q(qTissueMosaicReconstructionParametersWidget);
     q->setDeviceChoice(deviceComboBox->itemData(index).toInt());
@@ -248,6 +210,14 @@ void qTissueMosaicReconstructionParametersWidgetPrivate::selectMatchingPreset() 
   widgets::selectPreset(presetRow.comboBox, widgets::matchingPreset(presets, [&now](const Parameters& preset) {
                           return canonicalText(preset) == now;
                         }));
+}
+
+void qTissueMosaicReconstructionParametersWidgetPrivate::markRefused(const QString& reason) {
+  Q_Q(qTissueMosaicReconstructionParametersWidget);
+  const bool changed = reason != refusal;
+  refusal = reason;
+  spinBoxes.markRefused(current(), reason);
+  if (changed) emit q->validityChanged();
 }
 
 bool qTissueMosaicReconstructionParametersWidgetPrivate::store(const Parameters& parameters) {
@@ -318,6 +288,11 @@ QString qTissueMosaicReconstructionParametersWidget::errorText() const {
   return d->errorLabel->text().isEmpty() ? d->stereoPanel->errorText() : d->errorLabel->text();
 }
 
+bool qTissueMosaicReconstructionParametersWidget::hasRefusedValues() const {
+  Q_D(const qTissueMosaicReconstructionParametersWidget);
+  return !d->refusal.isEmpty() || d->stereoPanel->hasRefusedValues();
+}
+
 qTissueMosaicStereoParametersWidget* qTissueMosaicReconstructionParametersWidget::stereoPanel() const {
   Q_D(const qTissueMosaicReconstructionParametersWidget);
   return d->stereoPanel;
@@ -327,17 +302,13 @@ void qTissueMosaicReconstructionParametersWidget::updateGUIFromParameters() {
   Q_D(qTissueMosaicReconstructionParametersWidget);
   const Parameters& parameters = d->current();
   d->stereoPanel->setParameters(parameters.stereo);
-  for (std::size_t i = 0; i < d->spinBoxes.size(); ++i) {
-    const QSignalBlocker blocker(d->spinBoxes[i]);
-    const double value = fields()[i].get(parameters);
-    if (auto* spinBox = qobject_cast<QSpinBox*>(d->spinBoxes[i])) spinBox->setValue(static_cast<int>(value));
-    else qobject_cast<QDoubleSpinBox*>(d->spinBoxes[i])->setValue(value);
-  }
+  d->spinBoxes.show(parameters);
   {
     const QSignalBlocker blocker(d->deviceComboBox);
     d->deviceComboBox->setCurrentIndex(d->deviceComboBox->findData(deviceChoice()));
   }
   widgets::showError(d->errorLabel, QString());
+  d->markRefused(QString());
   d->selectMatchingPreset();
 }
 
@@ -345,13 +316,13 @@ bool qTissueMosaicReconstructionParametersWidget::updateParametersFromGUI() {
   Q_D(qTissueMosaicReconstructionParametersWidget);
   Parameters parameters = d->current();
   parameters.stereo = d->stereoPanel->parameters();
-  for (std::size_t i = 0; i < d->spinBoxes.size(); ++i) {
-    auto* integerBox = qobject_cast<QSpinBox*>(d->spinBoxes[i]);
-    const double value =
-        integerBox ? integerBox->value() : qobject_cast<QDoubleSpinBox*>(d->spinBoxes[i])->value();
-    fields()[i].set(parameters, value);
+  d->spinBoxes.read(parameters);
+  if (!d->store(parameters)) {
+    // Shown at the fields, in red, until fixed; the object keeps its last valid values.
+    d->markRefused(d->errorLabel->text());
+    return false;
   }
-  if (!d->store(parameters)) return false;
+  d->markRefused(QString());
   d->selectMatchingPreset();
   emit parametersChanged();
   return true;

@@ -41,6 +41,9 @@ public:
   QStringList presetNames() const;
   /// The message shown for the last refused edit (this panel's or the stereo panel's); empty when valid.
   QString errorText() const;
+  /// True while some spin box (here or in the stereo panel) shows a value that was refused (marked red at the
+  /// field): the parameters object, which a scan uses, still holds the last valid values.
+  bool hasRefusedValues() const;
   /// The embedded stereo panel (paper II fields).
   qTissueMosaicStereoParametersWidget* stereoPanel() const;
 
@@ -56,6 +59,8 @@ public slots:
 signals:
   /// The parameters object received new valid values from the panel.
   void parametersChanged();
+  /// hasRefusedValues() changed.
+  void validityChanged();
 
 protected:
   QScopedPointer<qTissueMosaicReconstructionParametersWidgetPrivate> d_ptr;

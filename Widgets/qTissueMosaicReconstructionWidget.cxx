@@ -1,12 +1,18 @@
 #include "qTissueMosaicReconstructionWidget.h"
 
+#include "qTissueMosaicMessageLine.h"
 #include "qTissueMosaicReconstructionParametersWidget.h"
+#include "qTissueMosaicStereoParametersWidget.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
 
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
 #include <QCheckBox>
+#include <QComboBox>
+#include <QHBoxLayout>
+#include <QInputDialog>
+#include <QLineEdit>
 #include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -53,9 +59,10 @@ public:
   void setupUi();
   void updateControls();
   void updateTimingTable();
-  void show(const QString& text, bool error);
-  /// Runs a logic call that can fail; shows its error text, or `success` when it worked.
-  bool report(bool ok, const QString& success);
+  void show(const QString& text, bool error, qTissueMosaicMessageLine* line);
+  /// Runs a logic call that can fail; shows its error text in `line`, or `success` when it worked.
+  bool report(bool ok, const QString& success, qTissueMosaicMessageLine* line);
+  qTissueMosaicMessageLine* line(qTissueMosaicReconstructionWidget::MessagePlace place) const;
 
   qTissueMosaicReconstructionWidget* const q_ptr;
   vtkNew<vtkTissueMosaicReconstructionLogic> logic;
@@ -64,15 +71,22 @@ public:
   QLabel* inputLabel = nullptr;
   QLabel* stateLabel = nullptr;
   QLabel* agreementLabel = nullptr;  ///< the quality signal: green / amber / red with the numbers
-  QLabel* messageLabel = nullptr;
+  qTissueMosaicMessageLine* startProblemLabel = nullptr;  ///< why Start is disabled
+  qTissueMosaicMessageLine* inputMessage = nullptr;
+  qTissueMosaicMessageLine* scanMessage = nullptr;
+  qTissueMosaicMessageLine* exportMessage = nullptr;
+  QLabel* disparityRangeLabel = nullptr;
   QGroupBox* parametersBox = nullptr;
   QCheckBox* rectifiedCheckBox = nullptr;
+  QComboBox* layoutComboBox = nullptr;
   QPushButton *startButton = nullptr, *pauseButton = nullptr, *stopButton = nullptr, *resetButton = nullptr;
   QPushButton *exportModelButton = nullptr, *exportTrajectoryButton = nullptr;
   QTimer pollTimer;
   int lastState = -1;
   int pollsSinceTiming = 0;
   QString lastMessage;
+  QString startProblem;
+  vtkMTimeType exportedModelTime = 0;  ///< the model's modification time at its last export
 };
 
 void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
@@ -92,11 +106,24 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
                                q);
   auto* videoButton = button(QObject::tr("Two videos..."), "openVideoPairButton",
                              QObject::tr("A left and a right video file, read in lock step."), q);
-  auto* sideBySideButton = button(QObject::tr("Side-by-side video..."), "openSideBySideButton",
-                                  QObject::tr("One video with the left eye in the left half of each frame."), q);
+  auto* sideBySideButton = button(QObject::tr("3D video..."), "openSideBySideButton",
+                                  QObject::tr("One video with both eyes in each frame, packed as the layout beside "
+                                              "says (sbs: the left eye in the left half)."),
+                                  q);
+  layoutComboBox = new QComboBox(q);
+  layoutComboBox->setObjectName("videoLayoutComboBox");
+  layoutComboBox->setToolTip(QObject::tr("How the 3D video packs the eyes: side by side, squeezed side by side, top "
+                                         "bottom, squeezed top bottom, row-interlaced (even rows left)"));
+  for (const char* name : {"sbs", "sbs-half", "tb", "tb-half", "rows"}) layoutComboBox->addItem(name);
+  auto* liveButton = button(QObject::tr("Live..."), "openLiveButton",
+                            QObject::tr("A capture device (/dev/video0) or a GStreamer pipeline ending in appsink, "
+                                        "packed as the layout says; read in real time, the newest frame first."),
+                            q);
   auto* calibrationButton = button(QObject::tr("Calibration..."), "loadCalibrationButton",
-                                   QObject::tr("OpenCV stereo calibration (YAML/XML: K1 D1 K2 D2 R T imageSize) of "
-                                               "the raw rig; frames are rectified with it."),
+                                   QObject::tr("Stereo calibration of the raw rig, recognised by its keys: OpenCV, "
+                                               "stereo_calib / SCARED (select intrinsics + extrinsics together), "
+                                               "ROS camera_info (select both eyes), Kalibr or MATLAB. Frames are "
+                                               "rectified with it."),
                                    q);
   rectifiedCheckBox = new QCheckBox(QObject::tr("Frames are already rectified"), q);
   rectifiedCheckBox->setObjectName("rectifiedCheckBox");
@@ -108,10 +135,17 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   inputLayout->addWidget(demoButton, 0, 0);
   inputLayout->addWidget(foldersButton, 0, 1);
   inputLayout->addWidget(videoButton, 1, 0);
-  inputLayout->addWidget(sideBySideButton, 1, 1);
+  auto* packedRow = new QHBoxLayout;
+  packedRow->addWidget(sideBySideButton);
+  packedRow->addWidget(layoutComboBox);
+  packedRow->addWidget(liveButton);
+  inputLayout->addLayout(packedRow, 1, 1);
   inputLayout->addWidget(calibrationButton, 2, 0);
   inputLayout->addWidget(rectifiedCheckBox, 2, 1);
   inputLayout->addWidget(inputLabel, 3, 0, 1, 2);
+  inputMessage = new qTissueMosaicMessageLine(q);
+  inputMessage->setObjectName("inputMessage");
+  inputLayout->addWidget(inputMessage, 4, 0, 1, 2);
   layout->addWidget(inputBox);
 
   auto* scanBox = new QGroupBox(QObject::tr("Scan"), q);
@@ -138,6 +172,18 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
       "within 1 mm of the model and the median difference. Green: trust the model here; amber: part of the view "
       "moved or is covered; red: do not trust it. Thresholds: the agreement parameters."));
   scanLayout->addWidget(agreementLabel, 2, 0, 1, 4);
+  disparityRangeLabel = new QLabel(q);
+  disparityRangeLabel->setObjectName("disparityRangeLabel");
+  disparityRangeLabel->setWordWrap(true);
+  disparityRangeLabel->setToolTip(QObject::tr("The stereo matcher's disparity range and how it was chosen (the "
+                                              "parameters' Disparity range)"));
+  scanLayout->addWidget(disparityRangeLabel, 3, 0, 1, 4);
+  startProblemLabel = new qTissueMosaicMessageLine(q);
+  startProblemLabel->setObjectName("startProblemLabel");
+  scanLayout->addWidget(startProblemLabel, 4, 0, 1, 4);
+  scanMessage = new qTissueMosaicMessageLine(q);
+  scanMessage->setObjectName("scanMessage");
+  scanLayout->addWidget(scanMessage, 5, 0, 1, 4);
   layout->addWidget(scanBox);
 
   auto* exportBox = new QGroupBox(QObject::tr("Export"), q);
@@ -153,13 +199,10 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   exportLayout->addWidget(exportModelButton, 0, 0);
   exportLayout->addWidget(exportTrajectoryButton, 0, 1);
   exportLayout->addWidget(screenshotButton, 0, 2);
+  exportMessage = new qTissueMosaicMessageLine(q);
+  exportMessage->setObjectName("exportMessage");
+  exportLayout->addWidget(exportMessage, 1, 0, 1, 3);
   layout->addWidget(exportBox);
-
-  messageLabel = new QLabel(q);
-  messageLabel->setObjectName("messageLabel");
-  messageLabel->setWordWrap(true);
-  messageLabel->hide();
-  layout->addWidget(messageLabel);
 
   auto* timingBox = new QGroupBox(QObject::tr("Runtime per frame (ms)"), q);
   auto* timingLayout = new QVBoxLayout(timingBox);
@@ -185,6 +228,8 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   parameters = new qTissueMosaicReconstructionParametersWidget(q);
   parameters->setObjectName("reconstructionParametersPanel");
   parameters->setReconstructionLogic(logic);
+  QObject::connect(parameters, &qTissueMosaicReconstructionParametersWidget::parametersChanged, q,
+                   [this] { updateControls(); });  // the disparity range line says what the parameters ask for
   parametersLayout->addWidget(parameters);
   layout->addWidget(parametersBox);
   layout->addStretch(1);
@@ -218,12 +263,20 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   QObject::connect(sideBySideButton, &QPushButton::clicked, q, [q] {
     const QString video = QFileDialog::getOpenFileName(q, QObject::tr("Side-by-side video"), QString(),
                                                        QObject::tr("Videos (*.mp4 *.avi *.mkv *.mov *.mpg);;All files (*)"));
-    if (!video.isEmpty()) q->openSideBySideVideo(video);
+    if (!video.isEmpty()) q->openStereoVideo(video, q->findChild<QComboBox*>("videoLayoutComboBox")->currentText());
+  });
+  QObject::connect(liveButton, &QPushButton::clicked, q, [q] {
+    bool ok = false;
+    const QString input = QInputDialog::getText(
+        q, QObject::tr("Live video"), QObject::tr("Capture device or GStreamer pipeline ending in appsink:"),
+        QLineEdit::Normal, "/dev/video0", &ok);
+    if (ok && !input.isEmpty()) q->openStereoVideo(input, q->findChild<QComboBox*>("videoLayoutComboBox")->currentText());
   });
   QObject::connect(calibrationButton, &QPushButton::clicked, q, [q] {
-    const QString path = QFileDialog::getOpenFileName(q, QObject::tr("Stereo calibration"), QString(),
-                                                      QObject::tr("Calibration (*.yml *.yaml *.xml);;All files (*)"));
-    if (!path.isEmpty()) q->loadCalibration(path);
+    const QStringList paths = QFileDialog::getOpenFileNames(
+        q, QObject::tr("Stereo calibration (one file, or two: intrinsics + extrinsics, or left + right eye)"), QString(),
+        QObject::tr("Calibration (*.yml *.yaml *.xml *.json);;All files (*)"));
+    if (!paths.isEmpty()) q->loadCalibrationFiles(paths);
   });
   QObject::connect(exportModelButton, &QPushButton::clicked, q, [q] {
     const QString path = QFileDialog::getSaveFileName(q, QObject::tr("Export model"), "model.ply",
@@ -236,20 +289,34 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
     if (!path.isEmpty()) q->exportTrajectory(path);
   });
   QObject::connect(&pollTimer, &QTimer::timeout, q, &qTissueMosaicReconstructionWidget::updateFromLogic);
+  // A refused parameter disables Start until it is fixed.
+  QObject::connect(parameters, &qTissueMosaicReconstructionParametersWidget::validityChanged, q,
+                   [this] { updateControls(); });
 }
 
-void qTissueMosaicReconstructionWidgetPrivate::show(const QString& text, bool error) {
+qTissueMosaicMessageLine* qTissueMosaicReconstructionWidgetPrivate::line(
+    qTissueMosaicReconstructionWidget::MessagePlace place) const {
+  switch (place) {
+    case qTissueMosaicReconstructionWidget::InputMessage: return inputMessage;
+    case qTissueMosaicReconstructionWidget::ScanMessage: return scanMessage;
+    default: return exportMessage;
+  }
+}
+
+void qTissueMosaicReconstructionWidgetPrivate::show(const QString& text, bool error, qTissueMosaicMessageLine* where) {
   Q_Q(qTissueMosaicReconstructionWidget);
   lastMessage = text;
-  messageLabel->setText(text);
-  messageLabel->setStyleSheet(error ? "QLabel { color: #c00000; font-weight: bold; }" : "QLabel { color: #2e7d32; }");
-  messageLabel->setVisible(!text.isEmpty());
+  // One message at a time: an older one elsewhere would read as if it were about the latest action.
+  for (qTissueMosaicMessageLine* other : {inputMessage, scanMessage, exportMessage}) {
+    if (other != where) other->clearMessage();
+  }
+  where->showMessage(text, error ? qTissueMosaicMessageLine::Error : qTissueMosaicMessageLine::Done);
   if (!text.isEmpty()) emit q->message(text, error);
 }
 
-bool qTissueMosaicReconstructionWidgetPrivate::report(bool ok, const QString& success) {
-  if (ok) show(success, false);
-  else show(QString::fromStdString(logic->GetLastErrorText()), true);
+bool qTissueMosaicReconstructionWidgetPrivate::report(bool ok, const QString& success, qTissueMosaicMessageLine* where) {
+  if (ok) show(success, false, where);
+  else show(qTissueMosaicMessageLine::sentence(QString::fromStdString(logic->GetLastErrorText())), true, where);
   updateControls();
   return ok;
 }
@@ -257,8 +324,18 @@ bool qTissueMosaicReconstructionWidgetPrivate::report(bool ok, const QString& su
 void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
   using Logic = vtkTissueMosaicReconstructionLogic;
   const int state = logic->GetScanState();
-  const bool ready = logic->HasInput() && logic->HasCalibration();
-  startButton->setEnabled(ready && (state == Logic::StateIdle || state == Logic::StatePaused));
+  // Start says why it cannot start, beside it, instead of failing when pressed.
+  QString problem = QString::fromStdString(logic->GetStartProblem());
+  if (problem.isEmpty() && state == Logic::StateIdle && parameters->hasRefusedValues()) {
+    problem = QObject::tr("a parameter was not applied: %1").arg(parameters->errorText());
+  }
+  startProblem = problem.isEmpty() ? QString() : qTissueMosaicMessageLine::sentence(problem);
+  const bool startable = state == Logic::StateIdle || state == Logic::StatePaused;
+  startButton->setEnabled(problem.isEmpty() && startable);
+  startButton->setToolTip(problem.isEmpty() ? QObject::tr("Start the reconstruction, or resume it")
+                                            : QObject::tr("Cannot start: %1").arg(startProblem));
+  if (startable && !problem.isEmpty()) startProblemLabel->showWarning(QObject::tr("Cannot start: %1").arg(startProblem));
+  else startProblemLabel->clearMessage();
   startButton->setText(state == Logic::StatePaused ? QObject::tr("Resume") : QObject::tr("Start"));
   pauseButton->setEnabled(state == Logic::StateRunning);
   stopButton->setEnabled(state == Logic::StateRunning || state == Logic::StatePaused);
@@ -280,7 +357,11 @@ void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
   if (logic->HasInput() && logic->GetInputFrameCount() > 0) {
     input += QObject::tr(" (%1 frames)").arg(logic->GetInputFrameCount());
   }
-  input += logic->HasCalibration() ? QObject::tr("; calibrated") : QObject::tr("; no calibration");
+  // "calibrated" only when the calibration fits the frames (a previous input's calibration may not).
+  const bool sizeMismatch = QString::fromStdString(logic->GetStartProblem()).startsWith("the calibration is for");
+  input += !logic->HasCalibration() ? QObject::tr("; no calibration")
+           : sizeMismatch           ? QObject::tr("; the calibration is for another frame size")
+                                    : QObject::tr("; calibrated");
   inputLabel->setText(input);
   const auto& status = logic->GetStatus();
   stateLabel->setText(QString::fromStdString(logic->GetTrackingStateText()));
@@ -292,6 +373,11 @@ void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
   const int level = lost ? 0 : std::clamp(status.agreementLevel, 0, 3);
   agreementLabel->setStyleSheet(QString("QLabel { background-color: %1; color: white; padding: 2px 6px; }").arg(colours[level]));
   agreementLabel->setProperty("agreementLevel", level);
+  disparityRangeLabel->setText(
+      QObject::tr("Disparities: %1").arg(QString::fromStdString(logic->GetDisparityRangeText())));
+  tissuemosaic::RectifiedGeometry geometry;
+  const bool known = logic->GetRectifiedGeometry(geometry);
+  parameters->stereoPanel()->setRigGeometry(known ? &geometry : nullptr);
 }
 
 void qTissueMosaicReconstructionWidgetPrivate::updateTimingTable() {
@@ -315,6 +401,15 @@ void qTissueMosaicReconstructionWidgetPrivate::updateTimingTable() {
   int height = timing->horizontalHeader()->height() + 4;
   for (int r = 0; r < timing->rowCount(); ++r) height += timing->rowHeight(r);
   timing->setFixedHeight(height);
+  // Whole, never cut at the right: the stage names and the widest column title in every (equal, stretched)
+  // column; the numbers are narrower.
+  int widestTitle = 0;
+  for (int c = 0; c < timing->columnCount(); ++c) {
+    widestTitle = std::max(widestTitle, timing->horizontalHeader()->sectionSizeHint(c));
+  }
+  timing->horizontalHeader()->setMinimumSectionSize(widestTitle);
+  timing->setMinimumWidth(timing->verticalHeader()->sizeHint().width() + 2 * timing->frameWidth() +
+                          timing->columnCount() * widestTitle);
 }
 
 qTissueMosaicReconstructionWidget::qTissueMosaicReconstructionWidget(QWidget* parent)
@@ -358,28 +453,49 @@ bool qTissueMosaicReconstructionWidget::openFrameFolders(const QString& leftFold
   Q_D(qTissueMosaicReconstructionWidget);
   const bool ok = d->logic->OpenFrameFolders(leftFolder.toStdString(), rightFolder.toStdString(), fps);
   emit outputsUpdated();
-  return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())));
+  return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())), d->inputMessage);
 }
 
 bool qTissueMosaicReconstructionWidget::openVideoPair(const QString& leftVideo, const QString& rightVideo) {
   Q_D(qTissueMosaicReconstructionWidget);
   const bool ok = d->logic->OpenVideoPair(leftVideo.toStdString(), rightVideo.toStdString());
   emit outputsUpdated();
-  return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())));
+  return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())), d->inputMessage);
 }
 
 bool qTissueMosaicReconstructionWidget::openSideBySideVideo(const QString& video) {
+  return this->openStereoVideo(video, "sbs");
+}
+
+bool qTissueMosaicReconstructionWidget::openStereoVideo(const QString& video, const QString& layout) {
   Q_D(qTissueMosaicReconstructionWidget);
-  const bool ok = d->logic->OpenSideBySideVideo(video.toStdString());
+  tissuemosaic::VideoLayout parsed;
+  try {
+    parsed = tissuemosaic::parseVideoLayout(layout.toStdString());
+  } catch (const std::exception& e) {
+    d->show(QString::fromStdString(e.what()), true, d->inputMessage);
+    return false;
+  }
+  const bool ok = d->logic->OpenStereoVideo(video.toStdString(), parsed);
   emit outputsUpdated();
-  return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())));
+  return d->report(ok, tr("Opened %1").arg(QString::fromStdString(d->logic->GetInputDescription())), d->inputMessage);
 }
 
 bool qTissueMosaicReconstructionWidget::loadCalibration(const QString& path) {
+  return this->loadCalibrationFiles({path});
+}
+
+bool qTissueMosaicReconstructionWidget::loadCalibrationFiles(const QStringList& paths) {
   Q_D(qTissueMosaicReconstructionWidget);
-  const bool ok = d->logic->LoadCalibration(path.toStdString());
+  std::vector<std::string> files;
+  QStringList names;
+  for (const QString& path : paths) {
+    files.push_back(path.toStdString());
+    names << QFileInfo(path).fileName();
+  }
+  const bool ok = d->logic->LoadCalibrationFiles(files);
   emit outputsUpdated();
-  return d->report(ok, tr("Calibration %1 loaded").arg(QFileInfo(path).fileName()));
+  return d->report(ok, tr("Calibration %1 loaded").arg(names.join(" + ")), d->inputMessage);
 }
 
 void qTissueMosaicReconstructionWidget::setInputRectified(bool rectified) {
@@ -392,7 +508,7 @@ void qTissueMosaicReconstructionWidget::setInputRectified(bool rectified) {
 bool qTissueMosaicReconstructionWidget::start() {
   Q_D(qTissueMosaicReconstructionWidget);
   const bool ok = d->logic->Start();
-  return d->report(ok, QString());
+  return d->report(ok, QString(), d->scanMessage);
 }
 
 void qTissueMosaicReconstructionWidget::pause() {
@@ -410,7 +526,7 @@ void qTissueMosaicReconstructionWidget::stop() {
 void qTissueMosaicReconstructionWidget::reset() {
   Q_D(qTissueMosaicReconstructionWidget);
   d->logic->Reset();
-  d->show(QString(), false);
+  d->show(QString(), false, d->scanMessage);
   d->updateTimingTable();
   d->updateControls();
   emit outputsUpdated();
@@ -419,13 +535,30 @@ void qTissueMosaicReconstructionWidget::reset() {
 bool qTissueMosaicReconstructionWidget::exportModel(const QString& path) {
   Q_D(qTissueMosaicReconstructionWidget);
   const bool ok = d->logic->ExportModel(path.toStdString());
-  return d->report(ok, tr("Model written to %1").arg(path));
+  if (ok) d->exportedModelTime = d->logic->GetModel()->GetMTime();
+  return d->report(ok, tr("Model written to %1").arg(path), d->exportMessage);
 }
 
 bool qTissueMosaicReconstructionWidget::exportTrajectory(const QString& path) {
   Q_D(qTissueMosaicReconstructionWidget);
   const bool ok = d->logic->ExportTrajectory(path.toStdString());
-  return d->report(ok, tr("Trajectory written to %1").arg(path));
+  return d->report(ok, tr("Trajectory written to %1").arg(path), d->exportMessage);
+}
+
+void qTissueMosaicReconstructionWidget::showMessage(const QString& text, bool error, MessagePlace place) {
+  Q_D(qTissueMosaicReconstructionWidget);
+  d->show(text, error, d->line(place));
+}
+
+QString qTissueMosaicReconstructionWidget::startProblem() const {
+  Q_D(const qTissueMosaicReconstructionWidget);
+  return d->startProblem;
+}
+
+bool qTissueMosaicReconstructionWidget::hasUnexportedModel() const {
+  Q_D(const qTissueMosaicReconstructionWidget);
+  vtkPolyData* model = d->logic->GetModel();
+  return model->GetNumberOfPoints() > 0 && model->GetMTime() != d->exportedModelTime;
 }
 
 bool qTissueMosaicReconstructionWidget::updateFromLogic() {
@@ -445,7 +578,9 @@ bool qTissueMosaicReconstructionWidget::updateFromLogic() {
     d->lastState = state;
     d->updateControls();
     if (state == vtkTissueMosaicReconstructionLogic::StateFailed) {
-      d->show(tr("The scan failed: %1").arg(QString::fromStdString(d->logic->GetStatus().errorText)), true);
+      d->show(tr("The scan failed: %1")
+                  .arg(qTissueMosaicMessageLine::sentence(QString::fromStdString(d->logic->GetStatus().errorText))),
+              true, d->scanMessage);
     }
     emit scanStateChanged(state);
   }

@@ -99,6 +99,17 @@ struct ScanPath {
     return samples[i - 1] * (1 - a) + samples[i] * a;
   }
 
+  /// Height of the scope tip above the tissue at time t.
+  double workingDistanceMm(const SyntheticScanOptions& o, double t) const {
+    if (o.distanceProfile == WorkingDistanceProfile::Approaching) {
+      const double lastS = o.frames > 1 ? (o.frames - 1) / o.fps : 1.0;
+      return o.maxWorkingDistanceMm - (o.maxWorkingDistanceMm - o.minWorkingDistanceMm) * std::min(t / lastS, 1.0);
+    }
+    const double mid = 0.5 * (o.minWorkingDistanceMm + o.maxWorkingDistanceMm);
+    const double amplitude = 0.5 * (o.maxWorkingDistanceMm - o.minWorkingDistanceMm);
+    return mid + amplitude * std::sin(distanceOmega * t + distancePhase);
+  }
+
   /// Left rectified camera at time t.
   void pose(const SyntheticScanOptions& o, const TissueSurface& surface, double t, cv::Matx33d& R_world_camera,
             cv::Vec3d& centreMm) const {
@@ -108,9 +119,7 @@ struct ScanPath {
     const double b = tilt * std::sin(tiltOmega[1] * t + tiltPhase[1]);
     const double roll = o.maxRollDeg * degree * std::sin(rollOmega * t + rollPhase);
     R_world_camera = rotationX(a) * rotationY(b) * rotationZ(roll);
-    const double mid = 0.5 * (o.minWorkingDistanceMm + o.maxWorkingDistanceMm);
-    const double amplitude = 0.5 * (o.maxWorkingDistanceMm - o.minWorkingDistanceMm);
-    const double distance = mid + amplitude * std::sin(distanceOmega * t + distancePhase);
+    const double distance = workingDistanceMm(o, t);
     // The scope hovers at the working distance above the tissue under the path; tilting turns the view about the
     // scope tip, as a hand does, instead of swinging the tip around a point on the tissue.
     centreMm = cv::Vec3d(xy[0], xy[1], surface.heightMm(xy[0], xy[1]) - distance);
@@ -155,6 +164,7 @@ void SyntheticScanOptions::validate() const {
   requireRange(reliefMm, 0, 20, "relief (mm)");
   requireRange(baselineMm, 0.5, 100, "baseline (mm)");
   requireRange(focalPx, 0, 1e5, "focal length (px, 0 = default)");
+  requireRange(rectifiedDisparityOffsetPx, -width, width, "rectified disparity offset (px)");
   requireRange(noiseStdGrey, 0, 50, "noise (grey levels)");
   requireRange(supersampling, 1, 4, "supersampling");
   hardMode.validate(frames);
@@ -249,6 +259,13 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
   s.R2 = rectifier.rightRectificationRotation().clone();
   s.P1 = rectifier.leftProjection().clone();
   s.P2 = rectifier.rightProjection().clone();
+  if (options.rectifiedDisparityOffsetPx != 0) {
+    // The right principal point moves right by doffs: x_right = x_left - (f B / Z - doffs). Q's last entry is doffs / B.
+    s.P2.at<double>(0, 2) += options.rectifiedDisparityOffsetPx;
+    s.geometry.doffsPx = options.rectifiedDisparityOffsetPx;
+    s.geometry.Q = s.geometry.Q.clone();
+    s.geometry.Q.at<double>(3, 3) = options.rectifiedDisparityOffsetPx / s.geometry.baselineMm;
+  }
   s.path = std::make_unique<ScanPath>(options);
 
   // Bumps cover the raster plus the widest footprint of the view around it.
@@ -383,7 +400,9 @@ SyntheticScanFrame SyntheticScan::renderFrame(int index) const {
   const RayOccluder* occluder = instruments.empty() ? nullptr : &instruments;
   ShadingParameters shading;
   shading.lightWorldMm = c.lightMm;
-  shading.lightReferenceMm = 0.5 * (s.options.minWorkingDistanceMm + s.options.maxWorkingDistanceMm);
+  shading.lightReferenceMm = s.options.autoExposure
+                                 ? s.path->workingDistanceMm(s.options, frame.timeS)
+                                 : 0.5 * (s.options.minWorkingDistanceMm + s.options.maxWorkingDistanceMm);
   shading.noiseStdGrey = s.options.noiseStdGrey;
   shading.supersampling = s.options.supersampling;
   // Each frame and eye has its own noise stream.

@@ -26,6 +26,12 @@ class TissueSurface;
 class SyntheticBreathing;
 class SyntheticInstruments;
 
+/// How the scope's working distance changes over a scan.
+enum class WorkingDistanceProfile {
+  Oscillating,  ///< slowly up and down between the minimum and the maximum
+  Approaching,  ///< steadily from the maximum down to the minimum over the whole scan (the scope moves in)
+};
+
 struct SyntheticScanOptions {
   int width = 960, height = 540;     ///< image size in pixels
   uint32_t seed = 1;                 ///< same seed and options: identical frames, bit for bit
@@ -40,6 +46,14 @@ struct SyntheticScanOptions {
   double reliefMm = 4.0;             ///< amplitude of the surface's random bumps
   double baselineMm = 5.0;
   double focalPx = 0;                ///< 0: 1000 px scaled by width / 960
+  WorkingDistanceProfile distanceProfile = WorkingDistanceProfile::Oscillating;
+  /// The exposure follows the working distance (as a scope's automatic exposure does), instead of being set for the
+  /// middle of the working range: a scope that moves from 110 to 50 mm would otherwise see 5x more light at the end.
+  bool autoExposure = false;
+  /// doffs of the rectified pair: the right view's principal point lies this far right of the left's (as
+  /// RectificationMode::KeepPrincipalPoints leaves it), so every disparity is f B / Z - doffs (negative ones too).
+  /// rig.yml's own rectification has none: frames rendered with an offset need its value (reconstruct --doffs-px).
+  double rectifiedDisparityOffsetPx = 0;
   double noiseStdGrey = 1.5;
   int supersampling = 2;
   SyntheticHardModeOptions hardMode;  ///< breathing, instruments, camera-out, smoke (all off by default)

@@ -99,10 +99,14 @@ double maxRayTangent(const std::vector<SyntheticCamera>& cameras) {
 
 }  // namespace
 
-SyntheticStereoOptions SyntheticStereoOptions::wideDisparity() {
+SyntheticStereoOptions SyntheticStereoOptions::wideDisparity(int width, int height) {
   SyntheticStereoOptions options;
+  options.width = width;
+  options.height = height;
   options.workingDistanceMm = 42.0;
-  options.tiltDeg = 38.0;
+  // tan(half vertical field of view) = (height / 2) / (1000 px * width / 960), 0.27 at 16:9.
+  const auto halfVerticalFovDeg = [](double w, double h) { return std::atan(0.48 * h / w) / degree; };
+  options.tiltDeg = 38.0 - std::max(0.0, halfVerticalFovDeg(width, height) - halfVerticalFovDeg(16, 9));
   options.reliefMm = 2.5;
   options.baselineMm = 8.0;
   return options;

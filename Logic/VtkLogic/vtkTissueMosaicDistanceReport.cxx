@@ -141,7 +141,7 @@ void writeHistogramPng(const std::string& path, const DistanceHistogram& histogr
   try {
     written = cv::imwrite(path, image);
   } catch (const cv::Exception& error) {
-    throw Error("cannot write histogram plot '" + path + "': " + error.what());
+    throw Error("cannot write histogram plot '" + path + "': " + error.err);  // not OpenCV's file and line
   }
   require(written, "cannot write histogram plot '" + path + "' (use a .png name in a writable folder)");
 }

@@ -119,4 +119,50 @@ GrowingModelUpdate updateGrowingModel(vtkPolyData* polyData, const ColoredPointC
   return update;
 }
 
+ModelArrays makeModelArrays(const ColoredPointCloud& model) {
+  ModelArrays arrays;
+  const auto n = static_cast<vtkIdType>(model.pointsMm.size());
+  arrays.points = vtkSmartPointer<vtkPoints>::New();
+  arrays.points->SetDataTypeToFloat();
+  copyInto(vtkFloatArray::SafeDownCast(arrays.points->GetData()), model.pointsMm.data(), n);
+  // Vertex cell i is point i: offsets 0..n, connectivity 0..n-1 (64-bit, so that updateGrowingModel can extend it).
+  arrays.vertices = vtkSmartPointer<vtkCellArray>::New();
+  arrays.vertices->Use64BitStorage();
+  auto* offsets = vtkTypeInt64Array::SafeDownCast(arrays.vertices->GetOffsetsArray());
+  auto* connectivity = vtkTypeInt64Array::SafeDownCast(arrays.vertices->GetConnectivityArray());
+  offsets->SetNumberOfValues(n + 1);
+  connectivity->SetNumberOfValues(n);
+  std::iota(offsets->GetPointer(0), offsets->GetPointer(0) + n + 1, vtkTypeInt64(0));
+  std::iota(connectivity->GetPointer(0), connectivity->GetPointer(0) + n, vtkTypeInt64(0));
+  if (model.colorsRgb.size() == model.pointsMm.size() && n > 0) {
+    arrays.colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    arrays.colours->SetName(kPointCloudColorArrayName);
+    arrays.colours->SetNumberOfComponents(3);
+    copyInto(arrays.colours.Get(), model.colorsRgb.data(), n);
+  }
+  if (model.normals.size() == model.pointsMm.size() && n > 0) {
+    arrays.normals = vtkSmartPointer<vtkFloatArray>::New();
+    arrays.normals->SetName("Normals");
+    arrays.normals->SetNumberOfComponents(3);
+    copyInto(arrays.normals.Get(), model.normals.data(), n);
+  }
+  return arrays;
+}
+
+ModelArrays swapModelArrays(vtkPolyData* polyData, ModelArrays arrays) {
+  ModelArrays previous;
+  vtkPointData* pointData = polyData->GetPointData();
+  previous.points = polyData->GetPoints();
+  previous.vertices = polyData->GetNumberOfVerts() > 0 ? polyData->GetVerts() : nullptr;
+  previous.colours = vtkUnsignedCharArray::SafeDownCast(pointData->GetArray(kPointCloudColorArrayName));
+  previous.normals = vtkFloatArray::SafeDownCast(pointData->GetNormals());
+  polyData->SetPoints(arrays.points);
+  polyData->SetVerts(arrays.vertices);
+  if (arrays.colours) pointData->SetScalars(arrays.colours);
+  else pointData->RemoveArray(kPointCloudColorArrayName);
+  pointData->SetNormals(arrays.normals);
+  polyData->Modified();
+  return previous;
+}
+
 }  // namespace tissuemosaic

@@ -105,6 +105,26 @@ void vtkTissueMosaicModelScene::SetPointSizePx(double sizePx) {
   this->Modified();
 }
 
+void vtkTissueMosaicModelScene::FitPointSizeToView(vtkRenderer* renderer) {
+  auto* model = vtkPolyData::SafeDownCast(this->FullMapper->GetInput());
+  const int* viewport = renderer->GetSize();
+  if (!model || model->GetNumberOfPoints() == 0 || !viewport || viewport[0] <= 0 || viewport[1] <= 0) return;
+  double bounds[6];
+  model->GetBounds(bounds);
+  double low[2] = {VTK_DOUBLE_MAX, VTK_DOUBLE_MAX}, high[2] = {-VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX};
+  for (int corner = 0; corner < 8; ++corner) {
+    renderer->SetWorldPoint(bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)], bounds[4 + ((corner >> 2) & 1)], 1.0);
+    renderer->WorldToDisplay();
+    const double* display = renderer->GetDisplayPoint();
+    for (int axis = 0; axis < 2; ++axis) {
+      low[axis] = std::min(low[axis], std::clamp(display[axis], 0.0, double(viewport[axis])));
+      high[axis] = std::max(high[axis], std::clamp(display[axis], 0.0, double(viewport[axis])));
+    }
+  }
+  const double pixelsPerPoint = (high[0] - low[0]) * (high[1] - low[1]) / static_cast<double>(model->GetNumberOfPoints());
+  this->SetPointSizePx(std::clamp(std::ceil(std::sqrt(std::max(pixelsPerPoint, 0.0))), 2.0, 8.0));
+}
+
 void vtkTissueMosaicModelScene::SetInteractivePointBudget(vtkIdType points) {
   this->InteractivePointBudget = std::max<vtkIdType>(points, 0);
   this->SetInteracting(this->Interacting);
@@ -165,17 +185,17 @@ vtkIdType subsampleModel(vtkPolyData* model, vtkIdType maxPoints, vtkPolyData* s
 
 }  // namespace tissuemosaic
 
-void vtkTissueMosaicModelScene::ResetScopeView(vtkRenderer* renderer) {
+void vtkTissueMosaicModelScene::ResetScopeView(vtkRenderer* renderer, vtkActor* fitTo) {
   vtkCamera* camera = renderer->GetActiveCamera();
   camera->SetFocalPoint(0, 0, 0);
   camera->SetPosition(0, 0, -1);  // behind the scope, looking along +z
   camera->SetViewUp(0, -1, 0);    // image rows grow downward (+y): -y is up on screen
-  // A little from the side and from below the scope path, so that the frusta read as pyramids and the relief of
-  // the surface shows.
-  camera->Azimuth(25);
-  camera->Elevation(-20);
-  camera->OrthogonalizeViewUp();
-  renderer->ResetCamera();        // keeps the direction, fits the bounding sphere of the visible props
+  auto* fitData = fitTo && fitTo->GetVisibility() && fitTo->GetMapper()
+                            ? vtkPointSet::SafeDownCast(fitTo->GetMapper()->GetInputAsDataSet())
+                            : nullptr;
+  const bool fitToActor = fitData && fitData->GetNumberOfPoints() > 0;
+  if (fitToActor) renderer->ResetCamera(fitTo->GetBounds());  // keeps the direction
+  else renderer->ResetCamera();   // keeps the direction, fits the bounding sphere of the visible props
   // The sphere leaves much empty space: centre what is drawn and zoom until it fills 90 % of the view (judged from
   // up to a few thousand points of each visible actor, so that this stays cheap for models of millions of points).
   renderer->ResetCameraClippingRange();
@@ -184,6 +204,7 @@ void vtkTissueMosaicModelScene::ResetScopeView(vtkRenderer* renderer) {
   vtkCollectionSimpleIterator it;
   actors->InitTraversal(it);
   while (vtkActor* actor = actors->GetNextActor(it)) {
+    if (fitToActor && actor != fitTo) continue;
     auto* data = actor->GetVisibility() && actor->GetMapper()
                      ? vtkPointSet::SafeDownCast(actor->GetMapper()->GetInputAsDataSet())
                      : nullptr;

@@ -42,12 +42,17 @@ public:
 
   /// Points are drawn as squares of this many pixels.
   void SetPointSizePx(double sizePx);
+  /// Sets the point size so that the model, as the renderer's camera shows it now, looks closed: about the
+  /// spacing of its points on screen (its projected bounding box shared among its points), 2 to 8 pixels. A
+  /// scan seen at several times its video's resolution had shown the background through a grid of gaps.
+  void FitPointSizeToView(vtkRenderer* renderer);
   double GetPointSizePx() const { return this->PointSizePx; }
 
-  /// Places the camera so that the whole scene is seen from behind the scope (world +z forward, -y up: the
-  /// first left camera's view, as the engine's world frame is that camera), turned 25 degrees sideways and 20
-  /// degrees up so that the frusta and the relief read in depth, and fits it to the visible bounds.
-  static void ResetScopeView(vtkRenderer* renderer);
+  /// Places the camera behind the first left camera, looking along its optical axis (world +z forward, -y up:
+  /// the engine's world frame is that camera), so that the model appears as the surgeon saw it, and fits the view
+  /// to `fitTo`'s points (the model; the frusta, nearer the camera, would otherwise fill the picture), or to every
+  /// visible actor when it is null or empty.
+  static void ResetScopeView(vtkRenderer* renderer, vtkActor* fitTo = nullptr);
 
   /// @name Level of detail while the user turns the view
   /// A point model of millions of points can take longer than an interactive frame to draw (software OpenGL,

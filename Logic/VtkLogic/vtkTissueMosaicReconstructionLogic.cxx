@@ -1,4 +1,7 @@
 #include "vtkTissueMosaicReconstructionLogic.h"
+
+#include "IO/Calibration/CalibrationFile.h"
+#include "vtkTissueMosaicDisparityColours.h"
 #include "vtkTissueMosaicRunCatching.h"
 
 #include "vtkTissueMosaicFrusta.h"
@@ -7,6 +10,7 @@
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/Stopwatch.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
@@ -88,6 +92,7 @@ void vtkTissueMosaicReconstructionLogic::LowerCurrentThreadPriority(int niceIncr
 /// What the worker hands over; guarded by Session::mutex. Every member is moved out by the owner.
 struct vtkTissueMosaicReconstructionLogic::Results {
   std::optional<ModelPoints> model;                 ///< set after each key frame: the whole current model
+  std::optional<tissuemosaic::ModelArrays> modelArrays;  ///< the same as VTK arrays, made on the worker
   std::optional<std::vector<KeyFramePose>> keyFrames;  ///< set after each key frame (poses may be refined)
   FrameRecords frames;                              ///< frames processed since the last hand-over
   cv::Mat left, right, disparityPx;                 ///< the latest frame (its own copies)
@@ -106,6 +111,7 @@ struct vtkTissueMosaicReconstructionLogic::Session {
   tissuemosaic::Device device = tissuemosaic::Device::Cpu;
   int maximumFrames = -1;
   int workerNiceIncrement = 0;
+  ScanObserver observer;
 
   std::mutex mutex;
   std::condition_variable wake;
@@ -113,6 +119,7 @@ struct vtkTissueMosaicReconstructionLogic::Session {
   bool stopRequested = false;   ///< guarded by mutex
   bool ended = false;           ///< guarded by mutex
   Results published;            ///< guarded by mutex
+  std::vector<tissuemosaic::ModelArrays> retired;  ///< guarded by mutex: replaced arrays, released by the worker
   std::atomic<int> state{StateRunning};
   std::thread thread;
 
@@ -124,11 +131,12 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
   lowerThisThreadsPriority(workerNiceIncrement);
   std::string errorText;
   int endState = StateFinished;
+  std::unique_ptr<ReconstructionPipeline> pipeline;
+  double lastTimeS = 0;
   const bool ranToEnd = runCatching(
       [&] {
-        std::unique_ptr<ReconstructionPipeline> pipeline =
-            geometry ? std::make_unique<ReconstructionPipeline>(*geometry, parameters, device)
-                     : std::make_unique<ReconstructionPipeline>(*calibration, parameters, device);
+        pipeline = geometry ? std::make_unique<ReconstructionPipeline>(*geometry, parameters, device)
+                            : std::make_unique<ReconstructionPipeline>(*calibration, parameters, device);
         {
           const std::lock_guard<std::mutex> lock(mutex);
           published.geometry = pipeline->geometry();
@@ -149,16 +157,25 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           if (maximumFrames >= 0 && processed >= maximumFrames) return;
           const Clock::time_point start = Clock::now();
           tissuemosaic::StereoFrame frame;
-          if (!source->next(frame)) return;
+          if (!source->next(frame)) {
+            const std::lock_guard<std::mutex> lock(mutex);
+            if (stopRequested) endState = StateStopped;  // a live source's wait was interrupted
+            return;
+          }
           const double readingMs = tissuemosaic::millisecondsSince(start);
           FrameResult result = pipeline->process(frame.left, frame.right, frame.timeS);
           result.timesMs.videoReading += readingMs;  // the pipeline counts its rectification here
           result.timesMs.total += readingMs;  // the paper's total includes reading the video
+          lastTimeS = frame.timeS;
+          if (observer.frameProcessed) observer.frameProcessed(result, frame.timeS, *pipeline);
 
           std::optional<ModelPoints> model;
+          std::optional<tissuemosaic::ModelArrays> modelArrays;
           std::optional<std::vector<KeyFramePose>> keyFrames;
           if (result.keyFrame) {  // the model only changes at key frames
             model = pipeline->modelSnapshot();
+            // Double buffering: the owner swaps these in without touching the model's memory.
+            modelArrays = tissuemosaic::makeModelArrays(model->cloud);
             keyFrames = pipeline->keyFrames();
           }
           FrameRecord record;
@@ -179,8 +196,11 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           recentFrameEnds.push_back(end);
           if (recentFrameEnds.size() > 30) recentFrameEnds.pop_front();
 
+          std::vector<tissuemosaic::ModelArrays> released;  // freed after the lock, on this thread
           const std::lock_guard<std::mutex> lock(mutex);
+          released.swap(retired);
           if (model) published.model = std::move(model);
+          if (modelArrays) published.modelArrays = std::move(modelArrays);
           if (keyFrames) published.keyFrames = std::move(keyFrames);
           published.left = left;
           published.right = right;
@@ -203,6 +223,8 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           status.agreement = result.agreement;
           status.agreementLevel = static_cast<int>(result.agreementLevel);
           status.elapsedS = busyS;
+          status.disparityRange = result.disparityRange;
+          status.disparityRangeText = pipeline->disparityRangeDescription();
           if (recentFrameEnds.size() >= 2) {
             const double spanS = std::chrono::duration<double>(recentFrameEnds.back() - recentFrameEnds.front()).count();
             status.framesPerSecond = spanS > 0 ? (recentFrameEnds.size() - 1) / spanS : 0;
@@ -213,6 +235,17 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
         }
       },
       errorText);
+  if (observer.scanEnded) {
+    std::string ignored;
+    runCatching(
+        [&] {
+          const bool any = pipeline && pipeline->frameCount() > 0;
+          const ModelPoints model = any ? pipeline->modelSnapshot() : ModelPoints{};
+          observer.scanEnded(any ? &model : nullptr, lastTimeS,
+                             !ranToEnd ? "failed: " + errorText : endState == StateStopped ? "stopped" : "finished");
+        },
+        ignored);
+  }
   publishEnd(ranToEnd ? endState : StateFailed, errorText);
 }
 
@@ -255,6 +288,7 @@ void vtkTissueMosaicReconstructionLogic::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "ScanState: " << GetScanStateAsString(this->GetScanState()) << "\n";
   os << indent << "FramesProcessed: " << this->Status.framesProcessed << "\n";
   os << indent << "KeyFrames: " << this->Status.keyFrames << "\n";
+  os << indent << "DisparityRange: " << this->GetDisparityRangeText() << "\n";
   os << indent << "ModelPoints: " << this->Model->GetNumberOfPoints() << "\n";
   os << indent << "MaximumFrames: " << this->MaximumFrames << "\n";
   os << indent << "FrustumDepthMm: " << this->FrustumDepthMm << "\n";
@@ -336,6 +370,7 @@ bool vtkTissueMosaicReconstructionLogic::SetFrameSourceFactory(const FrameSource
   this->SourceFactory = nullptr;
   this->InputDescription.clear();
   this->InputFrameCount = 0;
+  this->InputFrameSize = cv::Size();
   if (!factory) return this->Fail("no frame source");
   std::unique_ptr<StereoFrameSource> source;
   if (!runCatching([&] { source = factory(); }, this->LastErrorText)) return false;
@@ -343,6 +378,7 @@ bool vtkTissueMosaicReconstructionLogic::SetFrameSourceFactory(const FrameSource
   this->SourceFactory = factory;
   this->InputDescription = source->description();
   this->InputFrameCount = source->frameCount();
+  this->InputFrameSize = source->frameSize();
   this->Modified();
   return true;
 }
@@ -358,18 +394,27 @@ bool vtkTissueMosaicReconstructionLogic::OpenVideoPair(const std::string& leftVi
 }
 
 bool vtkTissueMosaicReconstructionLogic::OpenSideBySideVideo(const std::string& video) {
-  return this->SetFrameSourceFactory([=] { return StereoFrameSource::openSideBySideVideo(video); });
+  return this->OpenStereoVideo(video, tissuemosaic::VideoLayout::SideBySide);
+}
+
+bool vtkTissueMosaicReconstructionLogic::OpenStereoVideo(const std::string& video, tissuemosaic::VideoLayout layout) {
+  return this->SetFrameSourceFactory([=] { return StereoFrameSource::openStereoVideo(video, layout); });
 }
 
 bool vtkTissueMosaicReconstructionLogic::LoadCalibration(const std::string& path) {
+  return this->LoadCalibrationFiles({path});
+}
+
+bool vtkTissueMosaicReconstructionLogic::LoadCalibrationFiles(const std::vector<std::string>& paths) {
   tissuemosaic::StereoCalibration calibration;
   const bool loaded = runCatching(
       [&] {
-        calibration = tissuemosaic::StereoCalibration::read(path);
-        const tissuemosaic::StereoRectifier check(calibration);  // refuses rigs that cannot be rectified, now
+        calibration = tissuemosaic::readCalibrationFiles(paths).calibration;
+        // Refuses rigs that cannot be rectified, now; a file without image size is checked with the frames.
+        if (!calibration.imageSize.empty()) const tissuemosaic::StereoRectifier check(calibration);
       },
       this->LastErrorText);
-  if (!loaded) return this->Fail(path + ": " + this->LastErrorText);
+  if (!loaded) return this->Fail(this->LastErrorText);
   this->SetCalibration(calibration);
   return true;
 }
@@ -377,6 +422,14 @@ bool vtkTissueMosaicReconstructionLogic::LoadCalibration(const std::string& path
 void vtkTissueMosaicReconstructionLogic::SetCalibration(const tissuemosaic::StereoCalibration& calibration) {
   this->Reset();
   this->Calibration = std::make_unique<tissuemosaic::StereoCalibration>(calibration);
+  this->CalibrationGeometry.reset();
+  std::string ignored;  // a rig that cannot be rectified fails at Start(), with the reason
+  runCatching(
+      [&] {
+        this->CalibrationGeometry =
+            std::make_unique<tissuemosaic::RectifiedGeometry>(tissuemosaic::StereoRectifier(calibration).geometry());
+      },
+      ignored);
   this->Geometry.reset();
   this->Modified();
 }
@@ -385,7 +438,15 @@ void vtkTissueMosaicReconstructionLogic::SetRectifiedGeometry(const tissuemosaic
   this->Reset();
   this->Geometry = std::make_unique<tissuemosaic::RectifiedGeometry>(geometry);
   this->Calibration.reset();
+  this->CalibrationGeometry.reset();
   this->Modified();
+}
+
+bool vtkTissueMosaicReconstructionLogic::GetRectifiedGeometry(tissuemosaic::RectifiedGeometry& geometry) const {
+  const tissuemosaic::RectifiedGeometry* known = this->Geometry ? this->Geometry.get() : this->CalibrationGeometry.get();
+  if (!known) return false;
+  geometry = *known;
+  return true;
 }
 
 void vtkTissueMosaicReconstructionLogic::SetInputRectified(bool rectified) {
@@ -403,10 +464,27 @@ std::string vtkTissueMosaicReconstructionLogic::GetInputDescription() const { re
 
 int vtkTissueMosaicReconstructionLogic::GetInputFrameCount() const { return this->InputFrameCount; }
 
+std::string vtkTissueMosaicReconstructionLogic::GetStartProblem() const {
+  if (this->Current) return std::string();  // Start() resumes or says why it cannot
+  if (!this->HasInput()) return "no input: open a video, two frame folders or the demo";
+  if (!this->HasCalibration()) return "no calibration: load the stereo calibration of the video";
+  const cv::Size expected = this->Geometry ? this->Geometry->imageSize : this->Calibration->imageSize;
+  if (this->InputFrameSize.area() > 0 && this->InputFrameSize != expected) {
+    return "the calibration is for " + std::to_string(expected.width) + "x" + std::to_string(expected.height) +
+           " px but the frames are " + std::to_string(this->InputFrameSize.width) + "x" +
+           std::to_string(this->InputFrameSize.height) + " px: load the calibration of this video";
+  }
+  return std::string();
+}
+
+const tissuemosaic::RectifiedGeometry* vtkTissueMosaicReconstructionLogic::GetScanGeometry() const {
+  return this->Owned->geometry ? &*this->Owned->geometry : nullptr;
+}
+
 bool vtkTissueMosaicReconstructionLogic::CheckFrameSize(StereoFrameSource& source) {
   const cv::Size expected = this->Geometry ? this->Geometry->imageSize : this->Calibration->imageSize;
   const cv::Size frames = source.frameSize();
-  if (frames == expected) return true;
+  if (frames == expected || expected.empty()) return true;
   return this->Fail("the frames are " + std::to_string(frames.width) + "x" + std::to_string(frames.height) +
                     " px but the calibration is for " + std::to_string(expected.width) + "x" +
                     std::to_string(expected.height) + " px");
@@ -458,16 +536,21 @@ bool vtkTissueMosaicReconstructionLogic::Start() {
         tissuemosaic::require(session->source != nullptr, "the input could not be opened");
         if (this->Geometry) {
           session->geometry = *this->Geometry;
-        } else if (this->InputRectified) {
-          session->geometry = tissuemosaic::StereoRectifier(*this->Calibration).geometry();
         } else {
-          session->calibration = *this->Calibration;
+          tissuemosaic::StereoCalibration calibration = *this->Calibration;  // the frames give a missing size
+          calibration.adoptFrameSize(session->source->frameSize(), session->source->description());
+          if (this->InputRectified) {
+            session->geometry = tissuemosaic::StereoRectifier(calibration).geometry();
+          } else {
+            session->calibration = calibration;
+          }
         }
       },
       this->LastErrorText);
   if (!prepared || !this->CheckFrameSize(*session->source)) return false;
   session->parameters = this->Parameters;
   session->maximumFrames = this->MaximumFrames;
+  session->observer = this->Observer;
   session->workerNiceIncrement = this->WorkerNiceIncrement;
   session->published.status.state = StateRunning;
   session->published.status.framesInInput = this->InputFrameCount;
@@ -499,6 +582,8 @@ void vtkTissueMosaicReconstructionLogic::Stop() {
     this->Current->stopRequested = true;
   }
   this->Current->wake.notify_all();
+  // A live source may be waiting for its next frame: end the wait (the source is thread-safe for this).
+  if (this->Current->source) this->Current->source->interrupt();
   this->Modified();
 }
 
@@ -563,6 +648,8 @@ bool vtkTissueMosaicReconstructionLogic::UpdateOutputs() {
     Results& published = this->Current->published;
     taken.model = std::move(published.model);
     published.model.reset();
+    taken.modelArrays = std::move(published.modelArrays);
+    published.modelArrays.reset();
     taken.keyFrames = std::move(published.keyFrames);
     published.keyFrames.reset();
     taken.frames.swap(published.frames);
@@ -588,7 +675,14 @@ bool vtkTissueMosaicReconstructionLogic::UpdateOutputs() {
   }
   if (taken.model) {
     owned.model = std::move(taken.model);
-    tissuemosaic::updateGrowingModel(this->Model, owned.model->cloud);
+    if (taken.modelArrays) {
+      // Constant time; the arrays replaced go back to the worker, which frees them.
+      tissuemosaic::ModelArrays replaced = tissuemosaic::swapModelArrays(this->Model, std::move(*taken.modelArrays));
+      const std::lock_guard<std::mutex> lock(this->Current->mutex);
+      this->Current->retired.push_back(std::move(replaced));
+    } else {
+      tissuemosaic::updateGrowingModel(this->Model, owned.model->cloud);
+    }
   }
   const bool newKeyFrames = static_cast<bool>(taken.keyFrames);
   if (newKeyFrames) owned.keyFrames = std::move(taken.keyFrames);
@@ -636,17 +730,11 @@ vtkPolyData* vtkTissueMosaicReconstructionLogic::GetCurrentFrustum() { return th
 vtkPolyData* vtkTissueMosaicReconstructionLogic::GetTrajectory() { return this->Trajectory; }
 
 cv::Mat vtkTissueMosaicReconstructionLogic::GetDisparityColorImage() const {
-  if (this->DisparityPx.empty()) return cv::Mat();
   // Colours spread over this frame's disparities (the search range is usually much wider than the scene's).
-  const cv::Mat valid = this->DisparityPx == this->DisparityPx;  // NaN compares unequal to itself
-  double low = this->Parameters.stereo.minDisparityPx, high = this->Parameters.stereo.maxDisparityPx;
-  if (cv::countNonZero(valid) > 0) cv::minMaxLoc(this->DisparityPx, &low, &high, nullptr, nullptr, valid);
-  cv::Mat scaled;
-  this->DisparityPx.convertTo(scaled, CV_8U, 255.0 / std::max(high - low, 1.0), -low * 255.0 / std::max(high - low, 1.0));
-  cv::Mat colour;
-  cv::applyColorMap(scaled, colour, cv::COLORMAP_TURBO);
-  colour.setTo(cv::Scalar::all(0), ~valid);
-  return colour;
+  tissuemosaic::DisparityColouring colouring;
+  tissuemosaic::colourDisparity(this->DisparityPx, this->Parameters.stereo.minDisparityPx,
+                                this->Parameters.stereo.maxDisparityPx, colouring);
+  return colouring.bgr;
 }
 
 std::string vtkTissueMosaicReconstructionLogic::GetTrackingStateText() const {
@@ -678,6 +766,29 @@ std::string vtkTissueMosaicReconstructionLogic::GetAgreementText() const {
   std::snprintf(text, sizeof text, "model agreement: %.0f%% within 1 mm, median %.2f mm", 100 * a.shareWithin1mm,
                 a.medianDepthDifferenceMm);
   return text;
+}
+
+std::string vtkTissueMosaicReconstructionLogic::GetDisparityRangeText() const {
+  if (!this->Status.disparityRangeText.empty()) return this->Status.disparityRangeText;
+  const tissuemosaic::StereoParameters& stereo = this->Parameters.stereo;
+  switch (stereo.disparityRangeMode) {
+    case tissuemosaic::DisparityRangeMode::Automatic: return "auto: from the first frame's feature matches";
+    case tissuemosaic::DisparityRangeMode::Fixed:
+      return "fixed: " + tissuemosaic::DisparityRange{stereo.minDisparityPx, stereo.maxDisparityPx}.text();
+    default: break;
+  }
+  std::string text = cv::format("working distance %g..%g mm: ", stereo.workingDistanceNearMm, stereo.workingDistanceFarMm);
+  tissuemosaic::RectifiedGeometry geometry;
+  if (!this->GetRectifiedGeometry(geometry)) return text + "disparities once a calibration is loaded";
+  std::string errorText;
+  tissuemosaic::DisparityRange range;
+  if (!runCatching([&] {
+        range = tissuemosaic::disparityRangeForDepthMm(geometry, stereo.workingDistanceNearMm, stereo.workingDistanceFarMm);
+      },
+                   errorText)) {
+    return text + errorText;
+  }
+  return text + range.text();
 }
 
 std::vector<vtkTissueMosaicReconstructionLogic::TimingRow> vtkTissueMosaicReconstructionLogic::GetTimingTable() const {

@@ -18,7 +18,9 @@
 /// failure on the worker (an unreadable frame, CUDA errors) ends the scan in StateFailed with the message in
 /// GetStatus().errorText.
 #include "Core/StereoRig.h"
+#include "IO/StereoVideoLayout.h"
 #include "Reconstruction/ReconstructionParameters.h"
+#include "Stereo/DisparityRange.h"
 
 #include <vtkObject.h>
 #include <vtkSmartPointer.h>
@@ -34,6 +36,9 @@ class vtkPolyData;
 
 namespace tissuemosaic {
 class StereoFrameSource;
+class ReconstructionPipeline;
+struct FrameResult;
+struct ModelPoints;
 }
 
 class vtkTissueMosaicReconstructionLogic : public vtkObject {
@@ -84,13 +89,19 @@ public:
   bool OpenFrameFolders(const std::string& leftFolder, const std::string& rightFolder, double fps = 30.0);
   bool OpenVideoPair(const std::string& leftVideo, const std::string& rightVideo);
   bool OpenSideBySideVideo(const std::string& video);
+  /// One 3D video in any layout (sbs, sbs-half, tb, tb-half, rows). Videos here and above may be files, V4L2
+  /// devices (/dev/videoN) or GStreamer pipelines ending in appsink (live: newest frame first, Stop ends a wait).
+  bool OpenStereoVideo(const std::string& video, tissuemosaic::VideoLayout layout);
   /// Any source (e.g. frames rendered in memory): the factory is called now (to check it) and again at every
   /// start from the first frame. `description` is shown to the user.
   using FrameSourceFactory = std::function<std::unique_ptr<tissuemosaic::StereoFrameSource>()>;
   bool SetFrameSourceFactory(const FrameSourceFactory& factory);
-  /// OpenCV stereo calibration of the raw rig (K1 D1 K2 D2 R T imageSize): frames are rectified with it, unless
-  /// InputRectified says they already are (as `tissuemosaic synth scan` writes them).
+  /// Stereo calibration of the raw rig, in any layout of docs/CALIBRATION.md: frames are rectified with it, unless
+  /// InputRectified says they already are (as `tissuemosaic synth scan` writes them). A file without image size
+  /// takes the frames'. LoadCalibrationFiles takes one or two files in any order (intrinsics + extrinsics, or the
+  /// ROS camera_info of each eye).
   bool LoadCalibration(const std::string& path);
+  bool LoadCalibrationFiles(const std::vector<std::string>& paths);
   void SetCalibration(const tissuemosaic::StereoCalibration& calibration);
   /// Frames already rectified, with exactly this geometry (no calibration needed).
   void SetRectifiedGeometry(const tissuemosaic::RectifiedGeometry& geometry);
@@ -98,10 +109,20 @@ public:
   bool GetInputRectified() const { return this->InputRectified; }
   bool HasInput() const;
   bool HasCalibration() const;
+  /// The rectified geometry the scan will use (set directly, or what the calibration's rectification gives), e.g.
+  /// to show what a working distance means in disparities. False without a calibration.
+  bool GetRectifiedGeometry(tissuemosaic::RectifiedGeometry& geometry) const;
   /// "frames in DIR and DIR", "video FILE", ... (empty without an input).
   std::string GetInputDescription() const;
   /// Frames in the input (-1 when the container does not say, 0 without an input).
   int GetInputFrameCount() const;
+  /// Size of the input's frames (empty without an input).
+  cv::Size GetInputFrameSize() const { return this->InputFrameSize; }
+  /// Why Start() would refuse now, in plain words (no input, no calibration, frames of another size than the
+  /// calibration's), or empty. Opens nothing: cheap enough for every refresh of a Start button.
+  std::string GetStartProblem() const;
+  /// The rectified geometry of the scan (focal length, baseline: depth from disparity); null before a scan starts.
+  const tissuemosaic::RectifiedGeometry* GetScanGeometry() const;
   ///@}
 
   /// @name Scan control
@@ -130,6 +151,17 @@ public:
   /// Lowers the calling thread's priority by this nice increment (Linux; no-op elsewhere). Threads it starts
   /// later inherit it. For background work that must not take the CPU from the GUI thread.
   static void LowerCurrentThreadPriority(int niceIncrement);
+  /// Streams the scan out while it runs (the OpenIGTLink link): called on the worker thread, so each call must only
+  /// queue and return. frameProcessed after every frame (the pipeline is there for a model snapshot at key
+  /// frames); scanEnded once with the final model (nullptr when no frame was processed) and how it ended
+  /// ("finished", "stopped", "failed: ..."). Used from the next Start().
+  struct ScanObserver {
+    std::function<void(const tissuemosaic::FrameResult&, double timeS, const tissuemosaic::ReconstructionPipeline&)>
+        frameProcessed;
+    std::function<void(const tissuemosaic::ModelPoints* finalModel, double lastTimeS, const std::string& how)>
+        scanEnded;
+  };
+  void SetScanObserver(const ScanObserver& observer) { this->Observer = observer; }
   /// Blocks until the worker has ended (finished, stopped or failed) or timeoutS passed; true when it has ended.
   /// For the command line and tests only: the GUI polls instead.
   bool WaitForScanEnd(double timeoutS);
@@ -183,6 +215,8 @@ public:
     int agreementLevel = 0;
     double framesPerSecond = 0;   ///< over the last frames (wall clock); once ended, the scan's average
     double elapsedS = 0;          ///< since the scan started, pauses excluded
+    tissuemosaic::DisparityRange disparityRange;  ///< the last frame's
+    std::string disparityRangeText;  ///< how the ranges were chosen (ReconstructionPipeline::disparityRangeDescription)
     std::string device;           ///< where the pipeline runs ("cpu", "cuda")
     std::string errorText;        ///< StateFailed: why
   };
@@ -196,6 +230,10 @@ public:
   std::string GetAgreementText() const;
   /// Frames (at 30 fps, a second) that the state text keeps saying "Relocalised" after tracking resumed.
   static constexpr int RelocalisedNoticeFrames = 30;
+  /// The stereo disparity range: as chosen in the scan so far ("auto: 64..95 px (from 412 left-right feature
+  /// matches)"), or before the first frame what the parameters ask for ("auto: from the first frame's feature
+  /// matches", "fixed: -20..80 px", "working distance 30..150 mm: 28..143 px").
+  std::string GetDisparityRangeText() const;
 
   /// The paper's runtime table (ms, tissuemosaic::TimingTable's stages in the paper's order): per stage the last
   /// frame, and the median and mean over the key frames (the paper averages over key frames) and the median over
@@ -233,6 +271,7 @@ private:
   bool CheckFrameSize(tissuemosaic::StereoFrameSource& source);
 
   tissuemosaic::ReconstructionParameters Parameters;
+  ScanObserver Observer;
   int DeviceChoice = DeviceAuto;
   int MaximumFrames = -1;
   int WorkerNiceIncrement = 5;
@@ -241,8 +280,10 @@ private:
   FrameSourceFactory SourceFactory;
   std::string InputDescription;
   int InputFrameCount = 0;
+  cv::Size InputFrameSize;
   std::unique_ptr<tissuemosaic::StereoCalibration> Calibration;
   std::unique_ptr<tissuemosaic::RectifiedGeometry> Geometry;  ///< set directly (rectified input)
+  std::unique_ptr<tissuemosaic::RectifiedGeometry> CalibrationGeometry;  ///< what Calibration's rectification gives
   bool InputRectified = false;
 
   std::unique_ptr<Session> Current;

@@ -153,6 +153,7 @@ IcpResult refineIcp(const std::vector<Eigen::Vector3d>& modelPointsLps, const Ta
     delta.topRightCorner<3, 1>() = centroid - rotation * centroid + step.tail<3>();
     result.targetFromModel = delta * result.targetFromModel;
     result.iterations = iteration + 1;
+    require(!parameters.progress || parameters.progress(result.iterations), "ICP was cancelled");
     if (angle * 180.0 / kPi < parameters.convergenceRotationDeg &&
         step.tail<3>().norm() < parameters.convergenceTranslationMm) {
       result.converged = true;

@@ -6,6 +6,7 @@
 /// pull the model. Transforms are 4x4 T_target_model in LPS millimetres: target = T * model.
 #include <Eigen/Core>
 
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -43,6 +44,9 @@ struct IcpParameters {
   double convergenceTranslationMm = 1e-4;
   /// Model points used per step (an even subsample when the model has more); the evaluation uses all of them.
   int maxPoints = 20000;
+  /// Called after every step with the steps taken so far (e.g. for a progress bar); returning false cancels the
+  /// refinement (refineIcp throws Error "ICP was cancelled"). Empty: no calls.
+  std::function<bool(int iterations)> progress;
 };
 
 struct IcpResult {

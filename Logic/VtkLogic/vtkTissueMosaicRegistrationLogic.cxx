@@ -10,10 +10,37 @@
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 
 vtkStandardNewMacro(vtkTissueMosaicRegistrationLogic);
+
+/// One registration step's inputs (snapshots taken on the owner thread), progress and outputs.
+class vtkTissueMosaicRegistrationLogic::Job {
+public:
+  enum Kind { LandmarkStep, IcpStep, EvaluationStep };
+  Kind kind = EvaluationStep;
+  // Inputs
+  vtkPolyData* sourceModel = nullptr;             ///< the logic's model when prepared (identity only, never read)
+  vtkSmartPointer<vtkPolyData> model;             ///< a copy of it, which the step reads on its thread
+  std::shared_ptr<const tissuemosaic::TargetSurface> surface;
+  Eigen::Matrix4d start = Eigen::Matrix4d::Identity();
+  std::vector<Eigen::Vector3d> modelLandmarks, targetLandmarks;
+  bool withScale = false;
+  tissuemosaic::IcpParameters icpParameters;
+  double histogramBinWidthMm = 0.1;
+  // Progress
+  std::atomic<int> iterations{0};
+  std::atomic<bool> cancelled{false};
+  // Outputs
+  Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();
+  std::optional<tissuemosaic::LandmarkRegistration> landmarks;
+  std::optional<tissuemosaic::IcpResult> icp;
+  Evaluation evaluation;
+  bool ran = false;
+  std::string errorText;
+};
 
 namespace {
 
@@ -81,7 +108,7 @@ vtkPolyData* vtkTissueMosaicRegistrationLogic::GetModel() const { return this->M
 bool vtkTissueMosaicRegistrationLogic::LoadTarget(const std::string& path, tissuemosaic::ModelFrameChoice frame) {
   return this->Run([&] {
     tissuemosaic::SurfaceModelFile file = tissuemosaic::readSurfaceModel(path, frame);
-    auto surface = std::make_unique<tissuemosaic::TargetSurface>(file.polyDataLps);  // throws without polygons
+    auto surface = std::make_shared<const tissuemosaic::TargetSurface>(file.polyDataLps);  // throws without polygons
     this->Target = file.polyDataLps;
     this->Surface = std::move(surface);
     this->ResetResults();
@@ -91,8 +118,8 @@ bool vtkTissueMosaicRegistrationLogic::LoadTarget(const std::string& path, tissu
 
 bool vtkTissueMosaicRegistrationLogic::SetTarget(vtkPolyData* targetLps) {
   return this->Run([&] {
-    std::unique_ptr<tissuemosaic::TargetSurface> surface;
-    if (targetLps) surface = std::make_unique<tissuemosaic::TargetSurface>(targetLps);
+    std::shared_ptr<const tissuemosaic::TargetSurface> surface;
+    if (targetLps) surface = std::make_shared<const tissuemosaic::TargetSurface>(targetLps);
     this->Target = targetLps;
     this->Surface = std::move(surface);
     this->ResetResults();
@@ -106,11 +133,9 @@ void vtkTissueMosaicRegistrationLogic::ResetResults() {
   this->TargetFromModel.setIdentity();
   this->Landmarks.reset();
   this->Icp.reset();
+  this->Registered = false;
+  this->History.clear();
   this->Result = {};
-}
-
-std::vector<Eigen::Vector3d> vtkTissueMosaicRegistrationLogic::ModelPoints() const {
-  return tissuemosaic::polyDataPoints(this->Model);
 }
 
 // ---- landmarks --------------------------------------------------------------------------------------------------
@@ -226,6 +251,18 @@ void vtkTissueMosaicRegistrationLogic::ClearLandmarks() {
   this->Modified();
 }
 
+void vtkTissueMosaicRegistrationLogic::ClearModelLandmarks() {
+  std::vector<LandmarkPair> kept;
+  for (LandmarkPair& pair : this->Pairs) {
+    if (!pair.targetLps) continue;  // a pair with nothing left goes
+    pair.modelLps.reset();
+    kept.push_back(std::move(pair));
+  }
+  this->Pairs = std::move(kept);
+  this->LastErrorText.clear();
+  this->Modified();
+}
+
 bool vtkTissueMosaicRegistrationLogic::LoadLandmarkPairs(const std::string& path,
                                                          std::optional<tissuemosaic::AnatomicalFrame> frameIfUndeclared) {
   return this->Run([&] {
@@ -251,38 +288,32 @@ double vtkTissueMosaicRegistrationLogic::GetLandmarkResidualMm(int index) const 
   return (*pair.targetLps - mapped).norm();
 }
 
+double vtkTissueMosaicRegistrationLogic::GetCurrentLandmarkRmseMm() const {
+  double sum = 0;
+  int complete = 0;
+  for (int i = 0; i < this->GetNumberOfLandmarkPairs(); ++i) {
+    const double residual = this->GetLandmarkResidualMm(i);
+    if (!std::isfinite(residual)) continue;
+    sum += residual * residual;
+    ++complete;
+  }
+  return complete > 0 ? std::sqrt(sum / complete) : std::numeric_limits<double>::quiet_NaN();
+}
+
 // ---- registration -----------------------------------------------------------------------------------------------
 
 bool vtkTissueMosaicRegistrationLogic::RegisterLandmarks(bool withScale) {
-  return this->Run([&] {
-    std::vector<Eigen::Vector3d> model, target;
-    for (const LandmarkPair& pair : this->Pairs) {
-      if (!pair.IsComplete()) continue;
-      model.push_back(*pair.modelLps);
-      target.push_back(*pair.targetLps);
-    }
-    tissuemosaic::LandmarkRegistration fit = tissuemosaic::registerLandmarks(model, target, withScale);
-    Evaluation evaluation = this->Evaluated(fit.targetFromModel);
-    this->TargetFromModel = fit.targetFromModel;
-    this->Landmarks = std::move(fit);
-    this->Icp.reset();
-    this->Result = std::move(evaluation);
-    this->Modified();
-  });
+  const std::shared_ptr<Job> job = this->PrepareLandmarkRegistration(withScale);
+  if (!job) return false;
+  RunJob(*job);
+  return this->FinishJob(*job);
 }
 
 bool vtkTissueMosaicRegistrationLogic::RefineIcp(const tissuemosaic::IcpParameters& parameters) {
-  if (!this->Model) return this->Fail("ICP needs the reconstructed model: load or set it first");
-  if (!this->Surface) return this->Fail("ICP needs the CT/MR model: load it first");
-  return this->Run([&] {
-    tissuemosaic::IcpResult result =
-        tissuemosaic::refineIcp(this->ModelPoints(), *this->Surface, this->TargetFromModel, parameters);
-    Evaluation evaluation = this->Evaluated(result.targetFromModel);
-    this->TargetFromModel = result.targetFromModel;
-    this->Icp = result;
-    this->Result = std::move(evaluation);
-    this->Modified();
-  });
+  const std::shared_ptr<Job> job = this->PrepareIcp(parameters);
+  if (!job) return false;
+  RunJob(*job);
+  return this->FinishJob(*job);
 }
 
 bool vtkTissueMosaicRegistrationLogic::SetTargetFromModel(const Eigen::Matrix4d& targetFromModel) {
@@ -291,14 +322,145 @@ bool vtkTissueMosaicRegistrationLogic::SetTargetFromModel(const Eigen::Matrix4d&
     return this->Fail("the transform's last row must be 0 0 0 1");
   }
   return this->Run([&] {
-    Evaluation evaluation = this->Evaluated(targetFromModel);
+    vtkSmartPointer<vtkPolyData> model;
+    if (this->Model) {
+      model = vtkSmartPointer<vtkPolyData>::New();
+      model->DeepCopy(this->Model);
+    }
+    Evaluation evaluation =
+        Evaluated(model, this->Surface.get(), targetFromModel, this->HistogramBinWidthMm);
+    this->History.push_back({this->TargetFromModel, this->Landmarks, this->Icp, this->Registered, this->Result});
     this->TargetFromModel = targetFromModel;
     this->Landmarks.reset();
     this->Icp.reset();
+    this->Registered = true;
     this->Result = std::move(evaluation);
     this->Modified();
   });
 }
+
+bool vtkTissueMosaicRegistrationLogic::Undo() {
+  if (this->History.empty()) return this->Fail("nothing to undo");
+  RegistrationState state = std::move(this->History.back());
+  this->History.pop_back();
+  this->TargetFromModel = state.targetFromModel;
+  this->Landmarks = std::move(state.landmarks);
+  this->Icp = std::move(state.icp);
+  this->Registered = state.registered;
+  this->Result = std::move(state.result);
+  this->LastErrorText.clear();
+  this->Modified();
+  return true;
+}
+
+// ---- jobs -------------------------------------------------------------------------------------------------------
+
+std::shared_ptr<vtkTissueMosaicRegistrationLogic::Job> vtkTissueMosaicRegistrationLogic::NewJob() {
+  auto job = std::make_shared<Job>();
+  job->sourceModel = this->Model;
+  if (this->Model) {
+    // The live reconstruction grows in place on the owner thread: the step reads a copy of it.
+    job->model = vtkSmartPointer<vtkPolyData>::New();
+    job->model->DeepCopy(this->Model);
+  }
+  job->surface = this->Surface;
+  job->start = this->TargetFromModel;
+  job->histogramBinWidthMm = this->HistogramBinWidthMm;
+  return job;
+}
+
+std::shared_ptr<vtkTissueMosaicRegistrationLogic::Job> vtkTissueMosaicRegistrationLogic::PrepareLandmarkRegistration(
+    bool withScale) {
+  std::shared_ptr<Job> job = this->NewJob();
+  job->kind = Job::LandmarkStep;
+  job->withScale = withScale;
+  for (const LandmarkPair& pair : this->Pairs) {
+    if (!pair.IsComplete()) continue;
+    job->modelLandmarks.push_back(*pair.modelLps);
+    job->targetLandmarks.push_back(*pair.targetLps);
+  }
+  return job;
+}
+
+std::shared_ptr<vtkTissueMosaicRegistrationLogic::Job> vtkTissueMosaicRegistrationLogic::PrepareIcp(
+    const tissuemosaic::IcpParameters& parameters) {
+  if (!this->Model || this->Model->GetNumberOfPoints() == 0) {
+    this->Fail("ICP needs the reconstructed model: load or set it first");
+    return nullptr;
+  }
+  if (!this->Surface) {
+    this->Fail("ICP needs the CT/MR model: load it first");
+    return nullptr;
+  }
+  std::shared_ptr<Job> job = this->NewJob();
+  job->kind = Job::IcpStep;
+  job->icpParameters = parameters;
+  return job;
+}
+
+std::shared_ptr<vtkTissueMosaicRegistrationLogic::Job> vtkTissueMosaicRegistrationLogic::PrepareEvaluation() {
+  if (!this->Model || this->Model->GetNumberOfPoints() == 0) {
+    this->Fail("no reconstructed model to evaluate");
+    return nullptr;
+  }
+  if (!this->Surface) {
+    this->Fail("no CT/MR model to evaluate against");
+    return nullptr;
+  }
+  std::shared_ptr<Job> job = this->NewJob();
+  job->kind = Job::EvaluationStep;
+  return job;
+}
+
+void vtkTissueMosaicRegistrationLogic::RunJob(Job& job) {
+  try {
+    job.transform = job.start;
+    if (job.kind == Job::LandmarkStep) {
+      job.landmarks = tissuemosaic::registerLandmarks(job.modelLandmarks, job.targetLandmarks, job.withScale);
+      job.transform = job.landmarks->targetFromModel;
+    } else if (job.kind == Job::IcpStep) {
+      tissuemosaic::IcpParameters parameters = job.icpParameters;
+      const auto outer = parameters.progress;
+      parameters.progress = [&job, outer](int iterations) {
+        job.iterations = iterations;
+        return !job.cancelled && (!outer || outer(iterations));
+      };
+      job.icp = tissuemosaic::refineIcp(tissuemosaic::polyDataPoints(job.model), *job.surface, job.start, parameters);
+      job.transform = job.icp->targetFromModel;
+    }
+    if (job.cancelled) throw tissuemosaic::Error("cancelled");
+    job.evaluation = Evaluated(job.model, job.surface.get(), job.transform, job.histogramBinWidthMm);
+    job.ran = true;
+  } catch (const std::exception& error) {
+    job.errorText = error.what();
+  }
+}
+
+bool vtkTissueMosaicRegistrationLogic::FinishJob(Job& job) {
+  if (!job.ran) return this->Fail(job.errorText.empty() ? "the registration step did not run" : job.errorText);
+  if (job.sourceModel != this->Model || job.surface != this->Surface || job.start != this->TargetFromModel) {
+    return this->Fail("the models or the transform changed while the step ran: nothing was changed");
+  }
+  if (job.kind != Job::EvaluationStep) {
+    this->History.push_back({this->TargetFromModel, this->Landmarks, this->Icp, this->Registered, this->Result});
+    this->TargetFromModel = job.transform;
+    if (job.kind == Job::LandmarkStep) {
+      this->Landmarks = std::move(job.landmarks);
+      this->Icp.reset();
+    } else {
+      this->Icp = job.icp;  // the landmark result stays: the scale came from it
+    }
+    this->Registered = true;
+  }
+  this->Result = std::move(job.evaluation);
+  this->LastErrorText.clear();
+  this->Modified();
+  return true;
+}
+
+int vtkTissueMosaicRegistrationLogic::GetJobProgress(const Job& job) { return job.iterations.load(); }
+
+void vtkTissueMosaicRegistrationLogic::CancelJob(Job& job) { job.cancelled = true; }
 
 bool vtkTissueMosaicRegistrationLogic::LoadTransform(const std::string& path) {
   Eigen::Matrix4d transform;
@@ -309,26 +471,26 @@ bool vtkTissueMosaicRegistrationLogic::LoadTransform(const std::string& path) {
 // ---- evaluation -------------------------------------------------------------------------------------------------
 
 vtkTissueMosaicRegistrationLogic::Evaluation vtkTissueMosaicRegistrationLogic::Evaluated(
-    const Eigen::Matrix4d& targetFromModel) const {
+    vtkPolyData* model, const tissuemosaic::TargetSurface* surface, const Eigen::Matrix4d& targetFromModel,
+    double histogramBinWidthMm) {
   Evaluation evaluation;
-  if (!this->Model || !this->Surface || this->Model->GetNumberOfPoints() == 0) return evaluation;
-  evaluation.registeredPointsLps = tissuemosaic::transformedPoints(this->ModelPoints(), targetFromModel);
-  evaluation.distancesMm = tissuemosaic::distancesToSurface(*this->Surface, evaluation.registeredPointsLps,
-                                                            &evaluation.signedDistancesMm);
+  if (!model || !surface || model->GetNumberOfPoints() == 0) return evaluation;
+  evaluation.modelPoints = model->GetNumberOfPoints();
+  evaluation.registeredPointsLps = tissuemosaic::transformedPoints(tissuemosaic::polyDataPoints(model), targetFromModel);
+  evaluation.distancesMm =
+      tissuemosaic::distancesToSurface(*surface, evaluation.registeredPointsLps, &evaluation.signedDistancesMm);
   evaluation.statistics = tissuemosaic::distanceStatistics(evaluation.distancesMm);
-  evaluation.histogram = tissuemosaic::distanceHistogram(evaluation.distancesMm, this->HistogramBinWidthMm);
-  evaluation.registeredModel = tissuemosaic::transformedPolyData(this->Model, targetFromModel);
+  evaluation.histogram = tissuemosaic::distanceHistogram(evaluation.distancesMm, histogramBinWidthMm);
+  evaluation.registeredModel = tissuemosaic::transformedPolyData(model, targetFromModel);
   tissuemosaic::addDistanceArrays(evaluation.registeredModel, evaluation.distancesMm, evaluation.signedDistancesMm);
   return evaluation;
 }
 
 bool vtkTissueMosaicRegistrationLogic::Evaluate() {
-  if (!this->Model || this->Model->GetNumberOfPoints() == 0) return this->Fail("no reconstructed model to evaluate");
-  if (!this->Surface) return this->Fail("no CT/MR model to evaluate against");
-  return this->Run([&] {
-    this->Result = this->Evaluated(this->TargetFromModel);
-    this->Modified();
-  });
+  const std::shared_ptr<Job> job = this->PrepareEvaluation();
+  if (!job) return false;
+  RunJob(*job);
+  return this->FinishJob(*job);
 }
 
 bool vtkTissueMosaicRegistrationLogic::SetHistogramBinWidthMm(double binWidthMm) {
@@ -343,6 +505,9 @@ bool vtkTissueMosaicRegistrationLogic::SetHistogramBinWidthMm(double binWidthMm)
 // ---- export -----------------------------------------------------------------------------------------------------
 
 bool vtkTissueMosaicRegistrationLogic::WriteTransform(const std::string& path) {
+  if (!this->Registered) {
+    return this->Fail("nothing registered yet: register the landmarks (or load a transform) before exporting it");
+  }
   return this->Run([&] { tissuemosaic::writeModelToTargetTransform(path, this->TargetFromModel); });
 }
 

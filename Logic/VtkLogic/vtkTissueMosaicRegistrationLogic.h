@@ -17,14 +17,13 @@
 
 #include <Eigen/Core>
 #include <vtkObject.h>
+#include <vtkPolyData.h>  // GetRegisteredModel() converts a smart pointer: the type must be complete
 #include <vtkSmartPointer.h>
 
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
-
-class vtkPolyData;
 
 class vtkTissueMosaicRegistrationLogic : public vtkObject {
 public:
@@ -79,12 +78,18 @@ public:
   bool SetLandmarkLabel(int index, const std::string& label);
   bool RemoveLandmarkPair(int index);
   void ClearLandmarks();
+  /// Drops the model side of every pair (the model they were picked on is gone) and keeps the CT/MR side, so that
+  /// the user picks only the model points again.
+  void ClearModelLandmarks();
   /// Replaces the pairs with those of a .mrk.json holding two lists (model's, then target's) as written by
   /// WriteLandmarks and `tissuemosaic register --out-landmarks`.
   bool LoadLandmarkPairs(const std::string& path,
                          std::optional<tissuemosaic::AnatomicalFrame> frameIfUndeclared = std::nullopt);
   /// |target - T * model| of a complete pair under the current transform; NaN for an incomplete one.
   double GetLandmarkResidualMm(int index) const;
+  /// RMS of the complete pairs' residuals under the current transform (after ICP it differs from the landmark
+  /// registration's own RMSE); NaN without a complete pair.
+  double GetCurrentLandmarkRmseMm() const;
   ///@}
 
   /// @name Registration
@@ -103,6 +108,33 @@ public:
   const std::optional<tissuemosaic::LandmarkRegistration>& GetLandmarkRegistration() const { return this->Landmarks; }
   /// The result of the last RefineIcp, if the transform still comes from it.
   const std::optional<tissuemosaic::IcpResult>& GetIcpResult() const { return this->Icp; }
+  /// True once a registration step, or SetTargetFromModel, has set the transform (the identity of a fresh state is
+  /// not a registration); a new model or target clears it.
+  bool HasRegistration() const { return this->Registered; }
+  /// Puts back the transform and results of before the last registration step (landmarks, ICP, a set
+  /// transform); the landmark pairs stay as they are. False when there is nothing to undo.
+  bool Undo();
+  bool CanUndo() const { return !this->History.empty(); }
+  ///@}
+
+  /// @name Long steps off the owner thread
+  /// ICP and the evaluation of a large model take seconds. A job splits a step in three: Prepare* (owner thread)
+  /// copies what the step needs, or fails with the error text like the synchronous method; RunJob (any thread,
+  /// while the owner leaves the logic alone) computes, reporting progress and honouring Cancel(); FinishJob (owner
+  /// thread) commits the result exactly as the synchronous method would, or leaves the state as it was and sets
+  /// the error text. RegisterLandmarks, RefineIcp and Evaluate are these three calls in a row.
+  ///@{
+  class Job;
+  std::shared_ptr<Job> PrepareLandmarkRegistration(bool withScale);
+  std::shared_ptr<Job> PrepareIcp(const tissuemosaic::IcpParameters& parameters);
+  std::shared_ptr<Job> PrepareEvaluation();
+  /// Never throws: a failure is kept in the job for FinishJob.
+  static void RunJob(Job& job);
+  bool FinishJob(Job& job);
+  /// ICP steps taken so far by a running job (0 for other steps); may be read from any thread.
+  static int GetJobProgress(const Job& job);
+  /// Asks a running job to stop (any thread); FinishJob then fails with "... cancelled" and changes nothing.
+  static void CancelJob(Job& job);
   ///@}
 
   /// @name Evaluation
@@ -112,6 +144,9 @@ public:
   /// Recomputes the evaluation now (e.g. after the live model grew). False when a model is missing.
   bool Evaluate();
   bool HasEvaluation() const { return this->Result.registeredModel != nullptr; }
+  /// Model points when the evaluation was made (a live model may have grown since: the results are then out of
+  /// date); 0 without an evaluation.
+  vtkIdType GetEvaluatedModelPoints() const { return this->Result.modelPoints; }
   /// Zeros without an evaluation.
   const tissuemosaic::DistanceStatistics& GetDistanceStatistics() const { return this->Result.statistics; }
   const tissuemosaic::DistanceHistogram& GetDistanceHistogram() const { return this->Result.histogram; }
@@ -152,6 +187,7 @@ private:
   bool Run(Work&& work);
   bool Fail(const std::string& message);
   struct Evaluation {
+    vtkIdType modelPoints = 0;
     tissuemosaic::DistanceStatistics statistics;
     tissuemosaic::DistanceHistogram histogram;
     std::vector<Eigen::Vector3d> registeredPointsLps;  ///< double precision, as the CSV reports them
@@ -159,23 +195,35 @@ private:
     std::vector<double> signedDistancesMm;
     vtkSmartPointer<vtkPolyData> registeredModel;
   };
-  /// The evaluation of a transform when both models are present, else an empty one. Throws Error; changes nothing.
-  Evaluation Evaluated(const Eigen::Matrix4d& targetFromModel) const;
+  /// What a registration step sets, kept for Undo.
+  struct RegistrationState {
+    Eigen::Matrix4d targetFromModel = Eigen::Matrix4d::Identity();
+    std::optional<tissuemosaic::LandmarkRegistration> landmarks;
+    std::optional<tissuemosaic::IcpResult> icp;
+    bool registered = false;
+    Evaluation result;
+  };
+  /// The evaluation of `model` (a snapshot) mapped by a transform against `surface`, else an empty one when either
+  /// is missing or empty. Throws Error; changes nothing; safe on any thread.
+  static Evaluation Evaluated(vtkPolyData* model, const tissuemosaic::TargetSurface* surface,
+                              const Eigen::Matrix4d& targetFromModel, double histogramBinWidthMm);
+  std::shared_ptr<Job> NewJob();
   void ResetResults();
   std::string NextLabel() const;
   bool IsLabelTaken(const std::string& label, int exceptIndex) const;
   bool ValidIndex(int index);
   int FailIndex(const std::string& message);
-  std::vector<Eigen::Vector3d> ModelPoints() const;
 
   vtkSmartPointer<vtkPolyData> Model;
   vtkSmartPointer<vtkPolyData> Target;
-  std::unique_ptr<tissuemosaic::TargetSurface> Surface;
+  std::shared_ptr<const tissuemosaic::TargetSurface> Surface;  ///< shared with running jobs
   std::vector<LandmarkPair> Pairs;
 
   Eigen::Matrix4d TargetFromModel = Eigen::Matrix4d::Identity();
   std::optional<tissuemosaic::LandmarkRegistration> Landmarks;
   std::optional<tissuemosaic::IcpResult> Icp;
+  bool Registered = false;
+  std::vector<RegistrationState> History;  ///< for Undo, oldest first
 
   double HistogramBinWidthMm = 0.1;
   Evaluation Result;

@@ -65,9 +65,10 @@ vtkSmartPointer<vtkImageData> renderSnapshot(vtkPolyData* model, vtkPolyData* ke
   scene->SetModel(model);
   scene->SetKeyFrameFrusta(keyFrameFrusta);
   scene->SetTrajectory(cameraPath);
-  scene->SetPointSizePx(options.pointSizePx);
   scene->AddToRenderer(renderer);
-  vtkTissueMosaicModelScene::ResetScopeView(renderer);
+  vtkTissueMosaicModelScene::ResetScopeView(renderer, scene->GetModelActor());
+  if (options.pointSizePx > 0) scene->SetPointSizePx(options.pointSizePx);
+  else scene->FitPointSizeToView(renderer);
   require(window->SupportsOpenGL() != 0, "the X display " + display.display +
                                              " gives no OpenGL 3.2 context (VTK needs it; Mesa's llvmpipe has it)");
   window->Render();

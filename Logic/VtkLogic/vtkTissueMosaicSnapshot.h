@@ -18,7 +18,7 @@ class ReconstructionPipeline;
 struct SnapshotOptions {
   int widthPx = 1280;
   int heightPx = 800;
-  double pointSizePx = 2.0;
+  double pointSizePx = 0;        ///< 0: fitted to the view (vtkTissueMosaicModelScene::FitPointSizeToView)
   double frustumDepthMm = 12.0;  ///< how far in front of each key-frame camera its image rectangle is drawn
 };
 

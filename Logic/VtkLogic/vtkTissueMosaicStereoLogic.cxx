@@ -4,6 +4,7 @@
 #include "vtkTissueMosaicPointCloud.h"
 
 #include "Core/Error.h"
+#include "Stereo/DisparityRangeFollower.h"
 
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
@@ -11,6 +12,7 @@
 #include <opencv2/core/persistence.hpp>
 
 #include <filesystem>
+#include <optional>
 
 vtkStandardNewMacro(vtkTissueMosaicStereoLogic);
 
@@ -46,7 +48,10 @@ void vtkTissueMosaicStereoLogic::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   const tissuemosaic::StereoParameters& p = this->Parameters;
   os << indent << "DeviceChoice: " << GetDeviceChoiceAsString(this->DeviceChoice) << "\n";
+  os << indent << "DisparityRangeMode: " << tissuemosaic::disparityRangeModeName(p.disparityRangeMode) << "\n";
   os << indent << "DisparityRangePx: [" << p.minDisparityPx << ", " << p.maxDisparityPx << "]\n";
+  os << indent << "WorkingDistanceMm: [" << p.workingDistanceNearMm << ", " << p.workingDistanceFarMm << "]\n";
+  os << indent << "LastDisparityRange: " << this->LastDisparityRangeText << "\n";
   os << indent << "ZnccWindowPx: " << p.znccWindowPx << "\n";
   os << indent << "OutlierIterations: " << p.outlierIterations << "\n";
   os << indent << "RefineIterations: " << p.refineIterations << "\n";
@@ -150,6 +155,8 @@ bool vtkTissueMosaicStereoLogic::ComputeReconstruction(const cv::Mat& leftRectif
   this->Reconstruction->Initialize();
   this->LastDisparityPx = cv::Mat();
   this->LastTimingsMs = {};
+  this->LastDisparityRange = {};
+  this->LastDisparityRangeText.clear();
   if (!this->HasRectifiedGeometry()) {
     return this->Fail("no stereo geometry: load a calibration file or set the rectified geometry first");
   }
@@ -166,12 +173,34 @@ bool vtkTissueMosaicStereoLogic::ComputeReconstruction(const cv::Mat& leftRectif
         if (!this->Matcher || this->Matcher->device() != device) {
           this->Matcher = std::make_unique<tissuemosaic::StereoMatcher>(device, this->Parameters);
         }
+        // Each pair stands alone: its own range (the reconstruction logic follows a video's instead).
+        tissuemosaic::DisparityRangeHistory history;
+        history.mode = this->Parameters.disparityRangeMode;
+        std::optional<tissuemosaic::DisparityRange> range =
+            tissuemosaic::requestedDisparityRange(this->Parameters, &this->Geometry);
+        if (!range) {
+          if (!this->RangeEstimator || this->RangeEstimator->device() != device ||
+              this->RangeEstimator->options().infinityDisparityPx != -this->Geometry.doffsPx) {
+            tissuemosaic::DisparityRangeEstimatorOptions options;
+            options.infinityDisparityPx = -this->Geometry.doffsPx;
+            this->RangeEstimator = std::make_unique<tissuemosaic::DisparityRangeEstimator>(device, options);
+          }
+          const tissuemosaic::DisparitySample sample = this->RangeEstimator->measure(leftRectified, rightRectified);
+          range = this->RangeEstimator->wantedRange(sample);
+          history.firstMatches = sample.matches();
+        }
+        this->Matcher->setDisparityRange(*range);
+        history.first = history.current = *range;
+        this->LastDisparityRange = *range;
+        this->LastDisparityRangeText = tissuemosaic::describeDisparityRange(history, this->Parameters);
         this->LastDisparityPx = this->Matcher->computeDisparity(leftRectified, rightRectified, &this->LastTimingsMs);
         cloud = tissuemosaic::disparityToPointCloud(this->LastDisparityPx, leftRectified, this->Geometry);
       },
       this->LastErrorText);
   if (!computed) {
     this->LastDisparityPx = cv::Mat();
+    this->LastDisparityRange = {};
+    this->LastDisparityRangeText.clear();
     return false;
   }
   // Update in place so that mappers and filters connected to GetReconstruction() see the new cloud.

@@ -11,6 +11,7 @@
 /// vertex per pixel with a disparity estimate, coloured from the left image ("RGB" point scalars).
 #include "Core/Device.h"
 #include "Core/StereoRig.h"
+#include "Stereo/DisparityRangeEstimator.h"
 #include "Stereo/StereoMatcher.h"
 #include "Stereo/StereoParameters.h"
 
@@ -75,8 +76,9 @@ public:
   bool HasRectifiedGeometry() const { return this->Geometry.focalPx > 0; }
   ///@}
 
-  /// Disparity and point cloud of a rectified pair (8-bit grey or BGR, equal sizes matching the geometry).
-  /// On failure the previous result is cleared.
+  /// Disparity and point cloud of a rectified pair (8-bit grey or BGR, equal sizes matching the geometry), over the
+  /// disparity range the parameters ask for (automatic: measured from this pair's sparse feature matches; a pair
+  /// with too few fails with the reason). On failure the previous result is cleared.
   bool ComputeReconstruction(const cv::Mat& leftRectified, const cv::Mat& rightRectified);
 
   /// @name Results of the last successful ComputeReconstruction
@@ -87,6 +89,10 @@ public:
   /// Left-view disparity in pixels (CV_32F, NaN = no estimate).
   const cv::Mat& GetLastDisparityPx() const { return this->LastDisparityPx; }
   const tissuemosaic::StereoTimingsMs& GetLastTimingsMs() const { return this->LastTimingsMs; }
+  /// The disparity range the pair was matched over, and how it was chosen ("auto: 64..95 px (from 412 left-right
+  /// feature matches)", "fixed: -20..80 px", "working distance 30..150 mm: 28..143 px").
+  const tissuemosaic::DisparityRange& GetLastDisparityRange() const { return this->LastDisparityRange; }
+  const std::string& GetLastDisparityRangeText() const { return this->LastDisparityRangeText; }
   ///@}
 
   /// Message of the last failure, empty after a success.
@@ -103,8 +109,11 @@ private:
   int DeviceChoice = DeviceAuto;
   tissuemosaic::RectifiedGeometry Geometry;
   std::unique_ptr<tissuemosaic::StereoMatcher> Matcher;  ///< rebuilt when the parameters or the device change
+  std::unique_ptr<tissuemosaic::DisparityRangeEstimator> RangeEstimator;  ///< automatic range; rebuilt with the device
   vtkSmartPointer<vtkPolyData> Reconstruction;
   cv::Mat LastDisparityPx;
   tissuemosaic::StereoTimingsMs LastTimingsMs;
+  tissuemosaic::DisparityRange LastDisparityRange;
+  std::string LastDisparityRangeText;
   std::string LastErrorText;
 };

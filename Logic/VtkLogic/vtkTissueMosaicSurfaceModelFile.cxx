@@ -174,6 +174,11 @@ void writeSurfaceModel(const std::string& path, vtkPolyData* polyDataLps, Anatom
   const std::string mark = std::string("SPACE=") + frameName(fileFrame);
   const std::string extension = lowercaseExtension(path);
 
+  {
+    // VTK's writers report a missing folder with their own internals: say it plainly first.
+    std::ofstream probe(path, std::ios::app);
+    require(probe.good(), "cannot write surface model '" + path + "': the folder does not exist or is not writable");
+  }
   auto write = [&](auto* writer) {
     VtkMessageCatcher catcher(writer);
     writer->SetFileName(path.c_str());

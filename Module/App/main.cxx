@@ -1,6 +1,7 @@
 // tissuemosaic-app: the desktop application. With --offscreen it runs on a headless server (a private Xvfb),
 // e.g. `tissuemosaic-app --offscreen --demo --snapshot view.png` runs the demo scan and writes a screenshot.
 #include "qTissueMosaicApplication.h"
+#include "qTissueMosaicCommandLine.h"
 #include "qTissueMosaicMainWindow.h"
 #include "qTissueMosaicModelView.h"
 #include "qTissueMosaicReconstructionParametersWidget.h"
@@ -16,6 +17,8 @@
 #include <QTimer>
 
 #include <cstdio>
+#include <malloc.h>
+#include <functional>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
@@ -24,89 +27,26 @@
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic-app [options]
-
-The TissueMosaic desktop application: open a stereo video (or the demo) and its calibration, reconstruct the
-tissue surface live (growing textured model, camera frusta, video, disparity), export the model and the camera
-path, register the model to a CT/MR surface.
-
-options:
-  --demo                 generate the bundled synthetic demo scan, open it and start reconstructing
-  --demo-frames N        frames of the demo scan (default 60)
-  --demo-size WxH        demo frame size (default 480x270)
-  --device cpu|cuda|auto where the engine runs (default auto)
-  --params FILE          reconstruction parameters (YAML, as the parameter panel saves them)
-  --offscreen            headless: render into a private X server (Xvfb; started and stopped by the application,
-                         nothing appears on any screen); falls back to $DISPLAY when Xvfb is not installed
-  --snapshot FILE.png    write a screenshot of the application when the scan ends (or at --snapshot-frame),
-                         then quit
-  --snapshot-frame N     take the screenshot once N frames are processed (mid-scan) and stop the scan
-  --export-model FILE    write the model (.ply or .vtp) when the scan ends
-  --export-trajectory F  write the camera path (TUM) when the scan ends
-  --quit-when-done       quit when the scan ends (implied by --offscreen and --snapshot)
-  --report-stalls        print the longest event-loop stall (QTimer probe) measured while the scan ran
-  --trace-slow-events MS write every event that takes longer than MS milliseconds to stderr (what a stall was)
-  -h, --help             this text
-)";
-
-struct Options {
-  bool demo = false, offscreen = false, quitWhenDone = false, reportStalls = false;
-  int demoFrames = 60, demoWidth = 480, demoHeight = 270, snapshotFrame = -1, slowEventMs = 0;
-  std::string device = "auto", params, snapshot, exportModel, exportTrajectory;
-};
-
-[[noreturn]] void usageError(const std::string& message) {
-  std::cerr << "tissuemosaic-app: " << message << "\n(see tissuemosaic-app --help)\n";
+[[noreturn]] void usageError(const QString& message) {
+  std::cerr << "tissuemosaic-app: " << message.toStdString() << "\n(see tissuemosaic-app --help)\n";
   std::exit(2);
 }
 
-int positiveInteger(const std::string& option, const char* text) {
-  char* end = nullptr;
-  const long value = std::strtol(text, &end, 10);
-  if (!end || *end || value <= 0 || value > 1000000) usageError(option + " needs a positive integer, not '" + text + "'");
-  return static_cast<int>(value);
-}
-
-Options parse(int argc, char** argv) {
-  Options options;
-  for (int i = 1; i < argc; ++i) {
-    const std::string word = argv[i];
-    const auto value = [&]() -> const char* {
-      if (i + 1 >= argc) usageError(word + " needs a value");
-      return argv[++i];
-    };
-    if (word == "-h" || word == "--help") {
-      std::cout << help;
-      std::exit(0);
-    } else if (word == "--demo") options.demo = true;
-    else if (word == "--offscreen") options.offscreen = true;
-    else if (word == "--quit-when-done") options.quitWhenDone = true;
-    else if (word == "--report-stalls") options.reportStalls = true;
-    else if (word == "--trace-slow-events") options.slowEventMs = positiveInteger(word, value());
-    else if (word == "--demo-frames") options.demoFrames = positiveInteger(word, value());
-    else if (word == "--demo-size") {
-      const std::string size = value();
-      const std::size_t x = size.find('x');
-      if (x == std::string::npos) usageError("--demo-size must be WIDTHxHEIGHT, e.g. 480x270");
-      options.demoWidth = positiveInteger(word, size.substr(0, x).c_str());
-      options.demoHeight = positiveInteger(word, size.substr(x + 1).c_str());
-    } else if (word == "--snapshot-frame") options.snapshotFrame = positiveInteger(word, value());
-    else if (word == "--device") options.device = value();
-    else if (word == "--params") options.params = value();
-    else if (word == "--snapshot") options.snapshot = value();
-    else if (word == "--export-model") options.exportModel = value();
-    else if (word == "--export-trajectory") options.exportTrajectory = value();
-    else usageError("unknown option '" + word + "'");
+qTissueMosaicCommandLine parse(int argc, char** argv) {
+  QStringList arguments;
+  for (int i = 0; i < argc; ++i) arguments << QString::fromLocal8Bit(argv[i]);
+  qTissueMosaicCommandLine options;
+  QString error;
+  if (!options.parse(arguments, error)) usageError(error);
+  if (options.help) {
+    std::cout << qTissueMosaicCommandLine::helpText().toStdString();
+    std::exit(0);
   }
-  const std::map<std::string, int> devices = {{"auto", 0}, {"cpu", 1}, {"cuda", 2}};
-  if (!devices.count(options.device)) usageError("--device must be cpu, cuda or auto");
-  if (options.snapshotFrame > 0 && options.snapshot.empty()) usageError("--snapshot-frame needs --snapshot");
-  if (options.offscreen || !options.snapshot.empty()) options.quitWhenDone = true;
   return options;
 }
 
 /// An X display before Qt connects to one: Qt's xcb platform and VTK's OpenGL both need it.
-bool prepareDisplay(const Options& options) {
+bool prepareDisplay(const qTissueMosaicCommandLine& options) {
   try {
     if (options.offscreen) {
       setenv("QT_QPA_PLATFORM", "xcb", 1);  // a GL-capable platform on the private server, whatever the caller set
@@ -126,10 +66,29 @@ bool prepareDisplay(const Options& options) {
   return false;
 }
 
+/// Calls `then` once the window is on screen and its 3D view has set up OpenGL (polls every 20 ms).
+void whenFirstDrawn(qTissueMosaicMainWindow& window, const std::function<void()>& then) {
+  auto* poll = new QTimer(&window);
+  QObject::connect(poll, &QTimer::timeout, &window, [&window, poll, then] {
+    if (!window.isVisible() || !window.modelView()->vtkWidget()->isValid()) return;
+    poll->deleteLater();
+    poll->stop();
+    QTimer::singleShot(100, &window, then);  // the composition that follows the first paint
+  });
+  poll->start(20);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Options options = parse(argc, argv);
+  // Memory that a large allocation gets fresh from the system is paid for in page faults on first touch, on the
+  // thread that touches it: on a virtual machine 20-70 us each, so that a new 4 MB buffer of a video frame or of
+  // the renderer cost the GUI thread milliseconds, several times per frame. Freed memory stays in the process
+  // for reuse instead (up to glibc's largest threshold, 32 MB; larger arrays are made on the engine's worker).
+  // Measured on the 1280x1024 synthetic scan: the GUI thread's longest busy spell 52 -> 21 ms.
+  mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
+  mallopt(M_TRIM_THRESHOLD, 1024 * 1024 * 1024);
+  const qTissueMosaicCommandLine options = parse(argc, argv);
   if (!prepareDisplay(options)) return 2;
 
   QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
@@ -145,12 +104,14 @@ int main(int argc, char** argv) {
   demo.width = options.demoWidth;
   demo.height = options.demoHeight;
   window.setDemoOptions(demo);
-  if (!options.params.empty() && !logic->ReadParametersFile(options.params)) {
+  if (!options.params.isEmpty() && !logic->ReadParametersFile(options.params.toStdString())) {
     std::cerr << "tissuemosaic-app: " << logic->GetLastErrorText() << "\n";
     return 2;
   }
   panel->parametersPanel()->setDeviceChoice(options.device == "cpu" ? 1 : options.device == "cuda" ? 2 : 0);
   panel->parametersPanel()->updateGUIFromParameters();
+  // A batch run has no one to answer "quit without exporting?".
+  window.setConfirmUnsavedModel(!options.quitWhenDone);
   window.show();
 
   qTissueMosaicStallProbe stalls;
@@ -180,26 +141,26 @@ int main(int argc, char** argv) {
               << status.modelPoints << " model points, " << status.lostFrames << " lost" << std::endl;
     if (options.reportStalls) {
       std::cout << "tissuemosaic-app: longest event-loop stall " << stalls.longestStallMs() << " ms over "
-                << stalls.ticks() << " probe ticks (5 ms timer) during the scan" << std::endl;
+                << stalls.ticks() << " probe ticks (5 ms timer) during the scan; the GUI thread was busy "
+                << stalls.longestStallBusyMs() << " ms of it, and at most " << stalls.longestBusyMs()
+                << " ms between two ticks" << std::endl;
     }
-    if (!options.exportModel.empty() && !panel->exportModel(QString::fromStdString(options.exportModel))) {
+    if (!options.exportModel.isEmpty() && !panel->exportModel(options.exportModel)) {
       std::cerr << "tissuemosaic-app: " << panel->lastMessage().toStdString() << "\n";
       exitCode = 1;
     }
-    if (!options.exportTrajectory.empty() &&
-        !panel->exportTrajectory(QString::fromStdString(options.exportTrajectory))) {
+    if (!options.exportTrajectory.isEmpty() && !panel->exportTrajectory(options.exportTrajectory)) {
       std::cerr << "tissuemosaic-app: " << panel->lastMessage().toStdString() << "\n";
       exitCode = 1;
     }
-    if (!options.snapshot.empty()) {
+    if (!options.snapshot.isEmpty()) {
       // Let the views paint the last results before the picture is taken.
       window.modelView()->renderFullModel();
       QApplication::processEvents();
-      if (window.saveScreenshot(QString::fromStdString(options.snapshot))) {
-        std::cout << "tissuemosaic-app: screenshot written to " << options.snapshot << std::endl;
+      if (window.saveScreenshot(options.snapshot)) {
+        std::cout << "tissuemosaic-app: screenshot written to " << options.snapshot.toStdString() << std::endl;
       } else {
-        std::cerr << "tissuemosaic-app: cannot write the screenshot " << options.snapshot
-                  << " (does its folder exist?)\n";
+        std::cerr << "tissuemosaic-app: " << panel->lastMessage().toStdString() << "\n";
         exitCode = 1;
       }
     }
@@ -231,6 +192,25 @@ int main(int argc, char** argv) {
     }
   });
   if (options.demo) QTimer::singleShot(0, &window, &qTissueMosaicMainWindow::openDemo);
+  if (options.hasInput() || !options.calibration.isEmpty()) {
+    // As Slicer opens the files it is given: the input (and its geometry) in the panel, then --start. Once the
+    // window has been drawn: its first paint sets up OpenGL (a second or so on software OpenGL), which is no part
+    // of a scan's event-loop stalls.
+    whenFirstDrawn(window, [&] {
+      QString error;
+      if (!options.openInput(panel, error)) {
+        std::cerr << "tissuemosaic-app: " << error.toStdString() << "\n";
+        exitCode = 2;
+        if (options.quitWhenDone) application.exit(2);
+        return;
+      }
+      if (options.start && !panel->start()) {
+        std::cerr << "tissuemosaic-app: " << panel->lastMessage().toStdString() << "\n";
+        exitCode = 1;
+        if (options.quitWhenDone) application.exit(1);
+      }
+    });
+  }
   const int result = application.exec();
   return result != 0 ? result : exitCode;
 }

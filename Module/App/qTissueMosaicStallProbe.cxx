@@ -2,6 +2,19 @@
 
 #include <algorithm>
 
+#include <time.h>
+
+namespace {
+
+/// CPU time of the calling thread (ns).
+qint64 threadCpuNs() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<qint64>(now.tv_sec) * 1000000000 + now.tv_nsec;
+}
+
+}  // namespace
+
 qTissueMosaicStallProbe::qTissueMosaicStallProbe(QObject* parent, int intervalMs)
     : QObject(parent), IntervalMs(intervalMs) {
   this->Timer.setTimerType(Qt::PreciseTimer);
@@ -10,10 +23,11 @@ qTissueMosaicStallProbe::qTissueMosaicStallProbe(QObject* parent, int intervalMs
 }
 
 void qTissueMosaicStallProbe::start() {
-  this->LongestMs = 0;
+  this->LongestMs = this->LongestBusyMs = this->MostBusyMs = 0;
   this->Ticks = 0;
   this->Clock.start();
   this->LastNs = this->Clock.nsecsElapsed();
+  this->LastCpuNs = threadCpuNs();
   this->Timer.start();
 }
 
@@ -21,10 +35,17 @@ void qTissueMosaicStallProbe::stop() { this->Timer.stop(); }
 
 void qTissueMosaicStallProbe::tick() {
   const qint64 now = this->Clock.nsecsElapsed();
+  const qint64 cpuNow = threadCpuNs();
   const double gapMs = (now - this->LastNs) * 1e-6;
+  const double busyMs = (cpuNow - this->LastCpuNs) * 1e-6;
   this->LastNs = now;
+  this->LastCpuNs = cpuNow;
   ++this->Ticks;
   const double stallMs = gapMs - this->IntervalMs;
-  this->LongestMs = std::max(this->LongestMs, stallMs);
+  if (stallMs > this->LongestMs) {
+    this->LongestMs = stallMs;
+    this->LongestBusyMs = busyMs;
+  }
+  this->MostBusyMs = std::max(this->MostBusyMs, busyMs);
   if (stallMs > this->IntervalMs) emit stalled(stallMs);
 }

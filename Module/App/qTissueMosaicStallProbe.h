@@ -16,6 +16,11 @@ public:
   bool isActive() const { return this->Timer.isActive(); }
   /// Longest gap beyond the interval since start(), in milliseconds.
   double longestStallMs() const { return this->LongestMs; }
+  /// The CPU time the probing (GUI) thread itself spent during that longest stall: on a busy machine the rest of
+  /// the stall is waiting for a CPU, not work of this thread.
+  double longestStallBusyMs() const { return this->LongestBusyMs; }
+  /// The most CPU time the thread spent between two ticks: the longest stall it would cause on an idle machine.
+  double longestBusyMs() const { return this->MostBusyMs; }
   /// Firings since start().
   long long ticks() const { return this->Ticks; }
 
@@ -29,7 +34,8 @@ private:
   QTimer Timer;
   QElapsedTimer Clock;
   qint64 LastNs = 0;
-  double LongestMs = 0;
+  qint64 LastCpuNs = 0;
+  double LongestMs = 0, LongestBusyMs = 0, MostBusyMs = 0;
   long long Ticks = 0;
   int IntervalMs;
 };

@@ -1,6 +1,6 @@
 // tissuemosaic bench reconstruct: the paper's runtime table (per key frame and per other frame) of the whole
 // pipeline on a synthetic scan rendered in-process before timing, with the key-frame trajectory error.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
@@ -33,19 +33,22 @@ namespace tissuemosaic::cli {
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic bench reconstruct [--width 960] [--height 540] [--frames 60] [--device cpu|cuda|auto]
-                                    [--seed S] [--params p.yml] [--out DIR] [--stream [--chunk N]]
-                                    [--supersampling N] [--threads N]
-
-Renders a synthetic scan (before timing), then runs the whole reconstruction on it (stereo, tracking, key-frame
-refinement, TSDF fusion) starting from the true first pose, and prints one JSON object: the median and mean
-milliseconds per stage for key frames and for the other frames (the paper's runtime table; video_reading is 0:
+const char* const details = R"(Renders a synthetic scan (before timing), then runs the whole reconstruction on it (stereo, tracking, key-frame
+refinement, TSDF fusion) starting from the true first pose, and prints one JSON object: the median, mean and 99th
+percentile milliseconds per stage for key frames and for the other frames (the paper's runtime table under "timing",
+each with "median_ms", "mean_ms" and "p99_ms"; video_reading is 0:
 the frames are in memory), the key-frame position error against the ground truth (no alignment), the model's distances to the true
 surface (RMSE, 95th percentile, shares beyond 1, 5 and 50 mm), the share of the key frames' stereo estimates
 that are gross errors (> 3 px from the truth, or where the truth has no surface), the model size
-and the peak host and device memory. "stereo_parts_median_ms" and "tracking_parts_median_ms" split the stereo
-and ORB + voting stages over all frames (host grey conversion and copies beside the GPU's stages; extraction,
-matching, sub-pixel refinement, voting).
+and the peak host and device memory. "stereo_parts_*_ms" and "tracking_parts_*_ms" split the stereo and ORB +
+voting stages over all frames (host grey conversion and copies beside the GPU's stages; extraction, matching,
+sub-pixel refinement, voting), "refinement_parts_*_ms" the key frames' refinement. The range searched is fixed by
+default, so that figures compare across sizes and runs: the paper's -20..80 px scaled by width / 960 (--disparities
+N changes its count); --disparity-range auto times the automatic range (the scene's, about 36 candidates on the
+default scan) and the Disparity range options ask for others. "disparity_range_px" is the widest range searched,
+"disparity_range" says how the ranges were chosen and "key_frame_true_disparity_px" gives the key frames' true
+disparities: the scan keeps its field of view and working distance at every size, so its disparities grow with the
+width.
 
 --stream renders each frame just before it is processed (outside the timed stages) instead of all of them first,
 so that the peak host memory is the pipeline's own: for long runs (a 5-minute scan at 30 fps is --frames 9000).
@@ -59,8 +62,16 @@ default all cores); "cpu_threads" reports the cap.
 
 --out DIR also writes DIR/model.ply (the fused model), DIR/keyframes.txt (TUM) and the scan's ground truth
 DIR/groundtruth/surface.ply (the surface both eyes saw) and DIR/groundtruth/trajectory.txt, for
-`tissuemosaic eval` on a machine that has it.
-)";
+`tissuemosaic eval` on a machine that has it.)";
+
+struct BenchReconstructOptions {
+  int width = 960, height = 540, frames = 60, seed = 1;
+  std::optional<int> supersampling, chunk, threads, disparities;
+  std::optional<std::string> params, out;
+  bool stream = false;
+  DisparityRangeOptions range;
+  DeviceOption device;
+};
 
 
 /// Named fields of a timing struct (RefinementPartsMs, StereoTimingsMs, ...) and each field's values over the frames
@@ -100,36 +111,29 @@ double residentHostMib() {
   return read == 2 ? resident * (sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0)) : 0;
 }
 
-}  // namespace
-
-int runBenchReconstruct(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly(
-      {"width", "height", "frames", "device", "seed", "params", "out", "stream", "chunk", "supersampling", "threads"});
+void runBenchReconstruct(const BenchReconstructOptions& settings) {
   synthetic::SyntheticScanOptions options;
-  options.width = arguments.integer("width", 960);
-  options.height = arguments.integer("height", 540);
-  options.frames = arguments.integer("frames", 60);
-  options.seed = static_cast<uint32_t>(arguments.integer("seed", 1));
-  options.supersampling = arguments.integer("supersampling", options.supersampling);
+  options.width = settings.width;
+  options.height = settings.height;
+  options.frames = settings.frames;
+  options.seed = static_cast<uint32_t>(settings.seed);
+  options.supersampling = settings.supersampling.value_or(options.supersampling);
   require(options.frames >= 3, "--frames must be at least 3");
-  const bool stream = arguments.has("stream");
-  const int chunk = arguments.integer("chunk", 1);
+  const bool stream = settings.stream;
+  const int chunk = settings.chunk.value_or(1);
   require(chunk >= 1, "--chunk must be at least 1");
-  require(stream || !arguments.has("chunk"), "--chunk needs --stream");
-  const Device device = parseDevice(arguments.text("device", "auto"));
+  require(stream || !settings.chunk, "--chunk needs --stream");
+  const Device device = settings.device.resolve();
   std::optional<tbb::global_control> threadCap;
-  if (arguments.has("threads")) {
-    const int threads = arguments.integer("threads", 0);
-    require(threads >= 1, "--threads must be at least 1");
-    threadCap.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  if (settings.threads) {
+    require(*settings.threads >= 1, "--threads must be at least 1");
+    threadCap.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(*settings.threads));
   }
   ReconstructionParameters parameters;
-  if (arguments.has("params")) parameters = ReconstructionParameters::readFile(arguments.required("params"));
+  if (settings.params) parameters = ReconstructionParameters::readFile(*settings.params);
+  applyBenchDisparityRange(parameters.stereo, options.width, settings.disparities, settings.params.has_value());
+  settings.range.applyTo(parameters.stereo);
+  parameters.validate();
 
   const synthetic::SyntheticScan scan(options);
   std::vector<synthetic::SyntheticScanFrame> rendered;
@@ -173,6 +177,9 @@ int runBenchReconstruct(const Words& words) {
   // Stereo against the truth on the key frames (what fusion receives): the worst share of gross errors (> 3 px).
   double worstKeyFrameGross = 0, keyFrameGrossSum = 0;
   int worstKeyFrame = -1, keyFramesScored = 0;
+  // The true disparities of the key frames: whether the range searched held the scene.
+  float trueDisparityMin = INFINITY, trueDisparityMax = -INFINITY;
+  std::vector<double> rangeMs;  // the automatic range's sparse matching, beside the stereo (0 for a given range)
   for (int k = 0; k < scan.frameCount(); ++k) {
     if (stream && k % chunk == 0) {  // the next chunk, rendered before any of it is processed
       rendered.clear();
@@ -188,6 +195,7 @@ int runBenchReconstruct(const Words& words) {
     lost += !result.tracked;
     if (frame.index > 0) {
       stereoParts.add(result.stereoPartsMs);
+      rangeMs.push_back(result.disparityRangeMs);
       trackingParts.add(result.trackingPartsMs);
     }
     if (result.keyFrame && frame.index > 0) {
@@ -208,6 +216,10 @@ int runBenchReconstruct(const Words& words) {
       for (int y = 0; y < frame.disparityPx.rows; ++y) {
         for (int x = 0; x < frame.disparityPx.cols; ++x) {
           const float estimate = result.disparityPx.at<float>(y, x), truth = frame.disparityPx.at<float>(y, x);
+          if (std::isfinite(truth)) {
+            trueDisparityMin = std::min(trueDisparityMin, truth);
+            trueDisparityMax = std::max(trueDisparityMax, truth);
+          }
           if (!std::isfinite(estimate)) continue;
           ++estimates;
           gross += !std::isfinite(truth) || std::abs(estimate - truth) > 3;
@@ -247,8 +259,8 @@ int runBenchReconstruct(const Words& words) {
                              : static_cast<double>(distances.end() - std::upper_bound(distances.begin(), distances.end(), mm)) /
                                    distances.size();
   };
-  if (arguments.has("out")) {
-    const std::filesystem::path folder(arguments.required("out"));
+  if (settings.out) {
+    const std::filesystem::path folder(*settings.out);
     std::filesystem::create_directories(folder / "groundtruth");
     writePly((folder / "model.ply").string(), model.cloud, "TissueMosaic bench reconstruct: world frame of the scan, mm");
     Trajectory keyFrames, truth;
@@ -274,6 +286,10 @@ int runBenchReconstruct(const Words& words) {
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
+  const auto meanOf = [](const std::vector<double>& values) { return mean(values); };
+  const DisparityRangeHistory& ranges = pipeline.disparityRangeHistory();
+  const DisparityRange searched =
+      ranges.first ? ranges.widest : DisparityRange{parameters.stereo.minDisparityPx, parameters.stereo.maxDisparityPx};
   std::string memoryJson = "[";
   for (std::size_t i = 0; i < memory.size(); ++i) {
     memoryJson += cv::format("%s{\"frame\": %d, \"host_resident_mib\": %.1f, \"peak_device_mib\": %.1f, \"model_points\": %zu}",
@@ -284,21 +300,57 @@ int runBenchReconstruct(const Words& words) {
   std::printf("{\"command\": \"bench reconstruct\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d, \"key_frames\": %zu, "
               "\"model_points\": %zu, \"key_frame_position_rmse_mm\": %.4f, \"model_rmse_mm\": %.4f, \"model_p95_mm\": %.4f, \"peak_host_mib\": %.1f, "
-              "\"peak_device_mib\": %.1f,\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
+              "\"peak_device_mib\": %.1f, \"disparity_range_px\": [%d, %d], \"key_frame_true_disparity_px\": [%.1f, "
+              "%.1f],\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
               "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
               "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": %s,\n "
-              "\"refinement_parts_max_ms\": %s,\n \"stereo_parts_median_ms\": %s,\n \"tracking_parts_median_ms\": %s,\n \"refinement_matching\": {\"key_frames_matched\": %d, "
-              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"timing\": %s}\n",
+              "\"refinement_parts_max_ms\": %s,\n \"refinement_parts_mean_ms\": %s,\n \"refinement_parts_p99_ms\": %s,\n "
+              "\"stereo_parts_median_ms\": %s,\n \"stereo_parts_mean_ms\": %s,\n \"stereo_parts_p99_ms\": %s,\n "
+              "\"tracking_parts_median_ms\": %s,\n \"tracking_parts_mean_ms\": %s,\n \"tracking_parts_p99_ms\": %s,\n "
+              "\"refinement_matching\": {\"key_frames_matched\": %d, "
+              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"disparity_range\": %s, \"disparity_range_median_ms\": %.3f,\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
               lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
-              usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), shareBeyond(1), shareBeyond(5),
+              usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), searched.minPx, searched.maxPx, trueDisparityMin, trueDisparityMax, shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
               memoryJson.c_str(), refinementParts.json(median).c_str(), refinementParts.json(largest).c_str(),
-              stereoParts.json(median).c_str(), trackingParts.json(median).c_str(),
+              refinementParts.json(meanOf).c_str(), refinementParts.json(percentile99).c_str(),
+              stereoParts.json(median).c_str(), stereoParts.json(meanOf).c_str(), stereoParts.json(percentile99).c_str(),
+              trackingParts.json(median).c_str(), trackingParts.json(meanOf).c_str(),
+              trackingParts.json(percentile99).c_str(),
               keyFramesMatched, keyFramesGuided, intermediateFrames,
-              intermediateFramesGuided, keyFramesJson.c_str(), timing.toJson().c_str());
-  return 0;
+              intermediateFramesGuided, keyFramesJson.c_str(),
+              disparityRangeJson(pipeline.disparityRangeHistory()).c_str(), median(rangeMs), timing.toJson().c_str());
+}
+
+}  // namespace
+
+void setupBenchReconstruct(CLI::App& bench) {
+  auto options = std::make_shared<BenchReconstructOptions>();
+  CLI::App* command = addCommand(bench, "reconstruct", "median milliseconds per stage and per key/other frame of the "
+                                                      "whole pipeline as JSON", details);
+  command->add_option("--out", options->out, "also write the model, key frames and the scan's ground truth here")
+      ->type_name("DIR")
+      ->group(heading::output);
+  addImageSizeOptions(*command, options->width, options->height);
+  command->add_option("--frames", options->frames, "frames of the scan (at least 3)")
+      ->capture_default_str()
+      ->group(heading::options);
+  command->add_option("--seed", options->seed, "random scene and path")->capture_default_str()->group(heading::options);
+  command->add_flag("--stream", options->stream, "render each frame (or chunk) just before it is processed")
+      ->group(heading::options);
+  command->add_option("--chunk", options->chunk, "with --stream: frames rendered at a time (default 1)")
+      ->group(heading::options);
+  command->add_option("--supersampling", options->supersampling, "the renderer's N x N rays per pixel (default 2)")
+      ->group(heading::options);
+  command->add_option("--threads", options->threads, "cap on the engine's CPU threads (default all cores)")
+      ->group(heading::options);
+  addBenchDisparitiesOption(*command, options->disparities);
+  addDisparityRangeOptions(*command, options->range);
+  addDeviceOption(*command, options->device);
+  addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
+  command->callback([options] { runBenchReconstruct(*options); });
 }
 
 }  // namespace tissuemosaic::cli

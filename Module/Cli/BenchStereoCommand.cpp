@@ -1,6 +1,6 @@
-// tissuemosaic bench stereo: median milliseconds per section II stage on a synthetic pair with 100 disparities,
+// tissuemosaic bench stereo: milliseconds per section II stage (median, mean, p99) on a synthetic pair,
 // and on the CPU OpenCV's StereoSGBM (MODE_SGBM_3WAY) on the same pair and range, in the same run.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
@@ -10,6 +10,7 @@
 #include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
 #include "SyntheticStereoScene.h"
+#include "TimingStatistics.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -25,33 +26,27 @@ namespace tissuemosaic::cli {
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic bench stereo [--width 960] [--height 540] [--device cpu|cuda|auto]
-                               [--repeats N] [--disparities 100] [--seed S] [--method paper|ad-census]
-
-Prints one JSON object: the device, the input size and the median milliseconds per stage (zncc, outliers_holes,
-refinement, total) over N runs after 2 warm-up runs, on a synthetic tissue pair. On the CPU it also times OpenCV
+const char* const details = R"(Prints one JSON object: the device, the input size and the median, mean and 99th percentile milliseconds per
+stage (zncc, outliers_holes, refinement, total; "median_ms", "mean_ms", "p99_ms") over N runs after 2 warm-up runs,
+on a synthetic tissue pair seen with the same field of view at every size. On the CPU it also times OpenCV
 StereoSGBM (MODE_SGBM_3WAY) on the same pair and disparity range (rounded up to a multiple of 16, as SGBM needs).
 --method ad-census times the AD-Census matcher instead; its stages are reported under the same keys (cost and
-aggregation as zncc, scanline optimisation and winners as outliers_holes, median and checks as refinement).
-)";
+aggregation as zncc, scanline optimisation and winners as outliers_holes, median and checks as refinement).)";
 
+struct BenchStereoOptions {
+  int width = 960, height = 540, disparities = 100, seed = 7;
+  std::optional<int> repeats;
+  std::string method = "paper";
+  DeviceOption device;
+};
 
-}  // namespace
-
-int runBenchStereo(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly({"width", "height", "device", "repeats", "disparities", "seed", "method", "help"});
-  synthetic::SyntheticStereoOptions options = synthetic::SyntheticStereoOptions::wideDisparity();
-  options.width = arguments.integer("width", 960);
-  options.height = arguments.integer("height", 540);
-  options.seed = static_cast<uint32_t>(arguments.integer("seed", 7));
-  const int disparities = arguments.integer("disparities", 100);
-  const Device device = parseDevice(arguments.text("device", "auto"));
-  const int repeats = arguments.integer("repeats", device == Device::Cuda ? 50 : 10);
+void runBenchStereo(const BenchStereoOptions& settings) {
+  synthetic::SyntheticStereoOptions options =
+      synthetic::SyntheticStereoOptions::wideDisparity(settings.width, settings.height);
+  options.seed = static_cast<uint32_t>(settings.seed);
+  const int disparities = settings.disparities;
+  const Device device = settings.device.resolve();
+  const int repeats = settings.repeats.value_or(device == Device::Cuda ? 50 : 10);
   require(repeats >= 1 && repeats <= 10000, "--repeats must be in [1, 10000]");
 
   std::fprintf(stderr, "bench stereo: rendering a %dx%d synthetic pair...\n", options.width, options.height);
@@ -66,20 +61,20 @@ int runBenchStereo(const Words& words) {
   StereoParameters parameters;
   parameters.minDisparityPx = static_cast<int>(std::floor(minTruth)) - 2;
   parameters.maxDisparityPx = parameters.minDisparityPx + disparities - 1;
-  parameters.method = parseStereoMethod(arguments.text("method", "paper"));
+  parameters.method = parseStereoMethod(settings.method);
   StereoMatcher matcher(device, parameters);
 
-  std::vector<double> zncc, outliers, refinement, total, upload;
+  TimingSeries timings({"zncc", "outliers_holes", "refinement", "total", "upload"});
   cv::Mat disparity;
   for (int run = 0; run < repeats + 2; ++run) {
     StereoTimingsMs t;
     disparity = matcher.computeDisparity(pair.leftRectified, pair.rightRectified, &t);
     if (run < 2) continue;
-    zncc.push_back(t.zncc);
-    outliers.push_back(t.outliersHoles);
-    refinement.push_back(t.refinement);
-    total.push_back(t.total());
-    upload.push_back(t.upload);
+    timings.add("zncc", t.zncc);
+    timings.add("outliers_holes", t.outliersHoles);
+    timings.add("refinement", t.refinement);
+    timings.add("total", t.total());
+    timings.add("upload", t.upload);
     std::fprintf(stderr, "\rbench stereo: run %d/%d", run - 1, repeats);
   }
   std::fprintf(stderr, "\n");
@@ -94,9 +89,7 @@ int runBenchStereo(const Words& words) {
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height,
               stereoMethodName(parameters.method), disparities,
               parameters.minDisparityPx, repeats, cpuThreadCount());
-  std::printf(" \"median_ms\": {\"zncc\": %.4f, \"outliers_holes\": %.4f, \"refinement\": %.4f, \"total\": %.4f, "
-              "\"upload\": %.4f},\n",
-              median(zncc), median(outliers), median(refinement), median(total), median(upload));
+  std::printf(" %s,\n", timings.json().c_str());
   std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f}", ours.density, ours.badOver1);
 
   if (device == Device::Cpu) {
@@ -119,13 +112,34 @@ int runBenchStereo(const Words& words) {
     sgbmDisparity.convertTo(sgbmFloat, CV_32F, 1.0 / 16.0);
     sgbmFloat.setTo(NAN, sgbmDisparity < (parameters.minDisparityPx - 1) * 16);
     const DisparityScore theirs = scoreDisparity(sgbmFloat, pair.disparityPx);
-    const double oursMs = median(total), sgbmMedian = median(sgbmMs);
-    std::printf(",\n \"opencv_sgbm_3way\": {\"median_ms\": %.4f, \"num_disparities\": %d, \"block_size\": %d, "
-                "\"density\": %.4f, \"bad1\": %.4f},\n \"total_over_sgbm\": %.4f",
-                sgbmMedian, sgbmDisparities, block, theirs.density, theirs.badOver1, oursMs / sgbmMedian);
+    const double oursMs = median(timings.values("total")), sgbmMedian = median(sgbmMs);
+    std::printf(",\n \"opencv_sgbm_3way\": {\"median_ms\": %.4f, \"mean_ms\": %.4f, \"p99_ms\": %.4f, "
+                "\"num_disparities\": %d, \"block_size\": %d, \"density\": %.4f, \"bad1\": %.4f},\n "
+                "\"total_over_sgbm\": %.4f",
+                sgbmMedian, mean(sgbmMs), percentile99(sgbmMs), sgbmDisparities, block, theirs.density,
+                theirs.badOver1, oursMs / sgbmMedian);
   }
   std::printf("}\n");
-  return 0;
+}
+
+}  // namespace
+
+void setupBenchStereo(CLI::App& bench) {
+  auto options = std::make_shared<BenchStereoOptions>();
+  CLI::App* command = addCommand(bench, "stereo", "milliseconds per stereo stage (median, mean, p99) as JSON", details);
+  addImageSizeOptions(*command, options->width, options->height);
+  command->add_option("--repeats", options->repeats, "timed runs (default 50 on cuda, 10 on cpu)")
+      ->group(heading::options);
+  command->add_option("--disparities", options->disparities, "disparity range searched")
+      ->capture_default_str()
+      ->group(heading::options);
+  command->add_option("--seed", options->seed, "random scene")->capture_default_str()->group(heading::options);
+  command->add_option("--method", options->method, "the matcher")
+      ->type_name("paper|ad-census")
+      ->capture_default_str()
+      ->group(heading::options);
+  addDeviceOption(*command, options->device);
+  command->callback([options] { runBenchStereo(*options); });
 }
 
 }  // namespace tissuemosaic::cli

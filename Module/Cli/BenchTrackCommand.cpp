@@ -1,6 +1,6 @@
-// tissuemosaic bench track: median milliseconds per frame of the tracking stages (ORB + voting, DynamicR1PPnP) on
+// tissuemosaic bench track: milliseconds per frame (median, mean, p99) of the tracking stages (ORB + voting, DynamicR1PPnP) on
 // a synthetic scan rendered in-process, with the stereo depth computed on the same device.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
@@ -8,6 +8,7 @@
 #include "Core/Statistics.h"
 #include "Stereo/StereoMatcher.h"
 #include "SyntheticScan.h"
+#include "TimingStatistics.h"
 #include "Tracking/FrameTracker.h"
 
 
@@ -20,34 +21,28 @@ namespace tissuemosaic::cli {
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic bench track [--width 960] [--height 540] [--frames 20] [--device cpu|cuda|auto]
-                              [--features opencv|tissuemosaic] [--seed S]
+const char* const details = R"(Renders a synthetic scan (before timing), computes each frame's disparity on the device, then tracks the frames and
+prints one JSON object with the median, mean and 99th percentile milliseconds per tracked frame ("median_ms",
+"mean_ms", "p99_ms") of ORB + matching + histogram voting ("orb_voting"), of DynamicR1PPnP ("pnp") and their sum
+("tracking"), plus the stereo stage for reference, and "disparity_range_px", the range the stereo searched.)";
 
-Renders a synthetic scan (before timing), computes each frame's disparity on the device, then tracks the frames and prints one JSON
-object with the median milliseconds per tracked frame of ORB + matching + histogram voting ("orb_voting"), of
-DynamicR1PPnP ("pnp") and their sum ("tracking"), plus the stereo stage for reference. Features default to
-TissueMosaic's extractor on CUDA and to OpenCV's on the CPU.
-)";
+struct BenchTrackOptions {
+  int width = 960, height = 540, frames = 20, seed = 1;
+  std::optional<int> disparities;
+  std::optional<std::string> features;
+  DeviceOption device;
+};
 
-
-}  // namespace
-
-int runBenchTrack(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly({"width", "height", "frames", "device", "features", "seed", "help"});
+void runBenchTrack(const BenchTrackOptions& settings) {
   synthetic::SyntheticScanOptions options;
-  options.width = arguments.integer("width", 960);
-  options.height = arguments.integer("height", 540);
-  options.frames = arguments.integer("frames", 20);
-  options.seed = static_cast<uint32_t>(arguments.integer("seed", 1));
+  options.width = settings.width;
+  options.height = settings.height;
+  options.frames = settings.frames;
+  options.seed = static_cast<uint32_t>(settings.seed);
   require(options.frames >= 3, "--frames must be at least 3");
-  const Device device = parseDevice(arguments.text("device", "auto"));
+  const Device device = settings.device.resolve();
   FrameTrackerOptions trackerOptions;
-  const std::string features = arguments.text("features", device == Device::Cuda ? "tissuemosaic" : "opencv");
+  const std::string features = settings.features.value_or(device == Device::Cuda ? "tissuemosaic" : "opencv");
   require(features == "opencv" || features == "tissuemosaic", "--features must be opencv or tissuemosaic");
   if (features == "tissuemosaic") {
     trackerOptions.extractor = FeatureExtractor::TissueMosaicOrb;
@@ -55,9 +50,12 @@ int runBenchTrack(const Words& words) {
   }
 
   const synthetic::SyntheticScan scan(options);
-  StereoMatcher matcher(device, StereoParameters{});
+  StereoParameters stereoParameters;
+  applyBenchDisparityRange(stereoParameters, options.width, settings.disparities, false);
+  StereoMatcher matcher(device, stereoParameters);
   FrameTracker tracker(scan.geometry(), trackerOptions, scan.T_world_camera(0));
-  std::vector<double> orbVoting, pnp, tracking, stereo, extract, matching, subPixel, voting;
+  TimingSeries stages({"orb_voting", "pnp", "tracking", "stereo"});
+  TimingSeries orbVotingParts({"extract_and_lift", "match", "subpixel", "vote"});
   int lost = 0;
   // Rendered before timing (as bench reconstruct does): the renderer's all-core bursts between frames would
   // otherwise cool the caches and the thread pool that tracking's CPU steps use.
@@ -75,28 +73,45 @@ int runBenchTrack(const Words& words) {
     const TrackResult result = tracker.track(frame.leftRectified, disparity);
     lost += !result.tracked;
     if (k < 2) continue;  // warm-up (and the first frame has nothing to match)
-    orbVoting.push_back(result.orbVotingMs);
-    pnp.push_back(result.pnpMs);
-    extract.push_back(result.extractMs);
-    matching.push_back(result.matchMs);
-    subPixel.push_back(result.subPixelMs);
-    voting.push_back(result.voteMs);
-    tracking.push_back(result.orbVotingMs + result.pnpMs);
-    stereo.push_back(stereoMs.total());
+    stages.add("orb_voting", result.orbVotingMs);
+    stages.add("pnp", result.pnpMs);
+    stages.add("tracking", result.orbVotingMs + result.pnpMs);
+    stages.add("stereo", stereoMs.total());
+    orbVotingParts.add("extract_and_lift", result.extractMs);
+    orbVotingParts.add("match", result.matchMs);
+    orbVotingParts.add("subpixel", result.subPixelMs);
+    orbVotingParts.add("vote", result.voteMs);
   }
   std::fprintf(stderr, "\n");
   if (profiling::enabled()) {
     std::fprintf(stderr, "%s:\n%s", profiling::reportKind().c_str(), profiling::report().c_str());
   }
   std::printf("{\"command\": \"bench track\", \"device\": \"%s\", \"device_name\": \"%s\", \"features\": \"%s\", "
-              "\"width\": %d, \"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d,\n"
-              " \"median_ms\": {\"orb_voting\": %.4f, \"pnp\": %.4f, \"tracking\": %.4f, \"stereo\": %.4f},\n"
-              " \"orb_voting_parts_median_ms\": {\"extract_and_lift\": %.4f, \"match\": %.4f, \"subpixel\": %.4f, "
-              "\"vote\": %.4f}}\n",
+              "\"width\": %d, \"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d, "
+              "\"disparity_range_px\": [%d, %d],\n %s,\n %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), features.c_str(), options.width, options.height,
-              options.frames, lost, cpuThreadCount(), median(orbVoting), median(pnp), median(tracking), median(stereo),
-              median(extract), median(matching), median(subPixel), median(voting));
-  return 0;
+              options.frames, lost, cpuThreadCount(), stereoParameters.minDisparityPx, stereoParameters.maxDisparityPx,
+              stages.json().c_str(), orbVotingParts.json("orb_voting_parts_").c_str());
+}
+
+}  // namespace
+
+void setupBenchTrack(CLI::App& bench) {
+  auto options = std::make_shared<BenchTrackOptions>();
+  CLI::App* command = addCommand(bench, "track", "milliseconds per frame of ORB + voting and DynamicR1PPnP (median, "
+                                                "mean, p99) as JSON", details);
+  addImageSizeOptions(*command, options->width, options->height);
+  command->add_option("--frames", options->frames, "frames of the scan (at least 3)")
+      ->capture_default_str()
+      ->group(heading::options);
+  command->add_option("--seed", options->seed, "random scene and path")->capture_default_str()->group(heading::options);
+  command->add_option("--features", options->features, "ORB implementation (default tissuemosaic on cuda, opencv on "
+                                                        "cpu)")
+      ->type_name("opencv|tissuemosaic")
+      ->group(heading::options);
+  addBenchDisparitiesOption(*command, options->disparities);
+  addDeviceOption(*command, options->device);
+  command->callback([options] { runBenchTrack(*options); });
 }
 
 }  // namespace tissuemosaic::cli

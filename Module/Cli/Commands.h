@@ -1,25 +1,28 @@
 #pragma once
 /// @file Commands.h
-/// @brief The sub-commands of `tissuemosaic`. Each takes the words after its name and returns the exit status;
-/// errors are thrown as tissuemosaic::Error and reported by main().
-#include <string>
-#include <vector>
+/// @brief The commands of `tissuemosaic`, one file each. setupX adds command X to its parent (the tool, or the
+/// `bench` and `synth` parents) with its options and a callback that runs it; errors are thrown
+/// (tissuemosaic::Error, or UsageError for a command line that does not make sense) and reported by main().
+#include <CLI/CLI.hpp>
 
 namespace tissuemosaic::cli {
 
-using Words = std::vector<std::string>;
+void setupStereo(CLI::App& tool);             ///< tissuemosaic stereo ...         (StereoCommand.cpp)
+void setupTrack(CLI::App& tool);              ///< tissuemosaic track ...          (TrackCommand.cpp)
+void setupReconstruct(CLI::App& tool);        ///< tissuemosaic reconstruct ...    (ReconstructCommand.cpp)
+void setupRegister(CLI::App& tool);           ///< tissuemosaic register ...       (RegisterCommand.cpp, needs VTK)
+void setupEval(CLI::App& tool);               ///< tissuemosaic eval ...           (EvalCommand.cpp, needs VTK)
+void setupSynthPair(CLI::App& synth);         ///< tissuemosaic synth pair ...     (SynthCommand.cpp)
+void setupSynthScan(CLI::App& synth);         ///< tissuemosaic synth scan ...     (SynthScanCommand.cpp)
+void setupBenchStereo(CLI::App& bench);       ///< tissuemosaic bench stereo ...   (BenchStereoCommand.cpp)
+void setupBenchTrack(CLI::App& bench);        ///< tissuemosaic bench track ...    (BenchTrackCommand.cpp)
+void setupBenchReconstruct(CLI::App& bench);  ///< tissuemosaic bench reconstruct ... (BenchReconstructCommand.cpp)
+void setupBenchPnp(CLI::App& bench);          ///< tissuemosaic bench pnp ...      (BenchPnpCommand.cpp)
+void setupBenchOrb(CLI::App& bench);          ///< tissuemosaic bench orb ...      (BenchOrbCommand.cpp)
 
-int runStereo(const Words& words);      ///< tissuemosaic stereo ...        (StereoCommand.cpp)
-int runBenchStereo(const Words& words); ///< tissuemosaic bench stereo ...  (BenchStereoCommand.cpp)
-int runBenchPnp(const Words& words);    ///< tissuemosaic bench pnp ...     (BenchPnpCommand.cpp)
-int runBenchTrack(const Words& words);  ///< tissuemosaic bench track ...   (BenchTrackCommand.cpp)
-int runBenchOrb(const Words& words);    ///< tissuemosaic bench orb ...     (BenchOrbCommand.cpp)
-int runSynthPair(const Words& words);   ///< tissuemosaic synth pair ...    (SynthCommand.cpp)
-int runSynthScan(const Words& words);   ///< tissuemosaic synth scan ...    (SynthScanCommand.cpp)
-int runTrack(const Words& words);       ///< tissuemosaic track ...         (TrackCommand.cpp)
-int runReconstruct(const Words& words); ///< tissuemosaic reconstruct ...   (ReconstructCommand.cpp)
-int runBenchReconstruct(const Words& words);  ///< tissuemosaic bench reconstruct ... (BenchReconstructCommand.cpp)
-int runRegister(const Words& words);    ///< tissuemosaic register ...      (RegisterCommand.cpp, needs VTK)
-int runEval(const Words& words);        ///< tissuemosaic eval ...          (EvalCommand.cpp, needs VTK)
+/// Adds a command to `parent` with the house's help layout: a one-line summary (listed by the parent's --help) and
+/// `details` printed after the options (main() moves -h/--help last, under the common options).
+CLI::App* addCommand(CLI::App& parent, const std::string& name, const std::string& summary,
+                     const std::string& details);
 
 }  // namespace tissuemosaic::cli

@@ -1,6 +1,6 @@
 // tissuemosaic eval: a reconstructed model (and its camera trajectory) scored against a reference surface with known
 // geometry (and the true trajectory): distances, coverage, ATE and RPE. Definitions: docs/EVALUATION.md.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
 #include "IO/MeshPly.h"
@@ -28,10 +28,7 @@ namespace tissuemosaic::cli {
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic eval --model model.ply --reference surface.ply
-                        [--trajectory t.txt --reference-trajectory gt.txt] [--align icp] [--json] [options]
-
-Scores a reconstruction against a reference surface whose geometry is known: a synthetic scan's
+const char* const details = R"(Scores a reconstruction against a reference surface whose geometry is known: a synthetic scan's
 groundtruth/surface.ply (what the scan saw with both eyes) or a CT/MR segmentation.
 
 Placement (every file's coordinates are taken as stored, in mm; no LPS/RAS flip):
@@ -52,28 +49,16 @@ Measures:
   rpe_mm                   relative pose error: RMS of the translation of (Q_i^-1 Q_i+1)^-1 (P_i^-1 P_i+1) over
                            consecutive associated poses, Q reference, P model (null without trajectories)
   alignment                none | trajectory | icp | trajectory+icp, with transform_reference_from_model (4x4)
-
-  --model PATH                 reconstructed model (.ply .vtp .vtk .stl .obj; points, or a mesh's vertices)
-  --reference PATH             reference surface (.ply .stl .vtp .vtk .obj) with triangles (PLY: triangles only)
-  --trajectory PATH            the model's camera trajectory (TUM: t tx ty tz qx qy qz qw, T_world_camera, mm)
-  --reference-trajectory PATH  the true trajectory in the reference's frame (TUM); goes with --trajectory
-  --time-tolerance S           largest time-stamp difference of associated poses (default 0.02)
-  --max-alignment-sd-deg D     refuse a trajectory alignment whose rotation is less certain than this (default
-                               1.0): estimated from the residuals and the spread of the positions, it is large for
-                               short or straight paths, where the alignment would misplace the model
-  --trajectory-alignment rigid|none   rigid (default): as above; none: the model and its trajectory are already in
-                               the reference's frame (e.g. `reconstruct --start-tum` with the true trajectory):
-                               the ATE is measured as it is and the model is not moved
-  --align icp|none             refine the placement by ICP (default none)
-  --max-icp-iterations N       (default 100)
-  --icp-inlier-fraction F      share of closest correspondences used per ICP step (default 0.8)
-  --icp-max-distance MM        correspondences farther never used (default: no limit)
-  --coverage-radius-mm R       (default 1.0; 0: no coverage, null in the JSON: for a reference such as
-                               groundtruth/instruments.ply, whose large area would take long to cover)
-  --json                       print one JSON object instead of a table
 Bad input (missing or unreadable files, an empty model, a reference without triangles, trajectories without
-common time stamps, or too short or straight to align) stops with a message and exit status 1.
-)";
+common time stamps, or too short or straight to align) stops with a message and exit status 1.)";
+
+struct EvalOptions {
+  std::string model, reference;
+  std::optional<std::string> trajectory, referenceTrajectory;
+  std::string align = "none", trajectoryAlignment = "rigid";
+  EvaluationOptions evaluation;
+  bool json = false;
+};
 
 nlohmann::json matrixJson(const Eigen::Matrix4d& matrix) {
   nlohmann::json rows = nlohmann::json::array();
@@ -199,54 +184,74 @@ void printTable(const ModelEvaluation& e, const std::string& model, const std::s
   }
 }
 
-}  // namespace
-
-int runEval(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
+void runEval(const EvalOptions& given) {
+  if (given.trajectory.has_value() != given.referenceTrajectory.has_value()) {
+    throw UsageError("--trajectory and --reference-trajectory go together");
   }
-  const Arguments arguments(words);
-  arguments.allowOnly({"model", "reference", "trajectory", "reference-trajectory", "time-tolerance",
-                       "max-alignment-sd-deg", "align", "trajectory-alignment",
-                       "max-icp-iterations", "icp-inlier-fraction", "icp-max-distance", "coverage-radius-mm",
-                       "json"});
-  const std::string modelPath = arguments.required("model");
-  const std::string referencePath = arguments.required("reference");
-  if (arguments.has("trajectory") != arguments.has("reference-trajectory")) {
-    throw Error("--trajectory and --reference-trajectory go together");
-  }
-  EvaluationOptions options;
-  const std::string align = arguments.text("align", "none");
-  require(align == "icp" || align == "none", "unknown --align '" + align + "': expected icp or none");
-  options.icp = align == "icp";
-  options.icpParameters.maxIterations = arguments.integer("max-icp-iterations", options.icpParameters.maxIterations);
-  options.icpParameters.inlierFraction = arguments.number("icp-inlier-fraction", options.icpParameters.inlierFraction);
-  options.icpParameters.maxDistanceMm = arguments.number("icp-max-distance", options.icpParameters.maxDistanceMm);
-  options.coverageRadiusMm = arguments.number("coverage-radius-mm", options.coverageRadiusMm);
-  options.timeToleranceS = arguments.number("time-tolerance", options.timeToleranceS);
-  options.maxAlignmentRotationSdDeg = arguments.number("max-alignment-sd-deg", options.maxAlignmentRotationSdDeg);
-  const std::string trajectoryAlignment = arguments.text("trajectory-alignment", "rigid");
-  require(trajectoryAlignment == "rigid" || trajectoryAlignment == "none",
-          "unknown --trajectory-alignment '" + trajectoryAlignment + "': expected rigid or none");
-  options.alignTrajectories = trajectoryAlignment == "rigid";
+  EvaluationOptions options = given.evaluation;
+  require(given.align == "icp" || given.align == "none", "unknown --align '" + given.align + "': expected icp or none");
+  options.icp = given.align == "icp";
+  require(given.trajectoryAlignment == "rigid" || given.trajectoryAlignment == "none",
+          "unknown --trajectory-alignment '" + given.trajectoryAlignment + "': expected rigid or none");
+  options.alignTrajectories = given.trajectoryAlignment == "rigid";
   options.validate();
+  const std::string& modelPath = given.model;
+  const std::string& referencePath = given.reference;
 
   const std::vector<Eigen::Vector3d> modelPoints = readModelPoints(modelPath);
   const TargetSurface referenceSurface(readReferenceSurface(referencePath));
   std::optional<EvaluationTrajectories> trajectories;
-  if (arguments.has("trajectory")) {
-    trajectories = EvaluationTrajectories{readTrajectory(arguments.required("trajectory")),
-                                          readTrajectory(arguments.required("reference-trajectory"))};
+  if (given.trajectory) {
+    trajectories = EvaluationTrajectories{readTrajectory(*given.trajectory), readTrajectory(*given.referenceTrajectory)};
   }
   const ModelEvaluation evaluation = evaluateModel(modelPoints, referenceSurface,
                                                    trajectories ? &*trajectories : nullptr, options);
-  if (arguments.has("json")) {
+  if (given.json) {
     printJson(report(evaluation, options));
   } else {
     printTable(evaluation, modelPath, referencePath);
   }
-  return 0;
+}
+
+}  // namespace
+
+void setupEval(CLI::App& tool) {
+  auto options = std::make_shared<EvalOptions>();
+  EvaluationOptions& evaluation = options->evaluation;
+  CLI::App* command = addCommand(tool, "eval", "a reconstruction against a known surface: distances (RMSE, mean, p95), "
+                                              "coverage, ATE and RPE", details);
+  const auto add = [&](const std::string& name, auto& value, const std::string& description,
+                       const std::string& group) { return command->add_option(name, value, description)->group(group); };
+  add("--model", options->model, "reconstructed model (.ply .vtp .vtk .stl .obj; points, or a mesh's vertices)",
+      heading::input)->type_name("PATH")->required();
+  add("--reference", options->reference, "reference surface (.ply .stl .vtp .vtk .obj) with triangles (PLY: "
+                                         "triangles only)", heading::input)->type_name("PATH")->required();
+  add("--trajectory", options->trajectory, "the model's camera trajectory (TUM: t tx ty tz qx qy qz qw, "
+                                           "T_world_camera, mm)", heading::input)->type_name("PATH");
+  add("--reference-trajectory", options->referenceTrajectory, "the true trajectory in the reference's frame (TUM); "
+                                                              "goes with --trajectory", heading::input)->type_name("PATH");
+  command->add_flag("--json", options->json, "print one JSON object instead of a table")->group(heading::output);
+  add("--time-tolerance", evaluation.timeToleranceS, "largest time-stamp difference (s) of associated poses",
+      heading::options)->capture_default_str();
+  add("--max-alignment-sd-deg", evaluation.maxAlignmentRotationSdDeg,
+      "refuse a trajectory alignment whose rotation is less certain than this: estimated from the residuals and the "
+      "spread of the positions, it is large for short or straight paths, where the alignment would misplace the model",
+      heading::options)->capture_default_str();
+  add("--trajectory-alignment", options->trajectoryAlignment,
+      "rigid: as above; none: the model and its trajectory are already in the reference's frame (e.g. `reconstruct "
+      "--start-tum` with the true trajectory): the ATE is measured as it is and the model is not moved",
+      heading::options)->type_name("rigid|none")->capture_default_str();
+  add("--align", options->align, "refine the placement by ICP", heading::options)
+      ->type_name("icp|none")
+      ->capture_default_str();
+  add("--max-icp-iterations", evaluation.icpParameters.maxIterations, "ICP iterations at most", heading::options)
+      ->capture_default_str();
+  add("--icp-inlier-fraction", evaluation.icpParameters.inlierFraction, "share of closest correspondences used per ICP "
+                                                                        "step", heading::options)->capture_default_str();
+  add("--icp-max-distance", evaluation.icpParameters.maxDistanceMm, "correspondences farther (mm) never used "
+                                                                    "(default: no limit)", heading::options);
+  add("--coverage-radius-mm", evaluation.coverageRadiusMm, "coverage radius (0: no coverage, null in the JSON: for a reference such as groundtruth/instruments.ply, whose large area would take long to cover)", heading::options)->capture_default_str();
+  command->callback([options] { runEval(*options); });
 }
 
 }  // namespace tissuemosaic::cli

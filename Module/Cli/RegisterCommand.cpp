@@ -1,6 +1,6 @@
 // tissuemosaic register: the reconstructed model registered to a CT/MR surface model (landmarks, then ICP), with
 // the paper's accuracy evaluation (per-point distance to the CT surface, RMSE, mean, percentiles, histogram).
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
 #include "vtkTissueMosaicDistanceReport.h"
@@ -22,43 +22,23 @@ namespace tissuemosaic::cli {
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic register --model MODEL --target CT --out-transform t.tfm --report report.json
-                            [--landmarks pairs.mrk.json | --model-landmarks A --target-landmarks B]
-                            [--scale] [--icp] [options]
-
-Registers the reconstructed model (a point cloud or mesh) to a CT/MR surface model: a least-squares fit of
+const char* const details = R"(Registers the reconstructed model (a point cloud or mesh) to a CT/MR surface model: a least-squares fit of
 landmark pairs (rigid, or with a uniform scale), then optionally ICP (point-to-plane, trimmed, Tukey kernel, so
 that scanned parts missing from the CT model do not pull). Then every model point's distance to the CT surface
 gives the RMSE, mean, median, 95th percentile, maximum and a histogram.
 
 Frames: everything is computed in LPS mm. Model files are read in the frame they declare (Slicer's SPACE mark),
-LPS when they declare none, as 3D Slicer does; our reconstructions carry no mark and are taken as they are.
+LPS when they declare none, as 3D Slicer does; our reconstructions carry no mark and are taken as they are.)";
 
-  --model PATH                reconstructed model (.ply .vtp .vtk .stl .obj)
-  --target PATH               CT/MR surface model (.stl .vtp .vtk .ply .obj), must have triangles
-  --model-frame F             file|lps|ras: frame of the model file (default file: its mark, else LPS)
-  --target-frame F            file|lps|ras: frame of the target file (default file)
-  --landmarks PATH            .mrk.json with two markups lists: the model's landmarks, then the target's
-  --model-landmarks PATH      landmarks picked on the model (.mrk.json or .fcsv) ...
-  --target-landmarks PATH     ... and on the target; paired by equal labels, else by order (>= 3 pairs)
-  --landmarks-frame F         lps|ras for landmark files that declare no coordinate system
-  --initial-transform PATH    start from a .tfm written by this command instead of landmarks
-  --scale                     landmark fit with a uniform scale (similarity) instead of rigid
-  --icp                       refine with ICP (rotation and translation; the landmark scale is kept)
-  --max-icp-iterations N      (default 100)
-  --icp-inlier-fraction F     share of closest correspondences used per step (default 0.8)
-  --icp-max-distance MM       correspondences farther never used (default: no limit)
-  --out-transform PATH        ITK .tfm (LPS) holding T_model_target, the inverse of model->target, because ITK
-                              and Slicer read transform files as resampling transforms (fixed -> moving):
-                              in Slicer, put the model under the loaded transform to move it onto the CT
-  --report PATH               JSON: rmse_mm, mean_mm, median_mm, p95_mm, max_mm, points, icp_iterations, ...
-  --out-model PATH            registered model (.vtp .ply .vtk; LPS) with point arrays DistanceMm and
-                              SignedDistanceMm (the distance map)
-  --out-landmarks PATH        the landmark pairs as .mrk.json (model list in the model's frame, then target)
-  --distances PATH            per-point CSV: index, registered x y z (LPS mm), distance, signed distance
-  --histogram PATH            PNG bar plot of the distance histogram
-  --bin-mm W                  histogram bin width in mm (default 0.1)
-)";
+struct RegisterOptions {
+  std::string model, target, outTransform, report;
+  std::string modelFrame = "file", targetFrame = "file";
+  std::optional<std::string> landmarks, modelLandmarks, targetLandmarks, landmarksFrame, initialTransform, outModel,
+      outLandmarks, distances, histogram;
+  bool scale = false, icp = false;
+  IcpParameters icpParameters;
+  double binMm = 0.1;
+};
 
 nlohmann::json matrixJson(const Eigen::Matrix4d& matrix) {
   nlohmann::json rows = nlohmann::json::array();
@@ -66,47 +46,31 @@ nlohmann::json matrixJson(const Eigen::Matrix4d& matrix) {
   return rows;
 }
 
-SurfaceModelFile readModel(const Arguments& arguments, const std::string& pathOption, const std::string& frameOption) {
-  return readSurfaceModel(arguments.required(pathOption),
-                          parseModelFrameChoice(arguments.text(frameOption, "file")));
-}
-
-}  // namespace
-
-int runRegister(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
+void runRegister(const RegisterOptions& options) {
+  const std::string& transformPath = options.outTransform;
+  const std::string& reportPath = options.report;
+  const bool withIcp = options.icp;
+  const bool pairsFile = options.landmarks.has_value();
+  const bool twoFiles = options.modelLandmarks || options.targetLandmarks;
+  if (pairsFile && twoFiles) throw UsageError("give either --landmarks or --model-landmarks with --target-landmarks, not both");
+  if (twoFiles && !(options.modelLandmarks && options.targetLandmarks)) {
+    throw UsageError("--model-landmarks and --target-landmarks go together");
   }
-  const Arguments arguments(words);
-  arguments.allowOnly({"model", "target", "model-frame", "target-frame", "landmarks", "model-landmarks",
-                       "target-landmarks", "landmarks-frame", "initial-transform", "scale", "icp",
-                       "max-icp-iterations", "icp-inlier-fraction", "icp-max-distance", "out-transform", "report",
-                       "out-model", "out-landmarks", "distances", "histogram", "bin-mm", "help"});
-  const std::string transformPath = arguments.required("out-transform");
-  const std::string reportPath = arguments.required("report");
-  const bool withIcp = arguments.has("icp");
-  const bool pairsFile = arguments.has("landmarks");
-  const bool twoFiles = arguments.has("model-landmarks") || arguments.has("target-landmarks");
-  if (pairsFile && twoFiles) throw Error("give either --landmarks or --model-landmarks with --target-landmarks, not both");
-  if (twoFiles && !(arguments.has("model-landmarks") && arguments.has("target-landmarks"))) {
-    throw Error("--model-landmarks and --target-landmarks go together");
+  if ((pairsFile || twoFiles) && options.initialTransform) {
+    throw UsageError("give either landmarks or --initial-transform, not both");
   }
-  if ((pairsFile || twoFiles) && arguments.has("initial-transform")) {
-    throw Error("give either landmarks or --initial-transform, not both");
+  if (!pairsFile && !twoFiles && !options.initialTransform && !withIcp) {
+    throw UsageError("nothing to register with: give --landmarks (or --model-landmarks and --target-landmarks), "
+                     "--initial-transform, or --icp");
   }
-  if (!pairsFile && !twoFiles && !arguments.has("initial-transform") && !withIcp) {
-    throw Error("nothing to register with: give --landmarks (or --model-landmarks and --target-landmarks), "
-                "--initial-transform, or --icp");
-  }
-  if (arguments.has("scale") && !pairsFile && !twoFiles) throw Error("--scale needs landmarks");
+  if (options.scale && !pairsFile && !twoFiles) throw UsageError("--scale needs landmarks");
+  if (options.outLandmarks && !pairsFile && !twoFiles) throw UsageError("--out-landmarks needs landmarks");
   std::optional<AnatomicalFrame> landmarksFrame;
-  if (arguments.has("landmarks-frame")) landmarksFrame = parseFrame(arguments.required("landmarks-frame"));
-  const double binMm = arguments.number("bin-mm", 0.1);
-  if (!(binMm > 0)) throw Error("--bin-mm must be a positive number of mm");
+  if (options.landmarksFrame) landmarksFrame = parseFrame(*options.landmarksFrame);
+  if (!(options.binMm > 0)) throw Error("--bin-mm must be a positive number of mm");
 
-  const SurfaceModelFile model = readModel(arguments, "model", "model-frame");
-  const SurfaceModelFile target = readModel(arguments, "target", "target-frame");
+  const SurfaceModelFile model = readSurfaceModel(options.model, parseModelFrameChoice(options.modelFrame));
+  const SurfaceModelFile target = readSurfaceModel(options.target, parseModelFrameChoice(options.targetFrame));
   const TargetSurface targetSurface(target.polyDataLps);
   const std::vector<Eigen::Vector3d> modelPoints = polyDataPoints(model.polyDataLps);
 
@@ -118,13 +82,13 @@ int runRegister(const Words& words) {
   Eigen::Matrix4d targetFromModel = Eigen::Matrix4d::Identity();
   std::optional<LandmarkPairs> pairs;
   if (pairsFile) {
-    pairs = readLandmarkPairs(arguments.required("landmarks"), landmarksFrame);
+    pairs = readLandmarkPairs(*options.landmarks, landmarksFrame);
   } else if (twoFiles) {
-    pairs = pairLandmarks(readLandmarks(arguments.required("model-landmarks"), landmarksFrame),
-                          readLandmarks(arguments.required("target-landmarks"), landmarksFrame));
+    pairs = pairLandmarks(readLandmarks(*options.modelLandmarks, landmarksFrame),
+                          readLandmarks(*options.targetLandmarks, landmarksFrame));
   }
   if (pairs) {
-    const LandmarkRegistration fit = registerLandmarks(pairs->modelLps, pairs->targetLps, arguments.has("scale"));
+    const LandmarkRegistration fit = registerLandmarks(pairs->modelLps, pairs->targetLps, options.scale);
     targetFromModel = fit.targetFromModel;
     report["landmark_pairs"] = pairs->modelLps.size();
     report["landmarks_paired_by"] = pairs->pairedByLabel ? "label" : "order";
@@ -133,17 +97,13 @@ int runRegister(const Words& words) {
     report["scale"] = fit.scale;
     std::printf("landmarks: %zu pairs (by %s), RMSE %.3f mm, scale %.5f\n", pairs->modelLps.size(),
                 pairs->pairedByLabel ? "label" : "order", fit.rmseMm, fit.scale);
-  } else if (arguments.has("initial-transform")) {
-    targetFromModel = readModelToTargetTransform(arguments.required("initial-transform"));
+  } else if (options.initialTransform) {
+    targetFromModel = readModelToTargetTransform(*options.initialTransform);
   }
 
   report["icp_iterations"] = 0;
   if (withIcp) {
-    IcpParameters parameters;
-    parameters.maxIterations = arguments.integer("max-icp-iterations", parameters.maxIterations);
-    parameters.inlierFraction = arguments.number("icp-inlier-fraction", parameters.inlierFraction);
-    parameters.maxDistanceMm = arguments.number("icp-max-distance", parameters.maxDistanceMm);
-    const IcpResult icp = refineIcp(modelPoints, targetSurface, targetFromModel, parameters);
+    const IcpResult icp = refineIcp(modelPoints, targetSurface, targetFromModel, options.icpParameters);
     targetFromModel = icp.targetFromModel;
     report["icp_iterations"] = icp.iterations;
     report["icp_converged"] = icp.converged;
@@ -158,7 +118,7 @@ int runRegister(const Words& words) {
   std::vector<double> signedDistances;
   const std::vector<double> distances = distancesToSurface(targetSurface, registered, &signedDistances);
   const DistanceStatistics statistics = distanceStatistics(distances);
-  const DistanceHistogram histogram = distanceHistogram(distances, binMm);
+  const DistanceHistogram histogram = distanceHistogram(distances, options.binMm);
   report["points"] = statistics.count;
   report["rmse_mm"] = statistics.rmseMm;
   report["mean_mm"] = statistics.meanMm;
@@ -170,23 +130,22 @@ int runRegister(const Words& words) {
   writeModelToTargetTransform(transformPath, targetFromModel);
   report["transform_file"] = transformPath;
   report["transform_file_direction"] = "ITK resampling convention: the file holds T_model_target (target -> model)";
-  if (arguments.has("out-model")) {
+  if (options.outModel) {
     auto registeredModel = transformedPolyData(model.polyDataLps, targetFromModel);
     addDistanceArrays(registeredModel, distances, signedDistances);
-    writeSurfaceModel(arguments.required("out-model"), registeredModel, AnatomicalFrame::LPS);
+    writeSurfaceModel(*options.outModel, registeredModel, AnatomicalFrame::LPS);
   }
-  if (arguments.has("out-landmarks")) {
-    if (!pairs) throw Error("--out-landmarks needs landmarks");
+  if (options.outLandmarks) {
     LandmarkList modelList{"model landmarks", {}, AnatomicalFrame::LPS};
     LandmarkList targetList{"target landmarks", {}, AnatomicalFrame::LPS};
     for (std::size_t i = 0; i < pairs->labels.size(); ++i) {
       modelList.points.push_back({pairs->labels[i], pairs->modelLps[i]});
       targetList.points.push_back({pairs->labels[i], pairs->targetLps[i]});
     }
-    writeLandmarkFile(arguments.required("out-landmarks"), {modelList, targetList});
+    writeLandmarkFile(*options.outLandmarks, {modelList, targetList});
   }
-  if (arguments.has("distances")) writeDistanceCsv(arguments.required("distances"), registered, distances, signedDistances);
-  if (arguments.has("histogram")) writeHistogramPng(arguments.required("histogram"), histogram, statistics);
+  if (options.distances) writeDistanceCsv(*options.distances, registered, distances, signedDistances);
+  if (options.histogram) writeHistogramPng(*options.histogram, histogram, statistics);
 
   std::ofstream reportFile(reportPath);
   if (!reportFile) throw Error("cannot write report '" + reportPath + "'");
@@ -195,7 +154,58 @@ int runRegister(const Words& words) {
   std::printf("distance to the target over %zu points: RMSE %.3f mm, mean %.3f, median %.3f, p95 %.3f, max %.3f mm\n",
               statistics.count, statistics.rmseMm, statistics.meanMm, statistics.medianMm, statistics.p95Mm,
               statistics.maxMm);
-  return 0;
+}
+
+}  // namespace
+
+void setupRegister(CLI::App& tool) {
+  auto options = std::make_shared<RegisterOptions>();
+  CLI::App* command = addCommand(tool, "register", "registration to a CT/MR surface model (landmarks, ICP) and its "
+                                                  "accuracy (RMSE, histogram)", details);
+  const auto add = [&](const std::string& name, auto& value, const std::string& description,
+                       const std::string& group) { return command->add_option(name, value, description)->group(group); };
+  add("--model", options->model, "reconstructed model (.ply .vtp .vtk .stl .obj)", heading::input)->type_name("PATH")->required();
+  add("--target", options->target, "CT/MR surface model (.stl .vtp .vtk .ply .obj), must have triangles",
+      heading::input)->type_name("PATH")->required();
+  add("--model-frame", options->modelFrame, "frame of the model file (default file: its mark, else LPS)",
+      heading::input)->type_name("file|lps|ras");
+  add("--target-frame", options->targetFrame, "frame of the target file (default file)", heading::input)
+      ->type_name("file|lps|ras");
+  add("--landmarks", options->landmarks, ".mrk.json with two markups lists: the model's landmarks, then the target's",
+      heading::input)->type_name("PATH");
+  add("--model-landmarks", options->modelLandmarks, "landmarks picked on the model (.mrk.json or .fcsv) ...",
+      heading::input)->type_name("PATH");
+  add("--target-landmarks", options->targetLandmarks, "... and on the target; paired by equal labels, else by order "
+                                                      "(>= 3 pairs)", heading::input)->type_name("PATH");
+  add("--landmarks-frame", options->landmarksFrame, "frame of landmark files that declare no coordinate system",
+      heading::input)->type_name("lps|ras");
+  add("--initial-transform", options->initialTransform, "start from a .tfm written by this command instead of "
+                                                        "landmarks", heading::input)->type_name("PATH");
+  add("--out-transform", options->outTransform, "ITK .tfm (LPS) holding T_model_target, the inverse of "
+                                                "model->target (ITK and Slicer read transform files as resampling "
+                                                "transforms): in Slicer, put the model under it to move it onto the CT",
+      heading::output)->type_name("PATH")->required();
+  add("--report", options->report, "JSON: rmse_mm, mean_mm, median_mm, p95_mm, max_mm, points, icp_iterations, ...",
+      heading::output)->type_name("PATH")->required();
+  add("--out-model", options->outModel, "registered model (.vtp .ply .vtk; LPS) with point arrays DistanceMm and "
+                                        "SignedDistanceMm (the distance map)", heading::output)->type_name("PATH");
+  add("--out-landmarks", options->outLandmarks, "the landmark pairs as .mrk.json (model list in the model's frame, "
+                                                "then target)", heading::output)->type_name("PATH");
+  add("--distances", options->distances, "per-point CSV: index, registered x y z (LPS mm), distance, signed distance",
+      heading::output)->type_name("PATH");
+  add("--histogram", options->histogram, "PNG bar plot of the distance histogram", heading::output)->type_name("PATH");
+  command->add_flag("--scale", options->scale, "landmark fit with a uniform scale (similarity) instead of rigid")
+      ->group(heading::options);
+  command->add_flag("--icp", options->icp, "refine with ICP (rotation and translation; the landmark scale is kept)")
+      ->group(heading::options);
+  add("--max-icp-iterations", options->icpParameters.maxIterations, "ICP iterations at most", heading::options)
+      ->capture_default_str();
+  add("--icp-inlier-fraction", options->icpParameters.inlierFraction, "share of closest correspondences used per step",
+      heading::options)->capture_default_str();
+  add("--icp-max-distance", options->icpParameters.maxDistanceMm, "correspondences farther (mm) never used (default: "
+                                                                  "no limit)", heading::options);
+  add("--bin-mm", options->binMm, "histogram bin width in mm", heading::options)->capture_default_str();
+  command->callback([options] { runRegister(*options); });
 }
 
 }  // namespace tissuemosaic::cli

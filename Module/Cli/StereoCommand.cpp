@@ -1,11 +1,12 @@
 // tissuemosaic stereo: the left-view disparity of one stereo pair (section II), optionally depth as a coloured cloud.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
 #include "IO/DisparityPfm.h"
 #include "IO/ImageFile.h"
 #include "IO/PointCloudPly.h"
+#include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
 
@@ -15,32 +16,29 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 
 namespace tissuemosaic::cli {
 
 namespace {
 
-const char* const help = R"(usage: tissuemosaic stereo --left L.png --right R.png --out d.pfm [options]
-
-Left-view disparity (PFM, float, NaN where there is no estimate; a left pixel x matches right pixel x - d) by the
+const char* const details = R"(Left-view disparity (PFM, float, NaN where there is no estimate; a left pixel x matches right pixel x - d) by the
 paper's section II: ZNCC on an 11x11 chessboard window, iterative outlier removal with hole filling, and the
 improved Laplacian refinement. --method ad-census runs AD-Census instead (census + grey-difference cost,
 cross-based aggregation, scanline optimisation: sharper at depth edges, see docs/STEREO.md).
+The pair is rectified first when --calib is given without --rectified; the geometry (--calib, or --focal-px and
+--baseline-mm) also gives --cloud its depth. --params gives the stereo parameters (node "stereo");
+--min/--max-disparity, --disparity-range, --depth-range-mm and --method override it. Without a range the disparity
+range is chosen from the pair (sparse feature matches, robust ends and a margin) and printed; a pair with too few
+matches (dark, blurred, not rectified) is an error, never a silent default.)";
 
-  --left, --right PATH       the stereo pair (8-bit PNG/JPEG/...; rectified unless --calib is given)
-  --out PATH                 disparity output (.pfm)
-  --min-disparity A          smallest candidate disparity in px (default -20)
-  --max-disparity B          largest candidate disparity in px, inclusive (default 80)
-  --calib rig.yml            OpenCV stereo calibration (K1 D1 K2 D2 R T imageSize): the pair is rectified
-                             first, and --cloud becomes available
-  --cloud PATH               binary PLY point cloud (mm, left rectified camera frame) with colour
-  --method paper|ad-census   the matcher (default paper, or the parameters file's "method")
-  --params p.yml             stereo parameters file (node "stereo"); --min/--max-disparity and --method
-                             override it
-  --device cpu|cuda|auto     where to compute (default auto)
-  --ground-truth GT.pfm      print density, bad-1 and bad-2 against a ground-truth disparity (NaN = unknown)
-  --rectified-left PATH      also write the rectified left image (with --calib)
-)";
+struct StereoOptions {
+  std::string left, right, out;
+  GeometryOptions geometry;
+  std::optional<std::string> cloud, rectifiedLeft, groundTruth, method, params;
+  DisparityRangeOptions range;
+  DeviceOption device;
+};
 
 void printScore(const cv::Mat& disparity, const cv::Mat& truth) {
   const DisparityScore score = scoreDisparity(disparity, truth);
@@ -50,68 +48,95 @@ void printScore(const cv::Mat& disparity, const cv::Mat& truth) {
               score.density, score.badOver1, score.badOver2, score.meanAbsError, score.evaluated);
 }
 
-}  // namespace
-
-int runStereo(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
+void runStereo(const StereoOptions& options) {
+  if (options.cloud && !options.geometry.given()) {
+    throw UsageError("--cloud needs --calib (or --focal-px and --baseline-mm): depth needs the rig's focal length "
+                     "and baseline");
   }
-  const Arguments arguments(words);
-  arguments.allowOnly({"left", "right", "out", "min-disparity", "max-disparity", "calib", "cloud", "params", "device",
-                       "method", "ground-truth", "rectified-left", "help"});
-  const std::string leftPath = arguments.required("left");
-  const std::string rightPath = arguments.required("right");
-  const std::string outPath = arguments.required("out");
-  if (arguments.has("cloud") && !arguments.has("calib")) {
-    throw Error("--cloud needs --calib: depth needs the rig's focal length and baseline");
-  }
-
-  StereoParameters parameters = arguments.has("params") ? StereoParameters::readFile(arguments.required("params"))
-                                                        : StereoParameters{};
-  parameters.minDisparityPx = arguments.integer("min-disparity", parameters.minDisparityPx);
-  parameters.maxDisparityPx = arguments.integer("max-disparity", parameters.maxDisparityPx);
-  if (arguments.has("method")) parameters.method = parseStereoMethod(arguments.required("method"));
+  StereoParameters parameters = options.params ? StereoParameters::readFile(*options.params) : StereoParameters{};
+  options.range.applyTo(parameters);
+  if (options.method) parameters.method = parseStereoMethod(*options.method);
   parameters.validate();
-  const Device device = parseDevice(arguments.text("device", "auto"));
+  const Device device = options.device.resolve();
 
-  const ImagePair pair = loadImagePair(leftPath, rightPath);
+  const ImagePair pair = loadImagePair(options.left, options.right);
   cv::Mat left = pair.left, right = pair.right;
-
-  std::unique_ptr<StereoRectifier> rectifier;
-  if (arguments.has("calib")) {
-    const StereoCalibration calibration = StereoCalibration::read(arguments.required("calib"));
-    rectifier = std::make_unique<StereoRectifier>(calibration);
-    cv::Mat leftRectified, rightRectified;
-    rectifier->rectify(left, right, leftRectified, rightRectified);
-    left = leftRectified;
-    right = rightRectified;
-    if (arguments.has("rectified-left") && !cv::imwrite(arguments.required("rectified-left"), left)) {
-      throw Error("cannot write '" + arguments.required("rectified-left") + "'");
+  std::optional<StereoGeometry> geometry;
+  if (options.geometry.given()) {
+    geometry = resolveGeometry(options.geometry, left.size(), "--left " + options.left);
+    if (geometry->rectifier) {
+      cv::Mat leftRectified, rightRectified;
+      geometry->rectifier->rectify(left, right, leftRectified, rightRectified);
+      left = leftRectified;
+      right = rightRectified;
     }
   }
+  if (options.rectifiedLeft && !cv::imwrite(*options.rectifiedLeft, left)) {
+    throw Error("cannot write '" + *options.rectifiedLeft + "'");
+  }
 
+  requireGeometryForWorkingDistance(parameters, geometry.has_value());
+  DisparityRangeFollower range(parameters, geometry ? geometry->rectified : RectifiedGeometry{}, device);
   StereoMatcher matcher(device, parameters);
+  try {
+    matcher.setDisparityRange(range.beforeFrame(left, right));
+  } catch (const DisparityRangeError& error) {
+    rethrowWithRangeOptions(error);
+  }
+  std::printf("disparity range %s\n", range.description().c_str());
   StereoTimingsMs timings;
   const cv::Mat disparity = matcher.computeDisparity(left, right, &timings);
-  writePfm(outPath, disparity);
+  writePfm(options.out, disparity);
   const int estimated = cv::countNonZero(disparity == disparity);
   std::printf("disparity %dx%d on %s: %d of %d pixels estimated (%.1f%%), written to %s\n", disparity.cols,
               disparity.rows, deviceDescription(device).c_str(), estimated, disparity.rows * disparity.cols,
-              100.0 * estimated / (disparity.rows * disparity.cols), outPath.c_str());
+              100.0 * estimated / (disparity.rows * disparity.cols), options.out.c_str());
   // The timing fields are shared; AD-Census's three stages are named by what they are.
   const bool adCensus = parameters.method == StereoMethod::AdCensus;
   std::printf("time: %s %.2f ms, %s %.2f ms, %s %.2f ms, total %.2f ms\n", adCensus ? "cost+aggregation" : "zncc",
               timings.zncc, adCensus ? "paths+winners" : "outliers+holes", timings.outliersHoles,
               adCensus ? "median+checks" : "refinement", timings.refinement, timings.total());
 
-  if (arguments.has("cloud")) {
-    const ColoredPointCloud cloud = disparityToPointCloud(disparity, left, rectifier->geometry());
-    writePly(arguments.required("cloud"), cloud, "TissueMosaic stereo cloud, mm, left rectified camera frame");
-    std::printf("point cloud: %zu points written to %s\n", cloud.size(), arguments.required("cloud").c_str());
+  if (options.cloud) {
+    const ColoredPointCloud cloud = disparityToPointCloud(disparity, left, geometry->rectified);
+    writePly(*options.cloud, cloud, "TissueMosaic stereo cloud, mm, left rectified camera frame");
+    cv::Vec3d sumMm(0, 0, 0);
+    for (const cv::Point3f& p : cloud.pointsMm) sumMm += cv::Vec3d(p.x, p.y, p.z);
+    const cv::Vec3d centroidMm = cloud.size() > 0 ? sumMm / static_cast<double>(cloud.size()) : sumMm;
+    std::printf("point cloud: %zu points, centroid (%.3f, %.3f, %.3f) mm, written to %s\n", cloud.size(),
+                centroidMm[0], centroidMm[1], centroidMm[2], options.cloud->c_str());
   }
-  if (arguments.has("ground-truth")) printScore(disparity, readPfm(arguments.required("ground-truth")));
-  return 0;
+  if (options.groundTruth) printScore(disparity, readPfm(*options.groundTruth));
+}
+
+}  // namespace
+
+void setupStereo(CLI::App& tool) {
+  auto options = std::make_shared<StereoOptions>();
+  CLI::App* command = addCommand(tool, "stereo", "left-view disparity of one stereo pair, optionally a coloured cloud",
+                                 details);
+  command->add_option("--left", options->left, "left image (8-bit PNG/JPEG/...)")->required()->type_name("L.png")->group(heading::input);
+  command->add_option("--right", options->right, "right image, same size")->required()->type_name("R.png")->group(heading::input);
+  addGeometryOptions(*command, options->geometry);
+  command->add_option("--out", options->out, "disparity output (.pfm)")->required()->type_name("d.pfm")->group(heading::output);
+  command->add_option("--cloud", options->cloud, "binary PLY point cloud with colour (mm, left rectified camera "
+                                                 "frame; needs the geometry)")
+      ->type_name("cloud.ply")
+      ->group(heading::output);
+  command->add_option("--rectified-left", options->rectifiedLeft, "also write the (rectified) left image")
+      ->type_name("L.png")
+      ->group(heading::output);
+  command->add_option("--method", options->method, "the matcher (default paper, or the parameters file's method)")
+      ->type_name("paper|ad-census")
+      ->group(heading::options);
+  command->add_option("--ground-truth", options->groundTruth,
+                      "print density, bad-1 and bad-2 against a ground-truth disparity (PFM, NaN = unknown)")
+      ->type_name("GT.pfm")
+      ->group(heading::options);
+  addDisparityRangeOptions(*command, options->range);
+  addDeviceOption(*command, options->device, "where to compute");
+  addParamsOption(*command, options->params, "stereo");
+  command->callback([options] { runStereo(*options); });
 }
 
 }  // namespace tissuemosaic::cli

@@ -1,5 +1,5 @@
 // tissuemosaic synth scan: writes a synthetic scanning video with its calibration and ground truth.
-#include "Arguments.h"
+#include "CommonOptions.h"
 #include "Commands.h"
 #include "SyntheticScan.h"
 
@@ -8,13 +8,14 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <map>
+#include <memory>
+#include <string>
 
 namespace tissuemosaic::cli {
 
 namespace {
-const char* const help = R"(usage: tissuemosaic synth scan --out DIR [options]
-
-Renders a synthetic stereo-endoscope video that scans liver-like tissue along a smooth lawn-mower path
+const char* const details = R"(Renders a synthetic stereo-endoscope video that scans liver-like tissue along a smooth lawn-mower path
 (60-120 mm from the tissue, 3-30 mm/s at 30 fps, gentle tilt and roll, low-texture stretches) and writes
   DIR/left/000000.png ...              RECTIFIED left frames (track them with --rectified)
   DIR/right/000000.png ...             RECTIFIED right frames
@@ -25,83 +26,46 @@ Renders a synthetic stereo-endoscope video that scans liver-like tissue along a 
                                        rectified views, 5 px border, in some frame), triangle mesh, world frame, mm:
                                        the reference of `tissuemosaic eval`
   DIR/groundtruth/depth_000000.pfm ... depth (mm) along the left rectified optical axis, NaN = not seen by both eyes
-The world frame has the tissue at Z = h(X, Y), +Z into the tissue.
+The world frame has the tissue at Z = h(X, Y), +Z into the tissue. --path approach moves the scope in from
+--max-distance to --min-distance over the scan instead of up and down between them (add --auto-exposure, or the
+nearest frames get several times the light of the farthest); --focal-px, --baseline-mm and --doffs-px choose the
+scope and so the disparities (f B / Z - doffs). With --doffs-px the frames are not what rig.yml's rectification
+gives: use the printed geometry options instead of --calib rig.yml --rectified.
+Hard mode (real surgery, each with its ground truth; deterministic from the seed): --breathing-mm makes part of the
+tissue (a disc of 18 mm radius, flat over its inner 10 mm) rise toward the scope and fall back once per breath
+(depth_NNNNNN.pfm follows it; groundtruth/static_surface.ply is the part of surface.ply that never moves);
+--instruments adds rigid instruments (groundtruth/instrument_mask_NNNNNN.png: 255 where one covers the left pixel;
+groundtruth/instruments.ply: their surfaces at every frame, for `tissuemosaic eval --reference ... --coverage-radius-mm
+0`, whose share_within_1mm is the share of a model's points within 1 mm of an instrument); --camera-out S:E shows no
+tissue in frames S to E-1 (no line in trajectory.txt), and the camera is back at frame E about 10 mm and 10 degrees
+from where it left. groundtruth/scene.yml says what breathes, when each instrument is in and the camera-out span.)";
 
-options:
-  --frames N               number of frames (default 120)
-  --seed S                 random scene and path (default 1); the same seed gives identical files
-  --width W --height H     image size (default 960 x 540)
-  --fps F                  frame rate (default 30)
-  --min-distance MM        nearest working distance along the optical axis (default 70)
-  --max-distance MM        farthest working distance (default 100)
-  --min-speed MM_S         slowest scope speed (default 6)
-  --max-speed MM_S         fastest scope speed (default 20)
-  --noise GREY             sensor read noise in grey levels (default 1.5)
-  --supersampling N        N x N rays per pixel (default 2)
-
-hard mode (real surgery, each with its ground truth; deterministic from the seed):
-  --breathing-mm A         part of the tissue (a disc of 18 mm radius, flat over its inner 10 mm) rises toward the
-                           scope by up to A mm and falls back once per breath; depth_NNNNNN.pfm is the tissue at
-                           that frame, groundtruth/static_surface.ply the part of surface.ply that never moves
-  --breathing-period-s T   one breath (default 4)
-  --instruments N          N rigid instruments (steel shaft, serrated jaws) enter, move over the tissue and leave;
-                           groundtruth/instrument_mask_NNNNNN.png (255: an instrument covers the left pixel; the
-                           depth is the tissue's behind it) and groundtruth/instruments.ply (their surfaces at every
-                           frame, one mesh: `tissuemosaic eval --reference` on it gives share_within_1mm, the share
-                           of a model's points within 1 mm of an instrument)
-  --camera-out S:E         frames S to E-1 show no tissue (the scope withdrawn: smoke, dark, a smeared lens) and have
-                           no line in trajectory.txt; at frame E the camera is back about 10 mm and 10 degrees from
-                           where it left
-  --smoke                  a drifting haze over the tissue in every frame
-groundtruth/scene.yml then says what breathes, when each instrument is in and the camera-out span.
-)";
+struct SynthScanOptions {
+  std::string out;
+  synthetic::SyntheticScanOptions scan;
+  int seed = static_cast<int>(synthetic::SyntheticScanOptions{}.seed);
+  std::string cameraOut;  ///< "S:E", empty: none
+};
 
 void printProgress(int frame, int frames) {
   std::cerr << "\rrendered frame " << frame << " / " << frames << std::flush;
   if (frame == frames) std::cerr << "\n";
 }
-}  // namespace
 
-int runSynthScan(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly({"out", "frames", "seed", "width", "height", "fps", "min-distance", "max-distance", "min-speed",
-                       "max-speed", "noise", "supersampling", "breathing-mm", "breathing-period-s", "instruments",
-                       "camera-out", "smoke"});
-  const std::string out = arguments.required("out");
-  synthetic::SyntheticScanOptions options;
-  const int seed = arguments.integer("seed", static_cast<int>(options.seed));
-  require(seed >= 0, "--seed must be a non-negative integer");
-  options.seed = static_cast<uint32_t>(seed);
-  options.frames = arguments.integer("frames", options.frames);
-  options.width = arguments.integer("width", options.width);
-  options.height = arguments.integer("height", options.height);
-  options.fps = arguments.number("fps", options.fps);
-  options.minWorkingDistanceMm = arguments.number("min-distance", options.minWorkingDistanceMm);
-  options.maxWorkingDistanceMm = arguments.number("max-distance", options.maxWorkingDistanceMm);
-  options.minSpeedMmPerS = arguments.number("min-speed", options.minSpeedMmPerS);
-  options.maxSpeedMmPerS = arguments.number("max-speed", options.maxSpeedMmPerS);
-  options.noiseStdGrey = arguments.number("noise", options.noiseStdGrey);
-  options.supersampling = arguments.integer("supersampling", options.supersampling);
-  synthetic::SyntheticHardModeOptions& hard = options.hardMode;
-  hard.breathingAmplitudeMm = arguments.number("breathing-mm", hard.breathingAmplitudeMm);
-  hard.breathingPeriodS = arguments.number("breathing-period-s", hard.breathingPeriodS);
-  hard.instruments = arguments.integer("instruments", hard.instruments);
-  if (arguments.has("camera-out")) {
-    const std::string span = arguments.required("camera-out");
-    int start = -1, end = -1;
+void runSynthScan(const SynthScanOptions& given) {
+  require(given.seed >= 0, "--seed must be a non-negative integer");
+  synthetic::SyntheticScanOptions options = given.scan;
+  options.seed = static_cast<uint32_t>(given.seed);
+  if (!given.cameraOut.empty()) {
+    int first = -1, back = -1;
     char colon = 0, extra = 0;
-    require(std::sscanf(span.c_str(), "%d%c%d%c", &start, &colon, &end, &extra) == 3 && colon == ':',
-            "--camera-out must be S:E (first frame without tissue, first frame back), got '" + span + "'");
-    require(start >= 0, "--camera-out S:E needs S >= 1, got '" + span + "'");
-    hard.cameraOutStart = start;
-    hard.cameraOutEnd = end;
+    require(std::sscanf(given.cameraOut.c_str(), "%d%c%d%c", &first, &colon, &back, &extra) == 3 && colon == ':',
+            "--camera-out must be S:E (first frame without tissue, first frame back), got '" + given.cameraOut + "'");
+    require(first >= 1, "--camera-out S:E needs S >= 1, got '" + given.cameraOut + "'");
+    options.hardMode.cameraOutStart = first;
+    options.hardMode.cameraOutEnd = back;
   }
-  hard.smoke = arguments.has("smoke");
-
+  const std::string& out = given.out;
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScan scan(options);
   const int written = synthetic::writeSyntheticScan(scan, out, printProgress);
@@ -113,10 +77,68 @@ int runSynthScan(const Words& words) {
             << domain.height << " mm\n"
             << "wrote " << written << " files under " << out << " in " << cv::format("%.1f", seconds) << " s\n"
             << "  left/, right/       RECTIFIED frames (use `tissuemosaic track --rectified`)\n"
-            << "  rig.yml             unrectified rig calibration\n"
+            << "  rig.yml             unrectified rig calibration; the frames' rectified geometry is\n"
+            << "                      " << geometryOptionsText(scan.geometry())
+            << (options.rectifiedDisparityOffsetPx != 0 ? " (not rig.yml's: --doffs-px)" : "") << "\n"
             << "  groundtruth/        trajectory.txt (TUM, T_world_camera of the left rectified camera, mm),\n"
             << "                      surface.ply (world frame mesh, mm), depth_NNNNNN.pfm (mm)\n";
-  return 0;
+}
+
+}  // namespace
+
+void setupSynthScan(CLI::App& synth) {
+  auto options = std::make_shared<SynthScanOptions>();
+  CLI::App* command = addCommand(synth, "scan", "a synthetic scanning video (rectified frames) with trajectory, "
+                                               "surface and depth ground truth", details);
+  synthetic::SyntheticScanOptions& scan = options->scan;
+  command->add_option("--out", options->out, "output folder (created)")->required()->type_name("DIR")
+      ->group(heading::output);
+  const auto add = [&](const std::string& name, auto& value, const std::string& description) {
+    command->add_option(name, value, description)->capture_default_str()->group(heading::options);
+  };
+  add("--frames", scan.frames, "number of frames");
+  add("--seed", options->seed, "random scene and path; the same seed gives identical files");
+  addImageSizeOptions(*command, scan.width, scan.height);
+  add("--fps", scan.fps, "frame rate");
+  add("--min-distance", scan.minWorkingDistanceMm, "nearest working distance along the optical axis, mm");
+  add("--max-distance", scan.maxWorkingDistanceMm, "farthest working distance, mm");
+  add("--min-speed", scan.minSpeedMmPerS, "slowest scope speed, mm/s");
+  add("--max-speed", scan.maxSpeedMmPerS, "fastest scope speed, mm/s");
+  add("--noise", scan.noiseStdGrey, "sensor read noise in grey levels");
+  add("--supersampling", scan.supersampling, "N x N rays per pixel");
+  add("--focal-px", scan.focalPx, "focal length of the rectified views in px (0: 1000 px x width / 960)");
+  add("--baseline-mm", scan.baselineMm, "stereo baseline, mm");
+  add("--doffs-px", scan.rectifiedDisparityOffsetPx,
+      "the right rectified principal point this far right of the left's: disparities f B / Z - doffs");
+  const std::map<std::string, synthetic::WorkingDistanceProfile> paths = {
+      {"oscillate", synthetic::WorkingDistanceProfile::Oscillating},
+      {"approach", synthetic::WorkingDistanceProfile::Approaching}};
+  command->add_option("--path", scan.distanceProfile,
+                      "oscillate: the working distance goes up and down between the two; approach: from the "
+                      "maximum down to the minimum over the scan")
+      ->transform(CLI::CheckedTransformer(paths))
+      ->type_name("oscillate|approach")
+      ->default_str("oscillate")
+      ->group(heading::options);
+  command->add_flag("--auto-exposure", scan.autoExposure,
+                    "the exposure follows the working distance (as a scope's automatic exposure)")
+      ->group(heading::options);
+  const std::string hardMode = "Hard mode (real surgery, with ground truth)";
+  synthetic::SyntheticHardModeOptions& hard = scan.hardMode;
+  command->add_option("--breathing-mm", hard.breathingAmplitudeMm,
+                      "part of the tissue rises toward the scope by up to this and falls back once per breath (0: none)")
+      ->capture_default_str()->type_name("MM")->group(hardMode);
+  command->add_option("--breathing-period-s", hard.breathingPeriodS, "one breath, s")
+      ->capture_default_str()->type_name("S")->group(hardMode);
+  command->add_option("--instruments", hard.instruments,
+                      "rigid instruments (steel shaft, serrated jaws) that enter, move over the tissue and leave")
+      ->capture_default_str()->type_name("N")->group(hardMode);
+  command->add_option("--camera-out", options->cameraOut,
+                      "frames S to E-1 show no tissue (the scope withdrawn); at E it is back about 10 mm and 10 degrees "
+                      "from where it left")
+      ->type_name("S:E")->group(hardMode);
+  command->add_flag("--smoke", hard.smoke, "a drifting haze over the tissue in every frame")->group(hardMode);
+  command->callback([options] { runSynthScan(*options); });
 }
 
 }  // namespace tissuemosaic::cli

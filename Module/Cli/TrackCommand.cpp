@@ -1,115 +1,65 @@
-// tissuemosaic track: camera tracking over a stereo video given as two folders of frames, to a TUM trajectory.
-#include "Arguments.h"
+// tissuemosaic track: camera tracking over a stereo video (frame folders, two videos or a side-by-side video), to a
+// TUM trajectory.
+#include "CommonOptions.h"
 #include "Commands.h"
 
 #include "Core/Device.h"
 #include "Core/Error.h"
+#include "Core/Statistics.h"
 #include "Core/StereoRig.h"
-#include "IO/ImageFile.h"
+#include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryError.h"
 #include "IO/TrajectoryTum.h"
+#include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
-#include "Core/Statistics.h"
 
 #include <opencv2/core/persistence.hpp>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 
 namespace tissuemosaic::cli {
 
 namespace {
-const char* const help = R"(usage: tissuemosaic track --left-frames DIR --right-frames DIR --calib rig.yml --out trajectory.txt [options]
+const char* const details = R"(Tracks the left camera through a stereo video (paper III.A-C: ORB features lifted with the stereo depth, matching
+with the previous tracked frame, histogram voting, DynamicR1PPnP, key-frame decision) and writes its trajectory:
+TUM lines "t tx ty tz qx qy qz qw", T_world_camera of the LEFT RECTIFIED camera in mm, t from the video's time
+stamps or frame index / --fps. The world frame is the first frame's left rectified camera (pose identity) unless
+--start-tum gives another start. Frames where tracking is lost get a "# frame N lost: reason" comment line instead
+of a pose. The stereo depth runs on --device, and so do the features with --features tissuemosaic; the pose
+solver runs on the CPU. --groundtruth prints the errors against a TUM file: poses associated by time stamp (within
+half a frame at --fps), no alignment (give --start-tum the same file for a common start); absolute error (ATE)
+and relative pose error between consecutive frames (RPE), as `tissuemosaic eval` computes them. Without a
+disparity range it is chosen from the first frame's sparse feature matches and follows the tissue from frame to
+frame (docs/STEREO.md); the ranges used are printed at the end.
+Exit status 1 when tracking was lost on every frame after the first.)";
 
-Tracks the left camera through a stereo video (paper III.A-C: ORB features lifted with the stereo depth, matching
-with the previous tracked frame, histogram voting, DynamicR1PPnP, key-frame decision) and writes its trajectory.
+struct TrackOptions {
+  InputOptions input;
+  GeometryOptions geometry;
+  std::string out;
+  std::optional<std::string> startTum, groundTruth, features, params;
+  DisparityRangeOptions range;
+  DeviceOption device;
+  bool quiet = false;
+};
 
-input:
-  --left-frames DIR        left frames (PNG/JPEG/..., taken in file-name order)
-  --right-frames DIR       right frames, as many as left ones, paired in file-name order
-  --calib rig.yml          OpenCV stereo calibration (K1 D1 K2 D2 R T imageSize) of the unrectified rig
-  --rectified              the frames are already rectified (as StereoRectifier makes them from --calib, e.g. the
-                           output of `tissuemosaic synth scan`); otherwise they are rectified first
-output:
-  --out trajectory.txt     TUM lines "t tx ty tz qx qy qz qw": T_world_camera of the LEFT RECTIFIED camera, mm,
-                           t = frame index / fps. The world frame is the first frame's left rectified camera (pose
-                           identity) unless --start-tum gives another start. Frames where tracking is lost get a
-                           "# frame N lost: reason" comment line instead of a pose.
-options:
-  --start-tum T.txt        take the first frame's pose from the first pose in this TUM file (e.g. a ground truth)
-  --groundtruth T.txt      also print the trajectory errors against this TUM file: poses associated by time stamp
-                           (within half a frame), no alignment (give --start-tum the same file for a common start);
-                           absolute error (ATE) and relative pose error between consecutive frames (RPE), as
-                           `tissuemosaic eval` computes them
-  --fps F                  frame rate for the time stamps (default 30)
-  --device cpu|cuda|auto   where stereo and features run (default auto); the pose solver runs on the CPU
-  --features opencv|tissuemosaic
-                           ORB implementation: OpenCV's (CPU only) or TissueMosaic's single-source extractor and
-                           matcher (CPU or CUDA, identical results); default: tissuemosaic on cuda, opencv on cpu
-  --params p.yml           parameters file: nodes "stereo" and "tracking" (missing keys keep the paper's defaults)
-  --min-disparity A --max-disparity B   override the stereo disparity range
-  --quiet                  no per-frame progress line
-)";
-
-std::vector<std::filesystem::path> framesIn(const std::string& folder, const char* option) {
-  const std::filesystem::path path(folder);
-  require(std::filesystem::is_directory(path), std::string("--") + option + " '" + folder + "' is not a folder");
-  std::vector<std::filesystem::path> frames;
-  for (const auto& entry : std::filesystem::directory_iterator(path)) {
-    if (!entry.is_regular_file()) continue;
-    std::string extension = entry.path().extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-    static const std::vector<std::string> images = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".ppm", ".pgm"};
-    if (std::find(images.begin(), images.end(), extension) != images.end()) frames.push_back(entry.path());
-  }
-  require(!frames.empty(), std::string("--") + option + " '" + folder + "' holds no image files (.png .jpg .bmp .tif ...)");
-  std::sort(frames.begin(), frames.end());
-  return frames;
-}
-
-
-
-}  // namespace
-
-int runTrack(const Words& words) {
-  if (helpRequested(words)) {
-    std::cout << help;
-    return 0;
-  }
-  const Arguments arguments(words);
-  arguments.allowOnly({"left-frames", "right-frames", "calib", "out", "rectified", "start-tum", "groundtruth", "fps",
-                       "device", "features", "params", "min-disparity", "max-disparity", "quiet"});
-  const std::vector<std::filesystem::path> leftFrames = framesIn(arguments.required("left-frames"), "left-frames");
-  const std::vector<std::filesystem::path> rightFrames = framesIn(arguments.required("right-frames"), "right-frames");
-  require(leftFrames.size() == rightFrames.size(), "--left-frames has " + std::to_string(leftFrames.size()) +
-                                                       " images but --right-frames has " +
-                                                       std::to_string(rightFrames.size()) + ": they must pair up");
-  const StereoCalibration calibration = StereoCalibration::read(arguments.required("calib"));
-  const std::string out = arguments.required("out");
-  const bool rectified = arguments.has("rectified");
-  const bool quiet = arguments.has("quiet");
-  const double fps = arguments.number("fps", 30.0);
-  require(fps > 0 && std::isfinite(fps), "--fps must be positive");
-
+void runTrack(const TrackOptions& options) {
   StereoParameters stereoParameters;
   FrameTrackerOptions trackerOptions;
-  if (arguments.has("params")) {
-    const std::string path = arguments.required("params");
-    stereoParameters = StereoParameters::readFile(path);
-    const cv::FileStorage storage(path, cv::FileStorage::READ);
-    require(storage.isOpened(), "cannot read parameters file '" + path + "'");
+  if (options.params) {
+    stereoParameters = StereoParameters::readFile(*options.params);
+    const cv::FileStorage storage(*options.params, cv::FileStorage::READ);
+    require(storage.isOpened(), "cannot read parameters file '" + *options.params + "'");
     trackerOptions.tracking = TrackingParameters::read(storage["tracking"]);
   }
-  stereoParameters.minDisparityPx = arguments.integer("min-disparity", stereoParameters.minDisparityPx);
-  stereoParameters.maxDisparityPx = arguments.integer("max-disparity", stereoParameters.maxDisparityPx);
-  const Device device = parseDevice(arguments.text("device", "auto"));
-  const std::string featureChoice =
-      arguments.text("features", device == Device::Cuda ? "tissuemosaic" : "opencv");
+  options.range.applyTo(stereoParameters);
+  const Device device = options.device.resolve();
+  const std::string featureChoice = options.features.value_or(device == Device::Cuda ? "tissuemosaic" : "opencv");
   if (featureChoice == "tissuemosaic") {
     trackerOptions.extractor = FeatureExtractor::TissueMosaicOrb;
     trackerOptions.featureDevice = device;
@@ -120,41 +70,46 @@ int runTrack(const Words& words) {
   }
 
   Eigen::Matrix4d T_world_start = Eigen::Matrix4d::Identity();
-  if (arguments.has("start-tum")) {
-    const Trajectory start = readTumTrajectory(arguments.required("start-tum"));
-    require(!start.empty(), "--start-tum '" + arguments.required("start-tum") + "' holds no pose");
+  if (options.startTum) {
+    const Trajectory start = readTumTrajectory(*options.startTum);
+    require(!start.empty(), "--start-tum '" + *options.startTum + "' holds no pose");
     T_world_start = start.front().T_world_camera;
   }
   Trajectory groundTruth;
-  if (arguments.has("groundtruth")) groundTruth = readTumTrajectory(arguments.required("groundtruth"));
+  if (options.groundTruth) groundTruth = readTumTrajectory(*options.groundTruth);
 
-  const StereoRectifier rectifier(calibration);
-  const RectifiedGeometry& geometry = rectifier.geometry();
+  const std::unique_ptr<StereoFrameSource> source = openInput(options.input);
+  const StereoGeometry geometry = resolveGeometry(options.geometry, source->frameSize(), source->description());
   StereoMatcher matcher(device, stereoParameters);
-  FrameTracker tracker(geometry, trackerOptions, T_world_start);
-  std::ofstream file(out);
-  require(file.good(), "cannot write trajectory '" + out + "'");
+  DisparityRangeFollower range(stereoParameters, geometry.rectified, device);
+  FrameTracker tracker(geometry.rectified, trackerOptions, T_world_start);
+  std::ofstream file(options.out);
+  require(file.good(), "cannot write trajectory '" + options.out + "'");
   file << "# TissueMosaic track: T_world_camera of the left rectified camera, millimetres, seconds\n"
        << "# t tx ty tz qx qy qz qw\n";
 
   std::vector<double> loadMs, rectifyMs, stereoMs, orbMs, pnpMs, totalMs;
-  int lost = 0, keyFrames = 0;
+  int count = 0, lost = 0, keyFrames = 0;
   Trajectory tracked;
-  const int count = static_cast<int>(leftFrames.size());
-  for (int index = 0; index < count; ++index) {
+  const int expected = source->frameCount();
+  StereoFrame frame;
+  for (;;) {
     const auto t0 = std::chrono::steady_clock::now();
-    const ImagePair pair = loadImagePair(leftFrames[index].string(), rightFrames[index].string());
-    require(pair.left.size() == calibration.imageSize,
-            "frame '" + leftFrames[index].string() + "' is " + std::to_string(pair.left.cols) + "x" +
-                std::to_string(pair.left.rows) + " but the calibration is for " +
-                std::to_string(calibration.imageSize.width) + "x" + std::to_string(calibration.imageSize.height));
+    if (!source->next(frame)) break;
+    ++count;
     const auto t1 = std::chrono::steady_clock::now();
-    cv::Mat left = pair.left, right = pair.right;
-    if (!rectified) rectifier.rectify(pair.left, pair.right, left, right);
+    cv::Mat left = frame.left, right = frame.right;
+    if (geometry.rectifier) geometry.rectifier->rectify(frame.left, frame.right, left, right);
     const auto t2 = std::chrono::steady_clock::now();
+    try {
+      matcher.setDisparityRange(range.beforeFrame(left, right));  // fixed for the frame
+    } catch (const DisparityRangeError& error) {
+      rethrowWithRangeOptions(error);
+    }
     const cv::Mat disparity = matcher.computeDisparity(left, right);
     const auto t3 = std::chrono::steady_clock::now();
     const TrackResult result = tracker.track(left, disparity);
+    range.afterFrame(left, right);  // the next frame's range, from this frame's sparse matches
     const auto t4 = std::chrono::steady_clock::now();
     const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
     loadMs.push_back(ms(t0, t1));
@@ -165,37 +120,39 @@ int runTrack(const Words& words) {
     totalMs.push_back(ms(t0, t4));
 
     TimedPose pose;
-    pose.timeS = index / fps;
+    pose.timeS = frame.timeS;
     pose.T_world_camera = result.T_world_camera;
     if (result.tracked) {
       file << formatTumLine(pose) << "\n";
       keyFrames += result.keyFrame;
       tracked.push_back(pose);
     } else {
-      file << "# frame " << index << " lost: " << result.failureReason << "\n";
+      file << "# frame " << frame.index << " lost: " << result.failureReason << "\n";
       ++lost;
     }
-    if (!quiet) {
-      std::cerr << cv::format("\rframe %d/%d: %s, %d features (%d with depth), %d matches, %d inliers%s, %.0f ms   ",
-                              index + 1, count, result.tracked ? "tracked" : "LOST", result.features,
-                              result.featuresWithDepth, result.matches, result.inliers,
-                              result.keyFrame ? ", key frame" : "", totalMs.back());
-      if (!result.tracked) std::cerr << "\n  frame " << index << " lost: " << result.failureReason << "\n";
+    if (!options.quiet) {
+      std::cerr << cv::format("\rframe %d/%s: %s, %d features (%d with depth), %d matches, %d inliers%s, %.0f ms   ",
+                              count, expected > 0 ? std::to_string(expected).c_str() : "?",
+                              result.tracked ? "tracked" : "LOST", result.features, result.featuresWithDepth,
+                              result.matches, result.inliers, result.keyFrame ? ", key frame" : "", totalMs.back());
+      if (!result.tracked) std::cerr << "\n  frame " << frame.index << " lost: " << result.failureReason << "\n";
     }
   }
-  if (!quiet) std::cerr << "\n";
+  if (!options.quiet) std::cerr << "\n";
+  require(count > 0, "no frame could be read from " + source->description());
   file.flush();
-  require(file.good(), "cannot write trajectory '" + out + "' (disk full?)");
+  require(file.good(), "cannot write trajectory '" + options.out + "' (disk full?)");
 
   std::cout << "tracked " << count - lost << " of " << count << " frames (" << lost << " lost, " << keyFrames
-            << " key frames) on " << deviceDescription(device) << "; wrote " << out << "\n";
+            << " key frames) on " << deviceDescription(device) << "; wrote " << options.out << "\n"
+            << "disparity range " << range.description() << "\n";
   std::cout << cv::format("per-frame milliseconds (median / mean): load %.1f / %.1f, rectify %.1f / %.1f, stereo "
                           "%.1f / %.1f, ORB + voting %.1f / %.1f, DynamicR1PPnP %.1f / %.1f, total %.1f / %.1f\n",
                           median(loadMs), mean(loadMs), median(rectifyMs), mean(rectifyMs), median(stereoMs),
                           mean(stereoMs), median(orbMs), mean(orbMs), median(pnpMs), mean(pnpMs), median(totalMs),
                           mean(totalMs));
   if (!groundTruth.empty()) {
-    const AssociatedPoses associated = associateByTime(tracked, groundTruth, 0.5 / fps);
+    const AssociatedPoses associated = associateByTime(tracked, groundTruth, 0.5 / options.input.fps);
     require(associated.size() > 0, "--groundtruth: no tracked frame has a ground-truth pose within half a frame "
                                    "of its time stamp (check --fps)");
     const TrajectoryErrors errors = trajectoryErrors(associated, TrajectoryAlignment::None);
@@ -203,7 +160,39 @@ int runTrack(const Words& words) {
                             "relative pose error per frame: RMS %.3f mm\n",
                             errors.poses, errors.ateRmseMm, errors.ateMaxMm, errors.rpeRmseMm);
   }
-  return count > 1 && lost == count - 1 ? 1 : 0;  // nothing beyond the start tracked: a failed run
+  require(count == 1 || lost < count - 1, "tracking was lost on every frame after the first");
+}
+
+}  // namespace
+
+void setupTrack(CLI::App& tool) {
+  auto options = std::make_shared<TrackOptions>();
+  CLI::App* command = addCommand(tool, "track", "camera tracking (ORB, histogram voting, DynamicR1PPnP) to a TUM "
+                                               "trajectory", details);
+  addInputOptions(*command, options->input);
+  addGeometryOptions(*command, options->geometry);
+  command->add_option("--out", options->out, "the trajectory (TUM, T_world_camera, mm)")
+      ->required()
+      ->type_name("trajectory.txt")
+      ->group(heading::output);
+  command->add_option("--start-tum", options->startTum,
+                      "the first frame's pose: the first pose of this TUM file (e.g. a ground truth)")
+      ->type_name("T.txt")
+      ->group(heading::options);
+  command->add_option("--groundtruth", options->groundTruth,
+                      "also print the trajectory errors (ATE, RPE) against this TUM file")
+      ->type_name("T.txt")
+      ->group(heading::options);
+  command->add_option("--features", options->features,
+                      "ORB implementation: OpenCV's (CPU only) or TissueMosaic's single-source extractor and matcher "
+                      "(CPU or CUDA, identical results); default: tissuemosaic on cuda, opencv on cpu")
+      ->type_name("opencv|tissuemosaic")
+      ->group(heading::options);
+  addDisparityRangeOptions(*command, options->range);
+  addDeviceOption(*command, options->device, "where stereo and features run");
+  addParamsOption(*command, options->params, "stereo, tracking");
+  addQuietFlag(*command, options->quiet, "no per-frame progress line");
+  command->callback([options] { runTrack(*options); });
 }
 
 }  // namespace tissuemosaic::cli

@@ -20,11 +20,19 @@
 #include <vtkPolyData.h>
 
 #include <QApplication>
+#include <QTimer>
+#include <QTest>
+#include <QStatusBar>
+#include <QMessageBox>
+#include <QLabel>
+#include <QAction>
+#include <QAbstractButton>
 #include <QElapsedTimer>
 #include <QImage>
 #include <QSignalSpy>
 #include <QTabWidget>
 
+#include <cstdio>
 #include <filesystem>
 #include <set>
 
@@ -40,6 +48,21 @@ bool runUntil(Done done, double timeoutS) {
     QApplication::processEvents(QEventLoop::AllEvents, 20);
   }
   return true;
+}
+
+/// Answers the next message box by clicking the button with this text.
+void answerNextMessageBox(const QString& buttonText) {
+  auto* poll = new QTimer;
+  QObject::connect(poll, &QTimer::timeout, poll, [poll, buttonText] {
+    auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
+    if (!box) return;
+    poll->stop();
+    poll->deleteLater();
+    for (QAbstractButton* button : box->buttons()) {
+      if (button->text().remove('&') == buttonText) QTest::mouseClick(button, Qt::LeftButton);
+    }
+  });
+  poll->start(20);
 }
 
 /// Distinct colours in a region of an image (a flat background has one or two).
@@ -66,26 +89,36 @@ TEST(Application, DemoScanEndToEnd) {
   window.show();
   ASSERT_TRUE(runUntil([&] { return window.isVisible(); }, 10));
 
-  // Slicer-like layout: modules on the left (both), views on the right.
+  // Slicer-like layout: modules on the left (both, and the OpenIGTLink link where built), views on the right.
+#if defined(TM_WITH_IGTLINK)
+  EXPECT_EQ(window.moduleTabs()->count(), 3);
+  EXPECT_EQ(window.moduleTabs()->tabText(2), "OpenIGTLink");
+#else
   EXPECT_EQ(window.moduleTabs()->count(), 2);
+#endif
   EXPECT_EQ(window.moduleTabs()->tabText(0), "Reconstruction");
   EXPECT_EQ(window.moduleTabs()->tabText(1), "Registration");
 
   qTissueMosaicReconstructionWidget* panel = window.reconstructionPanel();
   vtkTissueMosaicReconstructionLogic* logic = panel->reconstructionLogic();
+  // Menu items act only when they can: nothing to export, start or pause yet.
+  for (const char* name : {"exportModelAction", "exportTrajectoryAction", "startAction", "pauseAction", "stopAction"}) {
+    EXPECT_FALSE(window.action(name)->isEnabled()) << name;
+  }
   // Open: the demo is generated on a worker thread and opened (rectified frames + rig.yml).
   QSignalSpy opened(&window, &qTissueMosaicMainWindow::demoOpened);
   window.openDemo();
   ASSERT_TRUE(runUntil([&] { return opened.count() > 0; }, 120)) << "demo generation timed out";
   ASSERT_TRUE(opened.first().at(0).toBool()) << panel->lastMessage().toStdString();
+  EXPECT_EQ(panel->lastMessage(), "Demo ready: press Start (F5)");
+  EXPECT_TRUE(window.action("startAction")->isEnabled());
   EXPECT_EQ(logic->GetInputFrameCount(), 12);
   EXPECT_TRUE(logic->HasCalibration());
   EXPECT_TRUE(logic->GetInputRectified());
 
   // A narrower disparity range for speed (the demo's disparities are about 15-25 px at this size).
   tissuemosaic::ReconstructionParameters parameters = panel->parametersPanel()->parameters();
-  parameters.stereo.minDisparityPx = 0;
-  parameters.stereo.maxDisparityPx = 40;
+  parameters.stereo.setFixedDisparityRange(0, 40);
   parameters.tracking.keyFrameMinGapFrames = 4;
   parameters.tracking.keyFramePoseThreshold = 2.0;
   ASSERT_TRUE(panel->parametersPanel()->setParameters(parameters)) << panel->parametersPanel()->errorText().toStdString();
@@ -95,7 +128,19 @@ TEST(Application, DemoScanEndToEnd) {
   qTissueMosaicStallProbe probe;
   probe.start();
   ASSERT_TRUE(panel->start()) << panel->lastMessage().toStdString();
+  // "Demo ready: press Start" must not stay while the demo runs.
+  EXPECT_TRUE(panel->findChild<QLabel*>("inputMessage")->isHidden());
+  EXPECT_TRUE(window.statusBar()->currentMessage().isEmpty()) << window.statusBar()->currentMessage().toStdString();
   using Logic = vtkTissueMosaicReconstructionLogic;
+  // Paused: no frame rate as if frames still flowed.
+  ASSERT_TRUE(runUntil([&] { return logic->GetStatus().framesProcessed >= 2; }, 120));
+  panel->pause();
+  ASSERT_TRUE(runUntil([&] { return logic->GetStatus().state == Logic::StatePaused; }, 30));
+  panel->updateFromLogic();
+  EXPECT_TRUE(window.statusText().contains("| paused |")) << window.statusText().toStdString();
+  EXPECT_TRUE(window.action("startAction")->isEnabled()) << "Start resumes";
+  EXPECT_FALSE(window.action("pauseAction")->isEnabled());
+  ASSERT_TRUE(panel->start()) << panel->lastMessage().toStdString();
   ASSERT_TRUE(runUntil([&] { return logic->GetStatus().state == Logic::StateFinished ||
                                     logic->GetStatus().state == Logic::StateFailed; },
                        180))
@@ -125,16 +170,39 @@ TEST(Application, DemoScanEndToEnd) {
   EXPECT_EQ(drawn, logic->GetModel()) << "the 3D view draws the logic's model";
   EXPECT_EQ(scene->GetDrawnModelPoints(), status.modelPoints);
   EXPECT_TRUE(scene->GetKeyFrameFrustaActor()->GetVisibility());
-  EXPECT_EQ(window.videoPanel()->leftImage().size(), QSize(320, 180));
+  EXPECT_EQ(window.videoPanel()->frameSize(), QSize(320, 180));
   EXPECT_FALSE(window.videoPanel()->disparityImage().isNull());
   const QString statusText = window.statusText();
   EXPECT_TRUE(statusText.contains(QString("%1 key frames").arg(status.keyFrames))) << statusText.toStdString();
   EXPECT_TRUE(statusText.contains("k points")) << statusText.toStdString();
 
+  EXPECT_TRUE(window.statusText().contains("fps average")) << window.statusText().toStdString();
+  for (const char* name : {"exportModelAction", "exportTrajectoryAction", "resetAction"}) {
+    EXPECT_TRUE(window.action(name)->isEnabled()) << name;
+  }
+  EXPECT_FALSE(window.action("startAction")->isEnabled()) << "an ended scan is reset, not restarted";
+
+  // Quitting with a model never exported asks first: Cancel keeps the window, Quit without exporting closes it.
+  ASSERT_TRUE(panel->hasUnexportedModel());
+  answerNextMessageBox("Cancel");
+  EXPECT_FALSE(window.close());
+  EXPECT_TRUE(window.isVisible());
+  answerNextMessageBox("Quit without exporting");
+  EXPECT_TRUE(window.close());
+  EXPECT_FALSE(window.isVisible());
+  window.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
+
   // Export.
   ASSERT_TRUE(panel->exportModel(QString::fromStdString(out + "/model.ply"))) << panel->lastMessage().toStdString();
+  EXPECT_FALSE(panel->hasUnexportedModel()) << "exported: closing needs no question";
   ASSERT_TRUE(panel->exportTrajectory(QString::fromStdString(out + "/trajectory.txt")))
       << panel->lastMessage().toStdString();
+  EXPECT_TRUE(panel->lastMessage().startsWith("Trajectory written")) << panel->lastMessage().toStdString();
+  // A screenshot that cannot be written says why, in place of the earlier confirmation.
+  EXPECT_FALSE(window.saveScreenshot("/nonexistent-folder/shot.png"));
+  EXPECT_EQ(panel->lastMessage(),
+            "The screenshot was not saved: the folder /nonexistent-folder does not exist.");
   EXPECT_EQ(static_cast<long long>(tissuemosaic::readPly(out + "/model.ply").size()), status.modelPoints);
   EXPECT_EQ(tissuemosaic::readTumTrajectory(out + "/trajectory.txt").size(), 12u);
 
@@ -151,4 +219,19 @@ TEST(Application, DemoScanEndToEnd) {
   panel->reset();
   EXPECT_EQ(logic->GetModel()->GetNumberOfPoints(), 0);
   EXPECT_EQ(logic->GetScanState(), Logic::StateIdle);
+
+  // Another input: the progress counts its frames, not the last scan's.
+  const std::string other = out + "/four-frames";
+  for (const char* side : {"left", "right"}) {
+    std::filesystem::create_directories(other + "/" + side);
+    for (int i = 0; i < 4; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "/%06d.png", i);
+      std::filesystem::copy_file(window.demoDirectory().toStdString() + "/" + side + name, other + "/" + side + name,
+                                 std::filesystem::copy_options::overwrite_existing);
+    }
+  }
+  ASSERT_TRUE(panel->openFrameFolders(QString::fromStdString(other + "/left"), QString::fromStdString(other + "/right")));
+  QApplication::processEvents();
+  EXPECT_TRUE(window.statusText().endsWith("frame 0 / 4")) << window.statusText().toStdString();
 }

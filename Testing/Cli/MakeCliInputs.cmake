@@ -2,7 +2,9 @@
 # calibration file.
 file(REMOVE_RECURSE ${WORK})
 file(MAKE_DIRECTORY ${WORK})
-execute_process(COMMAND ${CLI} synth pair --out ${WORK}/pair --width 320 --height 180 --seed 3 RESULT_VARIABLE status)
+# The output names the pair's rectified geometry (for the --focal-px tests): kept in pair-synth.txt.
+execute_process(COMMAND ${CLI} synth pair --out ${WORK}/pair --width 320 --height 180 --seed 3 RESULT_VARIABLE status
+                OUTPUT_FILE ${WORK}/pair-synth.txt)
 if(NOT status EQUAL 0)
   message(FATAL_ERROR "tissuemosaic synth pair failed (${status})")
 endif()

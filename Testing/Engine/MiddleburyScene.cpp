@@ -3,12 +3,23 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <cstdlib>
 #include <fstream>
 
 namespace tissuemosaic::test {
 
+std::string middleburyDirectory() {
+  const char* overridden = std::getenv("TM_MIDDLEBURY_DIR");
+  return overridden && *overridden ? overridden : TM_MIDDLEBURY_DIR;
+}
+
+bool testDataRequired() {
+  const char* required = std::getenv("TM_REQUIRE_TEST_DATA");
+  return required && std::string(required) == "1";
+}
+
 bool loadMiddlebury(const std::string& name, MiddleburyScene& scene) {
-  const std::string directory = std::string(TM_MIDDLEBURY_DIR) + "/" + name + "/";
+  const std::string directory = middleburyDirectory() + "/" + name + "/";
   scene.left = cv::imread(directory + "imL.png", cv::IMREAD_COLOR);
   scene.right = cv::imread(directory + "imR.png", cv::IMREAD_COLOR);
   const cv::Mat truth = cv::imread(directory + "groundtruth.png", cv::IMREAD_GRAYSCALE);

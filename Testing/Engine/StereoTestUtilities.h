@@ -25,7 +25,13 @@ struct MiddleburyScene {
   int maxDisparity = 0;
 };
 
-/// Loads ../shared/data/middlebury-v2/<name>; returns false when the data is absent.
+/// Where the Middlebury scenes are: $TM_MIDDLEBURY_DIR when set, else the configured TM_MIDDLEBURY_DIR
+/// (../shared/data/middlebury-v2 by default).
+std::string middleburyDirectory();
+/// Loads middleburyDirectory()/<name>; returns false when the data is absent.
 bool loadMiddlebury(const std::string& name, MiddleburyScene& scene);
+/// True where the test data must be there ($TM_REQUIRE_TEST_DATA=1; CI sets it, as CI always has the data):
+/// missing data then fails a test instead of skipping it.
+bool testDataRequired();
 
 }  // namespace tissuemosaic::test

@@ -545,7 +545,10 @@ TEST(PointFusion, FusesASyntheticScanWellBelowHalfAMillimetre) {
     std::printf("frame %3d: %6d merged %6d added, %7zu points, RMSE %.3f mm (max %.2f), %.1f ms\n", index, stats.merged,
                 stats.added, fusion.pointCount(), rmse, maxAbs, stats.milliseconds);
   }
+  // Requirement: < 0.25 mm, and fusion must beat a single frame; regression: within twice the 0.148 mm measured
+  // when the bound was set (2026-11-25).
   EXPECT_LT(rmse, 0.25);
+  EXPECT_LT(rmse, 2 * 0.148);
   EXPECT_LT(rmse, 0.8 * singleFrameRmse);
 }
 

@@ -39,7 +39,9 @@ TEST(ReconstructionPipeline, ShortSyntheticScanMeetsTheAccuracyBar) {
     positionError2 += (k.T_world_camera.block<3, 1>(0, 3) - scan.T_world_camera(k.frameIndex).block<3, 1>(0, 3)).squaredNorm();
   }
   const double ateMm = std::sqrt(positionError2 / pipeline.keyFrames().size());
+  // Requirement: the 1 mm; regression: twice the 0.071 mm measured when the bound was set (2026-11-25).
   EXPECT_LE(ateMm, 1.0);
+  EXPECT_LE(ateMm, 2 * 0.071);
 
   const ModelPoints model = pipeline.modelSnapshot();
   ASSERT_GT(model.size(), 100000u);
@@ -56,6 +58,7 @@ TEST(ReconstructionPipeline, ShortSyntheticScanMeetsTheAccuracyBar) {
   const auto at = [&](double q) { return distances[static_cast<std::size_t>(q * (distances.size() - 1))]; };
   std::printf("distances: p50 %.3f p90 %.3f p99 %.3f p999 %.3f max %.3f mm\n", at(0.5), at(0.9), at(0.99), at(0.999), at(1.0));
   const double rmseMm = std::sqrt(distance2 / model.size());
+  // Requirement: the 0.5 mm; regression: twice the 0.322 mm measured then lies beyond it, so it binds.
   EXPECT_LE(rmseMm, 0.5);
   std::printf("short scan: %zu key frames, ATE %.3f mm, model %zu points, RMSE %.3f mm\n", pipeline.keyFrames().size(),
               ateMm, model.size(), rmseMm);

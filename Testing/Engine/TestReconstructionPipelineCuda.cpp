@@ -48,6 +48,9 @@ TEST(ReconstructionPipelineCuda, ReconstructsLikeTheCpu) {
     const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
     const FrameResult a = cpu.process(frame.leftRectified, frame.rightRectified, frame.timeS);
     const FrameResult b = gpu.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    // The automatic disparity range (the default) comes from ORB features, identical on both devices.
+    ASSERT_EQ(a.disparityRange, b.disparityRange) << "frame " << k << ": " << a.disparityRange.text() << " against "
+                                                  << b.disparityRange.text();
     ASSERT_TRUE(sameDisparity(a.disparityPx, b.disparityPx)) << "frame " << k;
     ASSERT_EQ(a.tracked, b.tracked) << "frame " << k;
     ASSERT_EQ(a.keyFrame, b.keyFrame) << "frame " << k;

@@ -15,7 +15,11 @@ namespace {
 // 0.999, bad-2 0.098; teddy: 0.992, 0.123 when written) against regressions.
 void checkScene(const std::string& name, double maxBadOver2, StereoMethod method = StereoMethod::Paper) {
   test::MiddleburyScene scene;
-  if (!test::loadMiddlebury(name, scene)) GTEST_SKIP() << "Middlebury data not found under " << TM_MIDDLEBURY_DIR;
+  if (!test::loadMiddlebury(name, scene)) {
+    const std::string missing = "Middlebury data not found under " + test::middleburyDirectory();
+    if (test::testDataRequired()) FAIL() << missing << " (TM_REQUIRE_TEST_DATA=1: this machine must have it)";
+    GTEST_SKIP() << missing;
+  }
   StereoParameters parameters;
   parameters.minDisparityPx = 0;
   parameters.maxDisparityPx = scene.maxDisparity;

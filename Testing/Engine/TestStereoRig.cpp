@@ -114,7 +114,6 @@ TEST(StereoRig, BadCalibrationFilesGiveErrors) {
   };
   expectReadError("bad_missing_T.yml", writer("T", "", {}), "'T' is missing");
   expectReadError("bad_missing_K2.yml", writer("K2", "", {}), "'K2' is missing");
-  expectReadError("bad_missing_size.yml", writer("imageSize", "", {}), "image size is missing");
   expectReadError("bad_shape_K1.yml", writer("", "K1", cv::Mat::eye(2, 3, CV_64F)), "K1 must be a 3x3");
   expectReadError("bad_shape_D1.yml", writer("", "D1", cv::Mat::zeros(1, 3, CV_64F)), "D1 must be 1xN");
   expectReadError("bad_shape_T.yml", writer("", "T", cv::Mat::ones(2, 1, CV_64F)), "T must be a 3x1");
@@ -137,6 +136,21 @@ TEST(StereoRig, BadCalibrationFilesGiveErrors) {
     writer("K1", "", {})(s);
     s << "K1" << "eight hundred";
   }, "'K1' is not a matrix");
+}
+
+TEST(StereoRig, CalibrationWithoutImageSizeTakesTheFrames) {
+  // The size is no longer required in the file (issue 31: files as they ship); the rectifier still needs one.
+  const std::string path = outputPath("no_size.yml");
+  {
+    const StereoCalibration c = syntheticCalibration();
+    cv::FileStorage storage(path, cv::FileStorage::WRITE);
+    storage << "K1" << c.K1 << "D1" << c.D1 << "K2" << c.K2 << "D2" << c.D2 << "R" << c.R << "T" << c.T;
+  }
+  StereoCalibration read = StereoCalibration::read(path);
+  EXPECT_TRUE(read.imageSize.empty());
+  EXPECT_THROW(StereoRectifier{read}, Error);
+  read.adoptFrameSize({640, 480}, "test frames");
+  EXPECT_EQ(StereoRectifier(read).geometry().imageSize, cv::Size(640, 480));
 }
 
 TEST(StereoRig, UnreadableCalibrationFilesGiveErrors) {

@@ -10,18 +10,24 @@
 
 namespace tissuemosaic::test {
 
-/// Numeric fields of StereoParameters, besides the method; the lists below must name every one of them.
-constexpr std::size_t kStereoParameterNumericFields = 35;
-static_assert(sizeof(StereoParameters) == sizeof(StereoMethod) + kStereoParameterNumericFields * sizeof(int) &&
+/// Numeric fields of StereoParameters, besides the method and the disparity range's mode; the lists below must
+/// name every one of them.
+constexpr std::size_t kStereoParameterNumericFields = 37;
+static_assert(sizeof(StereoParameters) ==
+                      sizeof(StereoMethod) + sizeof(DisparityRangeMode) + kStereoParameterNumericFields * sizeof(int) &&
                   sizeof(int) == sizeof(float),
               "a StereoParameters field was added: list it in StereoParametersTestFields.h (and in the panel)");
 
 /// Every numeric field differs from its default (and is exactly representable in the panel's decimals); the
-/// method stays the default.
+/// method stays the default. The range's mode is WorkingDistance, as the panel leaves it after its working distance
+/// fields were edited last.
 inline StereoParameters unusualParameters() {
   StereoParameters p;
+  p.disparityRangeMode = DisparityRangeMode::WorkingDistance;
   p.minDisparityPx = -7;
   p.maxDisparityPx = 57;
+  p.workingDistanceNearMm = 35.5f;
+  p.workingDistanceFarMm = 120.0f;
   p.znccWindowPx = 9;
   p.minWindowStdDev = 2.25f;
   p.outlierIterations = 5;
@@ -96,12 +102,15 @@ struct StereoParameterFields {
       {"censusLambda", &StereoParameters::censusLambda},
       {"absoluteDifferenceLambda", &StereoParameters::absoluteDifferenceLambda},
       {"pathPenaltySmall", &StereoParameters::pathPenaltySmall},
-      {"pathPenaltyLarge", &StereoParameters::pathPenaltyLarge}};
+      {"pathPenaltyLarge", &StereoParameters::pathPenaltyLarge},
+      {"workingDistanceNearMm", &StereoParameters::workingDistanceNearMm},
+      {"workingDistanceFarMm", &StereoParameters::workingDistanceFarMm}};
 };
 
 /// Every field of a and b equal, the failing ones named.
 inline void expectSameParameters(const StereoParameters& a, const StereoParameters& b) {
   EXPECT_EQ(a.method, b.method);
+  EXPECT_EQ(a.disparityRangeMode, b.disparityRangeMode);
   const StereoParameterFields fields;
   for (const auto& field : fields.ints) EXPECT_EQ(a.*field.second, b.*field.second) << field.first;
   for (const auto& field : fields.reals) EXPECT_FLOAT_EQ(a.*field.second, b.*field.second) << field.first;

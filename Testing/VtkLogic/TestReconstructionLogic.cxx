@@ -31,7 +31,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <filesystem>
+#include <functional>
+#include <mutex>
 #include <thread>
 
 using tissuemosaic::CameraPose;
@@ -107,6 +110,44 @@ TEST(ReconstructionFrusta, PointsAndLinesOfEachCameraAreAtItsPose) {
   tissuemosaic::updateCameraPath(path, cameras);
   EXPECT_EQ(path->GetNumberOfPoints(), 2);
   EXPECT_EQ(path->GetNumberOfLines(), 1);
+}
+
+TEST(ReconstructionGrowingModel, ArraysMadeOnAnotherThreadAreSwappedInWithoutACopy) {
+  // Double buffering of the live view: the worker makes the arrays, the owner only swaps pointers.
+  ColoredPointCloud cloud;
+  for (int i = 0; i < 5000; ++i) {
+    cloud.pointsMm.emplace_back(float(i), float(-i), 60.f);
+    cloud.colorsRgb.emplace_back(uchar(i % 256), 1, 2);
+    cloud.normals.emplace_back(0.f, 0.f, -1.f);
+  }
+  tissuemosaic::ModelArrays made;
+  std::thread worker([&] { made = tissuemosaic::makeModelArrays(cloud); });
+  worker.join();
+  vtkNew<vtkPolyData> model;
+  tissuemosaic::updateGrowingModel(model, cloud);  // what the view showed before
+  vtkPoints* before = model->GetPoints();
+  const void* madePoints = made.points->GetVoidPointer(0);
+  const tissuemosaic::ModelArrays previous = tissuemosaic::swapModelArrays(model, made);
+  EXPECT_EQ(previous.points.Get(), before) << "the replaced arrays come back, for release elsewhere";
+  EXPECT_EQ(model->GetPoints()->GetVoidPointer(0), madePoints) << "swapped in, not copied";
+  // The same polydata as updateGrowingModel makes: points, one vertex per point, colours, normals.
+  ASSERT_EQ(model->GetNumberOfPoints(), 5000);
+  EXPECT_EQ(model->GetNumberOfVerts(), 5000);
+  double point[3];
+  model->GetPoint(4321, point);
+  EXPECT_EQ(point[0], 4321.0);
+  EXPECT_EQ(point[1], -4321.0);
+  vtkIdType count = 0;
+  const vtkIdType* ids = nullptr;
+  model->GetVerts()->GetCellAtId(4321, count, ids);
+  ASSERT_EQ(count, 1);
+  EXPECT_EQ(ids[0], 4321);
+  auto* colours = vtkUnsignedCharArray::SafeDownCast(model->GetPointData()->GetScalars());
+  ASSERT_NE(colours, nullptr);
+  EXPECT_STREQ(colours->GetName(), tissuemosaic::kPointCloudColorArrayName);
+  EXPECT_EQ(colours->GetValue(3 * 300), 300 % 256);
+  ASSERT_NE(model->GetPointData()->GetNormals(), nullptr);
+  EXPECT_EQ(model->GetPointData()->GetNormals()->GetComponent(7, 2), -1.0);
 }
 
 TEST(ReconstructionGrowingModel, AppendsInPlaceAndRefreshesEarlierPoints) {
@@ -205,7 +246,6 @@ TEST(ReconstructionLogic, RefusesToStartWithoutInputAndInvalidParameters) {
   EXPECT_FALSE(logic->HasInput());
 }
 
-
 class ReconstructionLogicScan : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
@@ -217,8 +257,7 @@ protected:
   /// frames (a short scan).
   static tissuemosaic::ReconstructionParameters parameters() {
     tissuemosaic::ReconstructionParameters parameters;
-    parameters.stereo.minDisparityPx = 0;
-    parameters.stereo.maxDisparityPx = 40;
+    parameters.stereo.setFixedDisparityRange(0, 40);
     parameters.tracking.keyFrameMinGapFrames = 4;
     parameters.tracking.keyFramePoseThreshold = 2.0;
     return parameters;
@@ -263,6 +302,8 @@ TEST_F(ReconstructionLogicScan, OutputsAreThePipelinesAndMatchTheGroundTruth) {
   EXPECT_EQ(status.framesProcessed, frameCount);
   EXPECT_EQ(status.lostFrames, 0);
   EXPECT_EQ(status.device, "cpu");
+  EXPECT_EQ(status.disparityRange, (tissuemosaic::DisparityRange{0, 40}));
+  EXPECT_EQ(logic->GetDisparityRangeText(), "fixed: 0..40 px");
 
   // Frusta: one per key frame, at the pipeline's (refined) key-frame poses, and near the true poses.
   vtkPolyData* frusta = logic->GetKeyFrameFrusta();
@@ -392,29 +433,90 @@ TEST_F(ReconstructionLogicScan, PauseResumeStopAndReset) {
   EXPECT_EQ(logic->GetKeyFrameFrusta()->GetNumberOfPoints(), 0);
   EXPECT_TRUE(logic->GetLeftFrame().empty());
   EXPECT_TRUE(logic->CanChangeParameters());
-  // A reset while running returns at once; the old worker finishes its frame in the background.
-  ASSERT_TRUE(logic->Start());
-  const auto before = std::chrono::steady_clock::now();
-  logic->Reset();
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - before).count(), 0.05);
 }
 
 namespace {
 
-/// Frames that take long to read: the worker spends its time inside next(), as it would inside a slow frame.
-class SlowSource : public tissuemosaic::StereoFrameSource {
+/// A gate the test opens: frame reads wait at it (after the first `freePasses`), so the worker is certainly inside
+/// a frame until the test lets it go. A watchdog opens it after `limitS` whatever happens, so that a call which waits
+/// for the worker ends the test with a failure instead of a hang.
+class Gate {
 public:
-  explicit SlowSource(std::shared_ptr<const tissuemosaic::synthetic::SyntheticScan> scan) : inner_(std::move(scan)) {}
+  explicit Gate(int freePasses = 0) : freePasses_(freePasses) {}
+  void open() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      open_ = true;
+    }
+    changed_.notify_all();
+  }
+  bool isOpen() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return open_;
+  }
+  void waitUntilOpen() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (freePasses_ > 0) {
+      --freePasses_;
+      return;
+    }
+    entered_ = true;
+    changed_.notify_all();
+    changed_.wait(lock, [this] { return open_; });
+  }
+  /// True once a reader waits at the gate (within limitS).
+  bool waitForReader(double limitS) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return changed_.wait_for(lock, std::chrono::duration<double>(limitS), [this] { return entered_; });
+  }
+  /// Runs `call` with a watchdog that opens the gate after limitS; true when the call returned while the gate was
+  /// still shut, i.e. without waiting for whoever waits at it.
+  bool returnsWhileShut(const std::function<void()>& call, double limitS) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      callDone_ = false;
+    }
+    std::thread watchdog([this, limitS] {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (!changed_.wait_for(lock, std::chrono::duration<double>(limitS), [this] { return open_ || callDone_; })) {
+        open_ = true;
+        changed_.notify_all();
+      }
+    });
+    call();
+    const bool shut = !isOpen();
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      callDone_ = true;
+    }
+    changed_.notify_all();
+    watchdog.join();
+    return shut;
+  }
+
+private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  int freePasses_;
+  bool open_ = false, entered_ = false, callDone_ = false;
+};
+
+/// The scan's frames, each read held at the gate until it opens.
+class GatedSource : public tissuemosaic::StereoFrameSource {
+public:
+  GatedSource(std::shared_ptr<const tissuemosaic::synthetic::SyntheticScan> scan, std::shared_ptr<Gate> gate)
+      : inner_(std::move(scan)), gate_(std::move(gate)) {}
   bool next(tissuemosaic::StereoFrame& frame) override {
-    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    gate_->waitUntilOpen();
     return inner_.next(frame);
   }
   int frameCount() const override { return inner_.frameCount(); }
   cv::Size frameSize() const override { return inner_.frameSize(); }
-  std::string description() const override { return "slow"; }
+  std::string description() const override { return "gated"; }
 
 private:
   SyntheticScanFrameSource inner_;
+  std::shared_ptr<Gate> gate_;
 };
 
 }  // namespace
@@ -482,30 +584,87 @@ TEST_F(ReconstructionLogicScan, SaysLostAndRelocalisedAndShowsTheAgreement) {
   EXPECT_NE(back->GetAgreementText().find("% within 1 mm, median "), std::string::npos) << back->GetAgreementText();
 }
 
+// A reset while running returns at once; the old worker finishes its frame in the background. Checked by events, not
+// by the clock: the worker is held inside a frame read, and Reset must return while it still is.
+TEST_F(ReconstructionLogicScan, ResetWhileRunningDoesNotWaitForTheWorker) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  setUp(logic);
+  auto scan = scan_;
+  auto gate = std::make_shared<Gate>();
+  ASSERT_TRUE(logic->SetFrameSourceFactory([scan, gate] { return std::make_unique<GatedSource>(scan, gate); }));
+  ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+  ASSERT_TRUE(gate->waitForReader(60.0)) << "the worker never started reading frames";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Reset(); }, 20.0)) << "Reset waited for the worker's frame";
+  gate->open();  // the old worker finishes its frame and ends in the background
+  EXPECT_EQ(logic->GetScanState(), vtkTissueMosaicReconstructionLogic::StateIdle);
+  EXPECT_TRUE(logic->CanChangeParameters());
+
+  // Negative control: a call that does wait for the worker (here: for the gate itself) fails the same check.
+  Gate shut;
+  EXPECT_FALSE(shut.returnsWhileShut([&shut] { shut.waitUntilOpen(); }, 0.2));
+}
+
+// Every call the GUI makes returns while the worker is busy: checked by events, not by the clock. The first frame
+// goes through (the worker makes progress while the owner polls), then the worker is held at the next frame read,
+// and each call must return while it still is.
 TEST_F(ReconstructionLogicScan, OwnerNeverWaitsForTheWorker) {
   vtkNew<vtkTissueMosaicReconstructionLogic> logic;
   setUp(logic);
   auto scan = scan_;
-  ASSERT_TRUE(logic->SetFrameSourceFactory([scan] { return std::make_unique<SlowSource>(scan); }));
+  auto gate = std::make_shared<Gate>(1);
+  ASSERT_TRUE(logic->SetFrameSourceFactory([scan, gate] { return std::make_unique<GatedSource>(scan, gate); }));
   logic->SetRectifiedGeometry(scan_->geometry());
-  // Every call the GUI makes returns at once while the worker is busy (here: 400 ms inside each frame read).
-  using Clock = std::chrono::steady_clock;
-  double slowestMs = 0;
-  const auto timed = [&](auto&& call) {
-    const auto start = Clock::now();
-    call();
-    slowestMs = std::max(slowestMs, std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-  };
-  timed([&] { ASSERT_TRUE(logic->Start()); });
-  for (int i = 0; i < 40; ++i) {  // 1.2 s of 30 Hz polling, across several frames
-    timed([&] { logic->UpdateOutputs(); });
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+  ASSERT_TRUE(gate->waitForReader(120.0)) << "the worker never came to its second frame";
+  bool processed = false;
+  for (int poll = 0; poll < 6000 && !processed; ++poll) {  // the first frame's results reach the owner
+    EXPECT_TRUE(gate->returnsWhileShut([&] { logic->UpdateOutputs(); }, 20.0)) << "UpdateOutputs waited";
+    processed = logic->GetStatus().framesProcessed >= 1;
+    if (!processed) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  EXPECT_GE(logic->GetStatus().framesProcessed, 1);
-  timed([&] { logic->Pause(); });
-  timed([&] { ASSERT_TRUE(logic->Start()); });
-  timed([&] { logic->Stop(); });
-  timed([&] { logic->Reset(); });
-  std::cout << "[ measured ] slowest owner-thread call while the worker was busy: " << slowestMs << " ms\n";
-  EXPECT_LT(slowestMs, 100.0);
+  EXPECT_TRUE(processed) << "the first frame never reached the owner";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Pause(); }, 20.0)) << "Pause waited for the worker";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { EXPECT_TRUE(logic->Start()); }, 20.0)) << "resuming waited";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Stop(); }, 20.0)) << "Stop waited for the worker";
+  EXPECT_TRUE(gate->returnsWhileShut([&] { logic->Reset(); }, 20.0)) << "Reset waited for the worker";
+  gate->open();
+}
+
+TEST_F(ReconstructionLogicScan, SaysWhichDisparityRangeItUses) {
+  vtkNew<vtkTissueMosaicReconstructionLogic> logic;
+  setUp(logic);
+  // Before a scan: what the parameters ask for, in disparities where the rig is known.
+  tissuemosaic::ReconstructionParameters distance = parameters();
+  distance.stereo.disparityRangeMode = tissuemosaic::DisparityRangeMode::WorkingDistance;
+  distance.stereo.workingDistanceNearMm = 50;
+  distance.stereo.workingDistanceFarMm = 150;
+  ASSERT_TRUE(logic->SetParameters(distance)) << logic->GetLastErrorText();
+  tissuemosaic::RectifiedGeometry geometry;
+  ASSERT_TRUE(logic->GetRectifiedGeometry(geometry));
+  const tissuemosaic::DisparityRange expected = tissuemosaic::disparityRangeForDepthMm(geometry, 50, 150);
+  EXPECT_EQ(logic->GetDisparityRangeText(), "working distance 50..150 mm: " + expected.text());
+
+  // The automatic range (the default): chosen from the first frame, then reported as the scan goes.
+  tissuemosaic::ReconstructionParameters automatic = parameters();
+  automatic.stereo.disparityRangeMode = tissuemosaic::DisparityRangeMode::Automatic;
+  ASSERT_TRUE(logic->SetParameters(automatic)) << logic->GetLastErrorText();
+  EXPECT_EQ(logic->GetDisparityRangeText(), "auto: from the first frame's feature matches");
+  logic->SetMaximumFrames(3);
+  ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+  ASSERT_TRUE(logic->WaitForScanEnd(120.0));
+  logic->UpdateOutputs();
+  const auto& status = logic->GetStatus();
+  ASSERT_EQ(status.state, vtkTissueMosaicReconstructionLogic::StateFinished) << status.errorText;
+  const auto frame = scan_->renderFrame(2);
+  double low = 1e9, high = -1e9;
+  for (int i = 0; i < static_cast<int>(frame.disparityPx.total()); ++i) {
+    const float d = frame.disparityPx.at<float>(i);
+    if (!std::isfinite(d)) continue;
+    low = std::min<double>(low, d);
+    high = std::max<double>(high, d);
+  }
+  EXPECT_LE(status.disparityRange.minPx, low);
+  EXPECT_GE(status.disparityRange.maxPx, high);
+  EXPECT_EQ(logic->GetDisparityRangeText().rfind("auto: " + status.disparityRange.text(), 0), 0u)
+      << logic->GetDisparityRangeText();
 }

@@ -183,8 +183,7 @@ TEST(ReconstructionSnapshot, PictureMatchesTheBaseline) {
 TEST(ReconstructionSnapshot, PipelineSnapshotDrawsItsModelAndKeyFrames) {
   const tissuemosaic::synthetic::SyntheticScan scan(tissuemosaic::testing::shortScanOptions(3));
   tissuemosaic::ReconstructionParameters parameters;
-  parameters.stereo.minDisparityPx = 0;
-  parameters.stereo.maxDisparityPx = 40;
+  parameters.stereo.setFixedDisparityRange(0, 40);
   tissuemosaic::ReconstructionPipeline pipeline(scan.geometry(), parameters, tissuemosaic::Device::Cpu);
   for (int k = 0; k < 3; ++k) {
     const auto frame = scan.renderFrame(k);

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <thread>
 
 using namespace tissuemosaic;
 using namespace tissuemosaic::test;
@@ -240,4 +241,81 @@ TEST(RegistrationLogic, ExportedFilesReadBackIntoANewLogic) {
   EXPECT_LT((second->GetTargetFromModel() - logic->GetTargetFromModel()).norm(), 1e-9);
   EXPECT_FALSE(second->LoadTransform((dir / "missing.tfm").string()));
   EXPECT_LT((second->GetTargetFromModel() - logic->GetTargetFromModel()).norm(), 1e-9);
+}
+
+TEST(RegistrationLogic, IcpRunsOnAnotherThreadWithProgressCancelAndUndo) {
+  const LogicScene scene;
+  vtkNew<vtkTissueMosaicRegistrationLogic> logic;
+  logic->SetModel(scene.model);
+  ASSERT_TRUE(logic->SetTarget(scene.target));
+  EXPECT_FALSE(logic->HasRegistration());
+  EXPECT_FALSE(logic->WriteTransform("unused.tfm"));  // the identity of a fresh state is no registration
+  EXPECT_NE(logic->GetLastErrorText().find("nothing registered"), std::string::npos) << logic->GetLastErrorText();
+  EXPECT_FALSE(logic->CanUndo());
+  // Landmarks 2 mm off along x: a fit ICP must improve.
+  for (const Eigen::Vector3d& target : scene.targetLandmarks) {
+    logic->AddLandmarkPair(scene.modelOf(target) + Eigen::Vector3d(2, 0, 0), target);
+  }
+  ASSERT_TRUE(logic->RegisterLandmarks(false));
+  EXPECT_TRUE(logic->HasRegistration());
+  const Eigen::Matrix4d landmarkFit = logic->GetTargetFromModel();
+  const double landmarkRmse = logic->GetDistanceStatistics().rmseMm;
+  EXPECT_NEAR(logic->GetCurrentLandmarkRmseMm(), logic->GetLandmarkRegistration()->rmseMm, 1e-9);
+
+  // The job on a thread, as the panel runs it: the same result as the synchronous call.
+  IcpParameters parameters;
+  parameters.maxIterations = 30;
+  std::shared_ptr<vtkTissueMosaicRegistrationLogic::Job> job = logic->PrepareIcp(parameters);
+  ASSERT_NE(job, nullptr) << logic->GetLastErrorText();
+  std::thread worker([job] { vtkTissueMosaicRegistrationLogic::RunJob(*job); });
+  worker.join();
+  EXPECT_GT(vtkTissueMosaicRegistrationLogic::GetJobProgress(*job), 0);
+  EXPECT_TRUE(logic->GetTargetFromModel() == landmarkFit) << "nothing changes before FinishJob";
+  ASSERT_TRUE(logic->FinishJob(*job)) << logic->GetLastErrorText();
+  const IcpResult direct =
+      refineIcp(polyDataPoints(scene.model), TargetSurface(scene.target), landmarkFit, parameters);
+  EXPECT_LT((logic->GetTargetFromModel() - direct.targetFromModel).norm(), 1e-6);
+  EXPECT_LT(logic->GetDistanceStatistics().rmseMm, landmarkRmse);
+  // Under the ICP transform the pairs' residuals are no longer the landmark fit's.
+  EXPECT_GT(std::abs(logic->GetCurrentLandmarkRmseMm() - logic->GetLandmarkRegistration()->rmseMm), 0.1);
+
+  // Undo: the landmark fit and its numbers again; a second undo: the fresh state.
+  ASSERT_TRUE(logic->Undo());
+  EXPECT_TRUE(logic->GetTargetFromModel() == landmarkFit);
+  EXPECT_FALSE(logic->GetIcpResult().has_value());
+  EXPECT_DOUBLE_EQ(logic->GetDistanceStatistics().rmseMm, landmarkRmse);
+  ASSERT_TRUE(logic->Undo());
+  EXPECT_TRUE(logic->GetTargetFromModel().isIdentity());
+  EXPECT_FALSE(logic->HasRegistration());
+  EXPECT_FALSE(logic->Undo());
+
+  // A cancelled job changes nothing.
+  ASSERT_TRUE(logic->RegisterLandmarks(false));
+  job = logic->PrepareIcp(parameters);
+  ASSERT_NE(job, nullptr);
+  vtkTissueMosaicRegistrationLogic::CancelJob(*job);
+  vtkTissueMosaicRegistrationLogic::RunJob(*job);
+  EXPECT_FALSE(logic->FinishJob(*job));
+  EXPECT_NE(logic->GetLastErrorText().find("cancelled"), std::string::npos) << logic->GetLastErrorText();
+  EXPECT_TRUE(logic->GetTargetFromModel() == landmarkFit);
+
+  // A job whose start changed meanwhile is refused.
+  job = logic->PrepareIcp(parameters);
+  vtkTissueMosaicRegistrationLogic::RunJob(*job);
+  ASSERT_TRUE(logic->SetTargetFromModel(Eigen::Matrix4d::Identity()));
+  EXPECT_FALSE(logic->FinishJob(*job));
+  EXPECT_TRUE(logic->GetTargetFromModel().isIdentity());
+}
+
+TEST(RegistrationLogic, ClearingTheModelLandmarksKeepsTheCtPoints) {
+  vtkNew<vtkTissueMosaicRegistrationLogic> logic;
+  logic->AddLandmarkPair({1, 0, 0}, {0, 1, 0});
+  logic->AddModelLandmark({2, 0, 0});  // a pair with no CT point: nothing left after clearing
+  logic->AddLandmarkPair({3, 0, 0}, {0, 3, 0}, "notch");
+  logic->ClearModelLandmarks();
+  ASSERT_EQ(logic->GetNumberOfLandmarkPairs(), 2);
+  EXPECT_FALSE(logic->GetLandmarkPair(0).modelLps.has_value());
+  EXPECT_EQ(*logic->GetLandmarkPair(1).targetLps, Eigen::Vector3d(0, 3, 0));
+  EXPECT_EQ(logic->GetLandmarkPair(1).label, "notch");
+  EXPECT_EQ(logic->AddModelLandmark({5, 0, 0}), 0);  // the next model pick completes the first pair again
 }

@@ -168,3 +168,37 @@ TEST(StereoLogic, DeviceChoiceIsClampedAndCudaNeverFallsBackSilently) {
   logic->SetDeviceChoiceToAuto();
   EXPECT_TRUE(logic->ComputeReconstruction(left, right)) << logic->GetLastErrorText();
 }
+
+TEST(StereoLogic, ChoosesAndReportsTheDisparityRange) {
+  cv::Mat left, right;
+  makePlanePair(left, right);
+  vtkNew<vtkTissueMosaicStereoLogic> logic;
+  logic->SetDeviceChoiceToCpu();
+  logic->SetRectifiedGeometry(makeGeometry());
+  // Automatic, the default: measured from this pair, around the plane's 8 px.
+  ASSERT_TRUE(logic->ComputeReconstruction(left, right)) << logic->GetLastErrorText();
+  const tissuemosaic::DisparityRange automatic = logic->GetLastDisparityRange();
+  EXPECT_TRUE(automatic.contains(kTrueDisparityPx)) << automatic.text();
+  EXPECT_LE(automatic.count(), 24) << automatic.text();
+  EXPECT_EQ(logic->GetLastDisparityRangeText().rfind("auto: " + automatic.text(), 0), 0u)
+      << logic->GetLastDisparityRangeText();
+
+  // A working distance through the geometry: f B = 1000 px mm, doffs 2 px: 80..200 mm are 3..10.5 px.
+  tissuemosaic::StereoParameters parameters;
+  parameters.disparityRangeMode = tissuemosaic::DisparityRangeMode::WorkingDistance;
+  parameters.workingDistanceNearMm = 80;
+  parameters.workingDistanceFarMm = 200;
+  ASSERT_TRUE(logic->SetStereoParameters(parameters));
+  ASSERT_TRUE(logic->ComputeReconstruction(left, right)) << logic->GetLastErrorText();
+  EXPECT_EQ(logic->GetLastDisparityRange(), (tissuemosaic::DisparityRange{0, 11}));
+  EXPECT_EQ(logic->GetLastDisparityRangeText(), "working distance 80..200 mm: 0..11 px");
+
+  // A featureless pair cannot have an automatic range: the reason is given, and nothing is kept.
+  ASSERT_TRUE(logic->SetStereoParameters(tissuemosaic::StereoParameters{}));
+  const cv::Mat grey(kHeight, kWidth, CV_8UC3, cv::Scalar::all(90));
+  EXPECT_FALSE(logic->ComputeReconstruction(grey, grey));
+  EXPECT_NE(logic->GetLastErrorText().find("left-right feature matches"), std::string::npos)
+      << logic->GetLastErrorText();
+  EXPECT_TRUE(logic->GetLastDisparityPx().empty());
+  EXPECT_TRUE(logic->GetLastDisparityRangeText().empty());
+}

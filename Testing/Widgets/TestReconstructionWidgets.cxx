@@ -8,6 +8,7 @@
 #include "vtkTissueMosaicReconstructionLogic.h"
 
 #include "Core/Device.h"
+#include "Core/StereoRig.h"
 #include "IO/StereoFrameSource.h"
 
 #include <gtest/gtest.h>
@@ -15,7 +16,13 @@
 #include <vtkNew.h>
 
 #include <QComboBox>
+#include <QWheelEvent>
+#include <QTest>
+#include <QRegularExpression>
+#include <QLabel>
+#include <QApplication>
 #include <QDoubleSpinBox>
+#include <QLabel>
 #include <QPushButton>
 #include <QSignalSpy>
 #include <QSpinBox>
@@ -23,6 +30,8 @@
 #include <QTableWidget>
 
 #include <filesystem>
+#include <fstream>
+#include <limits>
 
 using tissuemosaic::ReconstructionParameters;
 
@@ -262,11 +271,37 @@ TEST(ReconstructionVideoPanel, ShowsFramesInRgbOrder) {
   EXPECT_TRUE(qTissueMosaicVideoPanel::toQImage(cv::Mat(4, 4, CV_32F)).isNull());
 
   qTissueMosaicVideoPanel panel;
-  panel.setFrames(bgr, grey, bgr);
+  cv::Mat disparity(30, 40, CV_32F, cv::Scalar(20.0f));
+  disparity.at<float>(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  disparity.at<float>(29, 39) = 40.0f;
+  panel.setFrames(bgr, grey, disparity);
   EXPECT_EQ(panel.leftImage().pixelColor(1, 1), QColor(200, 20, 10));
   EXPECT_EQ(panel.rightImage().size(), QSize(40, 30));
+  EXPECT_EQ(panel.frameSize(), QSize(40, 30));
+  EXPECT_EQ(panel.disparityImage().pixelColor(0, 0), QColor(0, 0, 0)) << "no estimate: black";
   panel.clear();
   EXPECT_TRUE(panel.leftImage().isNull());
+}
+
+TEST(ReconstructionVideoPanel, DisparityHasALegendInPixelsAndMillimetres) {
+  // A scene from 50 mm (disparity 40 px) to 100 mm (20 px): f = 400 px, B = 5 mm.
+  cv::Mat disparity(60, 80, CV_32F, cv::Scalar(20.0f));
+  disparity(cv::Rect(0, 0, 40, 60)).setTo(40.0f);
+  tissuemosaic::RectifiedGeometry geometry;
+  geometry.focalPx = 400;
+  geometry.baselineMm = 5;
+  qTissueMosaicVideoPanel panel;
+  panel.setFrames(cv::Mat(), cv::Mat(), disparity, &geometry, -20, 80);
+  const QStringList legend = panel.disparityLegend();
+  ASSERT_EQ(legend.size(), 5);
+  EXPECT_EQ(legend.first(), "40 px = 50 mm");  // near, at the top, red
+  EXPECT_EQ(legend.last(), "20 px = 100 mm");
+  EXPECT_EQ(legend[2], "30 px = 67 mm");
+  const QImage image = panel.disparityImage();
+  EXPECT_GT(image.pixelColor(10, 10).red(), image.pixelColor(10, 10).blue()) << "near is red";
+  EXPECT_GT(image.pixelColor(70, 10).blue(), image.pixelColor(70, 10).red()) << "far is blue";
+  panel.setFrames(cv::Mat(), cv::Mat(), disparity);  // no geometry: pixels only
+  EXPECT_EQ(panel.disparityLegend().first(), "40 px");
 }
 
 TEST(ReconstructionModulePanel, ControlsFollowTheScanState) {
@@ -298,4 +333,133 @@ TEST(ReconstructionModulePanel, ControlsFollowTheScanState) {
   reset->click();
   EXPECT_TRUE(start->isEnabled());
   EXPECT_TRUE(panel.parametersPanel()->isEnabled());
+}
+
+TEST(ReconstructionModulePanel, ARefusedValueIsRedAtItsFieldAndStartSaysWhy) {
+  // Min disparity 100 with max 80: refused at once, shown at the field in red with the reason in its group, and
+  // Start is disabled with the reason beside it, so that no scan runs with other values than those on screen.
+  qTissueMosaicReconstructionWidget panel;
+  vtkTissueMosaicReconstructionLogic* logic = panel.reconstructionLogic();
+  ASSERT_TRUE(logic->SetFrameSourceFactory([] { return std::make_unique<EmptySource>(); }));
+  logic->SetRectifiedGeometry(emptyGeometry());
+  panel.setInputRectified(true);
+  auto* start = panel.findChild<QPushButton*>("startButton");
+  ASSERT_TRUE(start->isEnabled()) << panel.startProblem().toStdString();
+  QSpinBox* minimum = intBox(panel, "minDisparityPx");
+  minimum->setValue(100);
+  EXPECT_EQ(logic->GetParameters().stereo.minDisparityPx, -20) << "the object keeps its valid value";
+  EXPECT_TRUE(minimum->styleSheet().contains("#ffd7d7")) << "red at the field";
+  EXPECT_TRUE(minimum->toolTip().contains("maxDisparityPx")) << minimum->toolTip().toStdString();
+  EXPECT_TRUE(intBox(panel, "maxDisparityPx")->styleSheet().isEmpty()) << "only the refused field";
+  // The reason in the field's own group, right under it.
+  QLabel* groupLine = nullptr;
+  for (QLabel* label : minimum->parentWidget()->findChildren<QLabel*>(QRegularExpression("^groupMessage"))) {
+    if (!label->isHidden()) groupLine = label;
+  }
+  ASSERT_NE(groupLine, nullptr) << "no message in the field's group";
+  EXPECT_TRUE(groupLine->text().contains("maxDisparityPx")) << groupLine->text().toStdString();
+  EXPECT_FALSE(start->isEnabled());
+  EXPECT_TRUE(panel.startProblem().contains("not applied")) << panel.startProblem().toStdString();
+  EXPECT_TRUE(start->toolTip().contains("Cannot start")) << start->toolTip().toStdString();
+  intBox(panel, "maxDisparityPx")->setValue(120);  // now valid: both values go through, red and reason gone
+  EXPECT_EQ(logic->GetParameters().stereo.minDisparityPx, 100);
+  EXPECT_TRUE(minimum->styleSheet().isEmpty());
+  EXPECT_TRUE(groupLine->isHidden());
+  EXPECT_TRUE(start->isEnabled()) << panel.startProblem().toStdString();
+}
+
+TEST(ReconstructionModulePanel, ACalibrationOfAnotherFrameSizeIsNotCalledCalibrated) {
+  // A new input keeps the previous input's calibration: the panel says it does not fit, and Start says why.
+  qTissueMosaicReconstructionWidget panel;
+  vtkTissueMosaicReconstructionLogic* logic = panel.reconstructionLogic();
+  tissuemosaic::RectifiedGeometry other = emptyGeometry();
+  other.imageSize = cv::Size(480, 270);
+  logic->SetRectifiedGeometry(other);
+  ASSERT_TRUE(logic->SetFrameSourceFactory([] { return std::make_unique<EmptySource>(); }));  // 64x48 frames
+  panel.setInputRectified(true);
+  const QString input = panel.findChild<QLabel*>("inputLabel")->text();
+  EXPECT_FALSE(input.endsWith("; calibrated")) << input.toStdString();
+  EXPECT_TRUE(input.contains("another frame size")) << input.toStdString();
+  EXPECT_FALSE(panel.findChild<QPushButton*>("startButton")->isEnabled());
+  EXPECT_TRUE(panel.startProblem().contains("480x270")) << panel.startProblem().toStdString();
+  EXPECT_TRUE(panel.startProblem().contains("64x48")) << panel.startProblem().toStdString();
+}
+
+TEST(ReconstructionParametersWidget, TheWheelChangesNoValueUnlessTheFieldHasFocus) {
+  // Scrolling the panel with the wheel over a field must not change it (it had turned -20 into -76).
+  qTissueMosaicReconstructionParametersWidget panel;
+  panel.show();
+  QApplication::setActiveWindow(&panel);
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&panel));
+  QSpinBox* minimum = intBox(panel, "minDisparityPx");
+  const auto wheel = [&](QWidget* target) {
+    QWheelEvent event(QPointF(5, 5), minimum->mapToGlobal(QPoint(5, 5)), QPoint(), QPoint(0, 120), Qt::NoButton,
+                      Qt::NoModifier, Qt::NoScrollPhase, false);
+    QApplication::sendEvent(target, &event);
+    return event.isAccepted();
+  };
+  intBox(panel, "maxDisparityPx")->setFocus();  // the keyboard is elsewhere
+  ASSERT_FALSE(minimum->hasFocus());
+  EXPECT_FALSE(wheel(minimum)) << "an unfocused field passes the wheel on (to the scroll area)";
+  EXPECT_EQ(minimum->value(), -20);
+  EXPECT_EQ(panel.parameters().stereo.minDisparityPx, -20);
+  EXPECT_EQ(minimum->focusPolicy(), Qt::StrongFocus);
+  auto* preset = panel.findChild<QComboBox*>("reconstructionPresetComboBox");
+  ASSERT_NE(preset, nullptr);
+  const int presetIndex = preset->currentIndex();
+  ASSERT_FALSE(preset->hasFocus());
+  wheel(preset);
+  EXPECT_EQ(preset->currentIndex(), presetIndex);
+  minimum->setFocus();  // clicked or tabbed into: now the wheel edits it
+  ASSERT_TRUE(minimum->hasFocus());
+  wheel(minimum);
+  EXPECT_EQ(minimum->value(), -19);
+}
+
+TEST(ReconstructionParametersWidget, ABrokenParameterFileIsExplainedBesideLoadInPlainWords) {
+  const std::string path = std::string(TM_TEST_OUTPUT_DIR) + "/broken-parameters.yml";
+  std::filesystem::create_directories(TM_TEST_OUTPUT_DIR);
+  {
+    std::ofstream file(path);
+    file << "%YAML:1.0\nstereo:\n  minDisparityPx: [1, 2\n  maxDisparityPx: }\n";
+  }
+  qTissueMosaicReconstructionParametersWidget panel;
+  panel.resize(500, 2000);
+  panel.show();
+  EXPECT_FALSE(panel.loadParametersFile(QString::fromStdString(path)));
+  QLabel* error = panel.findChild<QLabel*>("reconstructionErrorLabel");
+  ASSERT_NE(error, nullptr);
+  EXPECT_TRUE(error->isVisible());
+  EXPECT_TRUE(error->text().contains("broken-parameters.yml")) << error->text().toStdString();
+  EXPECT_TRUE(error->text().contains("not a valid YAML/XML file")) << error->text().toStdString();
+  for (const char* internal : {"persistence", ".cpp", "error: (", "OpenCV("}) {
+    EXPECT_FALSE(error->text().contains(internal)) << internal << " in: " << error->text().toStdString();
+  }
+  // Where the action was: right under the row with Load..., above every parameter.
+  auto* load = panel.findChild<QPushButton*>("reconstructionLoadButton");
+  ASSERT_NE(load, nullptr);
+  const int errorTop = error->mapTo(&panel, QPoint(0, 0)).y();
+  const int loadBottom = load->mapTo(&panel, QPoint(0, load->height())).y();
+  EXPECT_GE(errorTop, loadBottom);
+  EXPECT_LT(errorTop - loadBottom, 60);
+  EXPECT_LT(errorTop, intBox(panel, "minDisparityPx")->mapTo(&panel, QPoint(0, 0)).y());
+}
+
+TEST(ReconstructionModulePanel, ShowsTheDisparityRangeAndWhatAWorkingDistanceMeans) {
+  qTissueMosaicReconstructionWidget panel;
+  auto* range = panel.findChild<QLabel*>("disparityRangeLabel");
+  ASSERT_NE(range, nullptr);
+  EXPECT_TRUE(range->text().contains("auto: from the first frame")) << range->text().toStdString();
+
+  // With the rig known (f B = 300 px mm), a working distance of 10..30 mm is 10..30 px: 8..31 px on the grid, both
+  // in the scan's line and beside the working distance fields.
+  vtkTissueMosaicReconstructionLogic* logic = panel.reconstructionLogic();
+  ASSERT_TRUE(logic->SetFrameSourceFactory([] { return std::make_unique<EmptySource>(); }));
+  logic->SetRectifiedGeometry(emptyGeometry());
+  realBox(panel, "workingDistanceFarMm")->setValue(30);
+  realBox(panel, "workingDistanceNearMm")->setValue(10);
+  EXPECT_EQ(logic->GetParameters().stereo.disparityRangeMode, tissuemosaic::DisparityRangeMode::WorkingDistance);
+  EXPECT_TRUE(range->text().contains("working distance 10..30 mm: 8..31 px")) << range->text().toStdString();
+  const QString beside = panel.parametersPanel()->stereoPanel()->workingDistanceText();
+  EXPECT_TRUE(beside.contains("10..30 mm is 8..31 px")) << beside.toStdString();
 }

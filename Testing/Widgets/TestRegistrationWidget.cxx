@@ -4,6 +4,8 @@
 // colours, histogram) is the logic's result and that the result is the truth; that export writes files the
 // logic's readers read back; and that a click in the 3D view puts the landmark on the clicked vertex.
 #include "TestRegistrationScene.h"
+#include "qTissueMosaicLandmarkTable.h"
+#include "qTissueMosaicRegistrationView.h"
 #include "qTissueMosaicRegistrationWidget.h"
 #include "vtkTissueMosaicDistanceReport.h"
 #include "vtkTissueMosaicItkTransformFile.h"
@@ -31,7 +33,9 @@
 #include <vtkScalarsToColors.h>
 
 #include <QDir>
+#include <QDoubleSpinBox>
 #include <QFile>
+#include <QLocale>
 #include <QPushButton>
 #include <QTableWidget>
 #include <QTest>
@@ -111,6 +115,16 @@ Eigen::Matrix4d parseShownTransform(const QString& text) {
   return matrix;
 }
 
+/// The panel and its scene view (which the application puts in its view area) on screen.
+void showPanelAndView(qTissueMosaicRegistrationWidget& panel) {
+  panel.resize(500, 900);
+  panel.show();
+  panel.sceneView()->resize(900, 700);
+  panel.sceneView()->show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&panel));
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(panel.sceneView()));
+}
+
 void loadScene(qTissueMosaicRegistrationWidget& panel, const Scene& scene) {
   ASSERT_TRUE(panel.loadModelFile(scene.modelPath)) << panel.errorText().toStdString();
   ASSERT_TRUE(panel.loadTargetFile(scene.targetPath)) << panel.errorText().toStdString();
@@ -151,7 +165,7 @@ TEST(RegistrationWidget, ExactLandmarksGiveTheTruthAndThePanelShowsTheLogicsNumb
               scene.trueRmseMm());
   EXPECT_NEAR(statistics.rmseMm, scene.trueRmseMm(), 0.01);
   for (int row = 0; row < 6; ++row) {
-    EXPECT_EQ(panel.landmarkTable()->item(row, qTissueMosaicRegistrationWidget::ResidualColumn)->text(), "0.00");
+    EXPECT_EQ(panel.landmarkTable()->item(row, qTissueMosaicLandmarkTable::ResidualColumn)->text(), "0.00");
   }
 }
 
@@ -204,7 +218,7 @@ TEST(RegistrationWidget, DeleteAndEditUpdateTheTableAndTheLogic) {
   EXPECT_EQ(logic->GetNumberOfLandmarkPairs(), 3);
   EXPECT_EQ(table->item(0, 0)->text(), "L1");
   EXPECT_EQ(table->item(1, 0)->text(), "L3");
-  EXPECT_EQ(table->item(1, qTissueMosaicRegistrationWidget::ModelColumn)->text(), "2.00, 0.00, 0.00");
+  EXPECT_EQ(table->item(1, qTissueMosaicLandmarkTable::ModelColumn)->text(), "2.00, 0.00, 0.00");
 
   // The Delete button removes the selected rows.
   table->selectRow(0);
@@ -219,20 +233,20 @@ TEST(RegistrationWidget, DeleteAndEditUpdateTheTableAndTheLogic) {
   EXPECT_EQ(logic->GetLandmarkPair(0).label, "L3");
 
   // Editing a position or a label changes the logic; a bad value is refused and the old one shown again.
-  table->item(0, qTissueMosaicRegistrationWidget::TargetColumn)->setText("1.5, -2, 30");
+  table->item(0, qTissueMosaicLandmarkTable::TargetColumn)->setText("1.5, -2, 30");
   QCoreApplication::processEvents();
   EXPECT_TRUE(logic->GetLandmarkPair(0).targetLps->isApprox(Eigen::Vector3d(1.5, -2, 30)));
-  EXPECT_EQ(table->item(0, qTissueMosaicRegistrationWidget::TargetColumn)->text(), "1.50, -2.00, 30.00");
-  table->item(0, qTissueMosaicRegistrationWidget::ModelColumn)->setText("1, two, 3");
+  EXPECT_EQ(table->item(0, qTissueMosaicLandmarkTable::TargetColumn)->text(), "1.50, -2.00, 30.00");
+  table->item(0, qTissueMosaicLandmarkTable::ModelColumn)->setText("1, two, 3");
   QCoreApplication::processEvents();
   EXPECT_FALSE(panel.errorText().isEmpty());
   EXPECT_TRUE(logic->GetLandmarkPair(0).modelLps->isApprox(Eigen::Vector3d(2, 0, 0)));
-  EXPECT_EQ(table->item(0, qTissueMosaicRegistrationWidget::ModelColumn)->text(), "2.00, 0.00, 0.00");
-  table->item(1, qTissueMosaicRegistrationWidget::LabelColumn)->setText("L3");  // taken by row 0
+  EXPECT_EQ(table->item(0, qTissueMosaicLandmarkTable::ModelColumn)->text(), "2.00, 0.00, 0.00");
+  table->item(1, qTissueMosaicLandmarkTable::LabelColumn)->setText("L3");  // taken by row 0
   QCoreApplication::processEvents();
   EXPECT_EQ(logic->GetLandmarkPair(1).label, "L4");
   EXPECT_NE(panel.errorText().indexOf("already used"), -1) << panel.errorText().toStdString();
-  table->item(1, qTissueMosaicRegistrationWidget::LabelColumn)->setText("tip");
+  table->item(1, qTissueMosaicLandmarkTable::LabelColumn)->setText("tip");
   QCoreApplication::processEvents();
   EXPECT_EQ(logic->GetLandmarkPair(1).label, "tip");
   EXPECT_TRUE(panel.errorText().isEmpty());
@@ -246,9 +260,7 @@ TEST(RegistrationWidget, DeleteAndEditUpdateTheTableAndTheLogic) {
 TEST(RegistrationWidget, ModelColouredByDistanceWithScalarBarAndHistogram) {
   const Scene scene;
   qTissueMosaicRegistrationWidget panel;
-  panel.resize(1000, 700);
-  panel.show();
-  ASSERT_TRUE(QTest::qWaitForWindowExposed(&panel));
+  showPanelAndView(panel);
   loadScene(panel, scene);
   for (const Eigen::Vector3d& target : scene.targetLandmarks) panel.addLandmarkPair(scene.modelOf(target), target);
   ASSERT_TRUE(panel.registerLandmarks());
@@ -256,9 +268,9 @@ TEST(RegistrationWidget, ModelColouredByDistanceWithScalarBarAndHistogram) {
   const DistanceStatistics& statistics = logic->GetDistanceStatistics();
 
   ASSERT_TRUE(panel.colourByDistance());
-  vtkActor* actor = panel.distanceActor();
+  vtkActor* actor = panel.sceneView()->distanceActor();
   EXPECT_TRUE(actor->GetVisibility());
-  EXPECT_TRUE(panel.scalarBar()->GetVisibility());
+  EXPECT_TRUE(panel.sceneView()->scalarBar()->GetVisibility());
   // What the mapper draws: every registered point as a vertex, with the logic's distances.
   vtkMapper* mapper = actor->GetMapper();
   mapper->Update();
@@ -281,10 +293,10 @@ TEST(RegistrationWidget, ModelColouredByDistanceWithScalarBarAndHistogram) {
     largestDifference = std::max(largestDifference, std::abs(distances->GetTuple1(i) - scene.sample.trueDistanceMm[i]));
   }
   EXPECT_LT(largestDifference, 0.01);  // the map shows each point's true distance
-  const double* range = panel.scalarBar()->GetLookupTable()->GetRange();
+  const double* range = panel.sceneView()->scalarBar()->GetLookupTable()->GetRange();
   EXPECT_EQ(range[0], 0.0);
   EXPECT_DOUBLE_EQ(range[1], statistics.p95Mm);
-  EXPECT_EQ(actor->GetMapper()->GetLookupTable(), panel.scalarBar()->GetLookupTable());
+  EXPECT_EQ(actor->GetMapper()->GetLookupTable(), panel.sceneView()->scalarBar()->GetLookupTable());
 
   const QVector<double> percent = panel.histogramPercent();
   const DistanceHistogram& histogram = logic->GetDistanceHistogram();
@@ -297,11 +309,11 @@ TEST(RegistrationWidget, ModelColouredByDistanceWithScalarBarAndHistogram) {
   EXPECT_NEAR(total, 100.0, 1e-9);
   EXPECT_DOUBLE_EQ(panel.histogramBinWidthMm(), 0.1);
 
-  panel.view()->renderWindow()->Render();
+  panel.sceneView()->vtkWidget()->renderWindow()->Render();
   panel.setColourByDistance(false);
   EXPECT_FALSE(actor->GetVisibility());
-  EXPECT_FALSE(panel.scalarBar()->GetVisibility());
-  panel.view()->renderWindow()->Render();
+  EXPECT_FALSE(panel.sceneView()->scalarBar()->GetVisibility());
+  panel.sceneView()->vtkWidget()->renderWindow()->Render();
 }
 
 TEST(RegistrationWidget, ExportWritesFilesThatReadBack) {
@@ -364,14 +376,12 @@ TEST(RegistrationWidget, ExportWritesFilesThatReadBack) {
 TEST(RegistrationWidget, ClickPicksTheVertexUnderTheCursor) {
   const Scene scene;
   qTissueMosaicRegistrationWidget panel;
-  panel.resize(1000, 700);
-  panel.show();
-  ASSERT_TRUE(QTest::qWaitForWindowExposed(&panel));
+  showPanelAndView(panel);
   loadScene(panel, scene);
-  vtkRenderer* renderer = panel.renderer();
+  vtkRenderer* renderer = panel.sceneView()->renderer();
   renderer->GetActiveCamera()->Elevation(20);  // an oblique view, so depth matters
   renderer->ResetCamera();
-  panel.view()->renderWindow()->Render();
+  panel.sceneView()->vtkWidget()->renderWindow()->Render();
   vtkTissueMosaicRegistrationLogic* logic = panel.registrationLogic();
 
   // Where a world point shows in the view, as Qt widget pixels (origin top left).
@@ -379,15 +389,15 @@ TEST(RegistrationWidget, ClickPicksTheVertexUnderTheCursor) {
     renderer->SetWorldPoint(world.x(), world.y(), world.z(), 1.0);
     renderer->WorldToDisplay();
     const double* display = renderer->GetDisplayPoint();
-    const double ratio = panel.view()->devicePixelRatioF();
+    const double ratio = panel.sceneView()->vtkWidget()->devicePixelRatioF();
     return QPoint(static_cast<int>(std::lround(display[0] / ratio)),
-                  panel.view()->height() - 1 - static_cast<int>(std::lround(display[1] / ratio)));
+                  panel.sceneView()->vtkWidget()->height() - 1 - static_cast<int>(std::lround(display[1] / ratio)));
   };
-  QWidget* surface = panel.view();
+  QWidget* surface = panel.sceneView()->vtkWidget();
 
   // On the CT surface: a mesh vertex near the centre (x = 2, y = -3 lies on the 0.5 mm grid).
   const Eigen::Vector3d vertex(2, -3, height(2, -3));
-  panel.setPickMode(qTissueMosaicRegistrationWidget::PickOnTarget);
+  panel.setPickMode(qTissueMosaicRegistrationView::PickOnTarget);
   QTest::mouseClick(surface, Qt::LeftButton, Qt::NoModifier, widgetPosition(vertex));
   ASSERT_EQ(logic->GetNumberOfLandmarkPairs(), 1) << panel.errorText().toStdString();
   ASSERT_TRUE(logic->GetLandmarkPair(0).targetLps.has_value());
@@ -403,7 +413,7 @@ TEST(RegistrationWidget, ClickPicksTheVertexUnderTheCursor) {
     if (std::hypot(p.x(), p.y()) < 6 && scene.sample.trueDistanceMm[i] < 0.05) chosen = i;
   }
   ASSERT_GE(chosen, 0);
-  panel.setPickMode(qTissueMosaicRegistrationWidget::PickOnModel);
+  panel.setPickMode(qTissueMosaicRegistrationView::PickOnModel);
   // A drag rotates the camera and picks nothing.
   vtkNew<vtkCamera> saved;
   saved->DeepCopy(renderer->GetActiveCamera());
@@ -413,7 +423,7 @@ TEST(RegistrationWidget, ClickPicksTheVertexUnderTheCursor) {
   QTest::mouseRelease(surface, Qt::LeftButton, Qt::NoModifier, at + QPoint(40, 0));
   EXPECT_FALSE(logic->GetLandmarkPair(0).modelLps.has_value());
   renderer->GetActiveCamera()->DeepCopy(saved);
-  panel.view()->renderWindow()->Render();
+  panel.sceneView()->vtkWidget()->renderWindow()->Render();
   QTest::mouseClick(surface, Qt::LeftButton, Qt::NoModifier, widgetPosition(scene.modelPoints[chosen]));
   ASSERT_TRUE(logic->GetLandmarkPair(0).modelLps.has_value()) << panel.errorText().toStdString();
   const double modelError = (*logic->GetLandmarkPair(0).modelLps - scene.modelPoints[chosen]).norm();
@@ -421,7 +431,7 @@ TEST(RegistrationWidget, ClickPicksTheVertexUnderTheCursor) {
               targetError, modelError);
   EXPECT_LT(modelError, 1e-4);  // the picked point is the scan point itself (float file precision)
   EXPECT_EQ(panel.landmarkTable()->rowCount(), 1);  // it completed the pair
-  EXPECT_FALSE(panel.landmarkTable()->item(0, qTissueMosaicRegistrationWidget::ResidualColumn)->text().isEmpty());
+  EXPECT_FALSE(panel.landmarkTable()->item(0, qTissueMosaicLandmarkTable::ResidualColumn)->text().isEmpty());
 }
 
 TEST(RegistrationWidget, LoadErrorsAreShown) {
@@ -465,12 +475,100 @@ TEST(RegistrationWidget, LiveModelIsFollowedAsItGrows) {
   ASSERT_TRUE(panel.registerLandmarks());
   EXPECT_EQ(panel.shownNumber("points"), "1000");
 
+  EXPECT_TRUE(panel.usesCurrentScan());
+  EXPECT_EQ(panel.shownModelText(), QString("Use the current scan (%1 points)").arg(QLocale().toString(1000)));
+  EXPECT_TRUE(panel.resultsNotice().isEmpty());
+
   for (int i = 1000; i < 3000; ++i) points->InsertNextPoint(scene.modelPoints[i].data());
   points->Modified();
   live->Modified();
   panel.setReconstructedModel(live);  // the same model again: keeps the registration
+  panel.liveModelChanged();           // as the application calls it when the scan grew
   EXPECT_LT((panel.registrationLogic()->GetTargetFromModel() - scene.truth).norm(), 1e-9);
+  EXPECT_EQ(panel.shownModelText(), QString("Use the current scan (%1 points)").arg(QLocale().toString(3000)));
+  // The numbers were made with 1000 points: the panel says they are out of date.
+  EXPECT_TRUE(panel.resultsNotice().contains("Out of date")) << panel.resultsNotice().toStdString();
   ASSERT_TRUE(panel.updateDistances());
+  EXPECT_TRUE(panel.resultsNotice().isEmpty());
   EXPECT_EQ(panel.shownNumber("points"), "3000");
   EXPECT_NEAR(panel.registrationLogic()->GetDistanceStatistics().rmseMm, scene.trueRmseMm(), 0.01);
+}
+
+TEST(RegistrationWidget, AResetScanDropsItsResultsAndItsModelLandmarks) {
+  // After Reset and a new scan, nothing of the old model may remain: count, transform, numbers, colours, model
+  // landmarks; and no transform of a model that no longer exists can be exported.
+  const Scene scene;
+  qTissueMosaicRegistrationWidget panel;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  for (const Eigen::Vector3d& point : scene.modelPoints) points->InsertNextPoint(point.data());
+  vtkNew<vtkPolyData> live;
+  live->SetPoints(points);
+  panel.setReconstructedModel(live);
+  panel.liveModelChanged();
+  ASSERT_TRUE(panel.loadTargetFile(scene.targetPath));
+  for (const Eigen::Vector3d& target : scene.targetLandmarks) panel.addLandmarkPair(scene.modelOf(target), target);
+  ASSERT_TRUE(panel.registerLandmarks());
+  ASSERT_NE(panel.shownNumber("rmse"), "-");
+
+  points->SetNumberOfPoints(0);  // the reconstruction's Reset empties its model in place
+  live->Modified();
+  panel.liveModelChanged();
+  vtkTissueMosaicRegistrationLogic* logic = panel.registrationLogic();
+  EXPECT_EQ(panel.shownModelText(), "Use the current scan (no points yet)");
+  EXPECT_EQ(panel.shownNumber("rmse"), "-");
+  EXPECT_EQ(panel.shownNumber("landmarkRmse"), "-");
+  EXPECT_TRUE(logic->GetTargetFromModel().isIdentity());
+  EXPECT_FALSE(panel.sceneView()->distanceActor()->GetVisibility()) << "no colour map of a model that is gone";
+  EXPECT_TRUE(panel.resultsNotice().contains("reset")) << panel.resultsNotice().toStdString();
+  ASSERT_EQ(logic->GetNumberOfLandmarkPairs(), 6);  // the CT/MR points stay, for picking the model ones again
+  EXPECT_EQ(logic->GetNumberOfCompleteLandmarkPairs(), 0);
+  EXPECT_EQ(panel.landmarkTable()->item(0, qTissueMosaicLandmarkTable::ModelColumn)->text(), "");
+  EXPECT_FALSE(panel.exportTransform(outputDir() + "/stale.tfm"));
+  EXPECT_TRUE(panel.errorText().contains("Nothing registered")) << panel.errorText().toStdString();
+  EXPECT_FALSE(QFile::exists(outputDir() + "/stale.tfm"));
+}
+
+TEST(RegistrationWidget, HistogramSaysHowManyPointsLieBeyondIt) {
+  const Scene scene;
+  qTissueMosaicRegistrationWidget panel;
+  loadScene(panel, scene);
+  for (const Eigen::Vector3d& target : scene.targetLandmarks) panel.addLandmarkPair(scene.modelOf(target), target);
+  ASSERT_TRUE(panel.registerLandmarks());
+  EXPECT_TRUE(panel.histogramOverflowNote().isEmpty()) << "0.1 mm bins cover every distance of this scene";
+  auto* bin = panel.findChild<QDoubleSpinBox*>("binWidthSpinBox");
+  ASSERT_NE(bin, nullptr);
+  bin->setValue(0.01);  // 100 bins up to 1 mm: the off-surface points (1.5-4 mm) lie beyond
+  const DistanceHistogram& histogram = panel.registrationLogic()->GetDistanceHistogram();
+  ASSERT_GT(histogram.overflow, 0u);
+  const double percent = 100.0 * static_cast<double>(histogram.overflow) / 3000.0;
+  EXPECT_EQ(panel.histogramOverflowNote(),
+            QString("%1% of the points lie beyond %2 mm").arg(percent, 0, 'f', 1).arg(0.01 * histogram.counts.size(), 0, 'g', 3));
+}
+
+TEST(RegistrationWidget, AMissedPickAnExportAndAWrongFolderAreReportedInPlainWords) {
+  const Scene scene;
+  qTissueMosaicRegistrationWidget panel;
+  showPanelAndView(panel);
+  loadScene(panel, scene);
+  // A click on the CT/MR model that hits nothing adds nothing, and says so (a later pick would pair wrongly).
+  panel.setPickMode(qTissueMosaicRegistrationView::PickOnTarget);
+  EXPECT_FALSE(panel.sceneView()->pickAt(2, 2));  // the corner of the view: background
+  EXPECT_EQ(panel.registrationLogic()->GetNumberOfLandmarkPairs(), 0);
+  EXPECT_TRUE(panel.errorText().contains("No CT/MR surface under the cursor")) << panel.errorText().toStdString();
+  // Nothing registered yet: no identity transform written.
+  EXPECT_FALSE(panel.exportTransform(outputDir() + "/identity.tfm"));
+  EXPECT_FALSE(QFile::exists(outputDir() + "/identity.tfm"));
+  for (const Eigen::Vector3d& target : scene.targetLandmarks) panel.addLandmarkPair(scene.modelOf(target), target);
+  ASSERT_TRUE(panel.registerLandmarks());
+  // Each export confirms where it wrote.
+  ASSERT_TRUE(panel.exportTransform(outputDir() + "/t.tfm"));
+  EXPECT_EQ(panel.lastMessage(), "Transform written to " + outputDir() + "/t.tfm");
+  // A missing folder: plain words, never a library's object dump.
+  EXPECT_FALSE(panel.exportRegisteredModel("/nonexistent-folder/registered.vtp"));
+  const QString message = panel.errorText();
+  EXPECT_TRUE(message.contains("the folder does not exist")) << message.toStdString();
+  for (const char* internal : {"Debug:", "Modified Time", "Reference Count", "vtkXML", "0x"}) {
+    EXPECT_FALSE(message.contains(internal)) << internal << " in: " << message.toStdString();
+  }
 }

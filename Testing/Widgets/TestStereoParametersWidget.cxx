@@ -37,8 +37,8 @@ QDoubleSpinBox* realBox(QWidget& widget, const char* key) {
 TEST(StereoParametersWidget, ObjectToPanelShowsEveryField) {
   qTissueMosaicStereoParametersWidget widget;
   const StereoParameterFields fields;
-  // The 35 numeric fields of StereoParameters, each with its own spin box and a tooltip (the method has its combo
-  // box). The list is checked against the struct's size (StereoParametersTestFields.h), so that a field added to
+  // The 37 numeric fields of StereoParameters, each with its own spin box and a tooltip (the method and the range's
+  // mode have their combo boxes). The list is checked against the struct's size (StereoParametersTestFields.h), so that a field added to
   // StereoParameters and not listed fails to compile.
   ASSERT_EQ(fields.ints.size() + fields.reals.size(), tissuemosaic::test::kStereoParameterNumericFields);
   ASSERT_TRUE(widget.setParameters(unusualParameters())) << widget.errorText().toStdString();
@@ -66,7 +66,7 @@ TEST(StereoParametersWidget, PanelToObjectRoundTrip) {
   for (const auto& field : fields.ints) intBox(widget, field.first)->setValue(target.*field.second);
   for (const auto& field : fields.reals) realBox(widget, field.first)->setValue(target.*field.second);
   expectSameParameters(widget.parameters(), target);
-  EXPECT_EQ(changed.count(), 35);
+  EXPECT_EQ(changed.count(), static_cast<int>(tissuemosaic::test::kStereoParameterNumericFields));
   EXPECT_TRUE(widget.errorText().isEmpty());
 
   // And back: what the panel holds shows again after a GUI refresh.
@@ -200,7 +200,51 @@ TEST(StereoParametersWidget, EditsTheLogicsParametersAndFiles) {
   ASSERT_TRUE(widget.loadParametersFile(path)) << widget.errorText().toStdString();
   StereoParameters expected = unusualParameters();
   expected.maxDisparityPx = 64;
+  expected.disparityRangeMode = tissuemosaic::DisparityRangeMode::Fixed;  // typing a max disparity fixes the range
   expectSameParameters(logic->GetStereoParameters(), expected);
   EXPECT_FALSE(widget.loadParametersFile(TM_TEST_OUTPUT_DIR "/missing.yml"));
   EXPECT_FALSE(widget.errorText().isEmpty());
+}
+
+TEST(StereoParametersWidget, WorkingDistanceFieldsShowTheirDisparitiesAndChooseTheRange) {
+  qTissueMosaicStereoParametersWidget widget;
+  auto* mode = widget.findChild<QComboBox*>("disparityRangeModeComboBox");
+  auto* label = widget.findChild<QLabel*>("workingDistanceDisparitiesLabel");
+  ASSERT_NE(mode, nullptr);
+  ASSERT_NE(label, nullptr);
+  // The default is automatic, and no rig is known yet: no disparities to show.
+  EXPECT_EQ(widget.parameters().disparityRangeMode, tissuemosaic::DisparityRangeMode::Automatic);
+  EXPECT_EQ(mode->currentIndex(), 0);
+  EXPECT_TRUE(label->text().contains("once the calibration is known")) << label->text().toStdString();
+
+  // A rig of f B = 5000 px mm: 50..100 mm are disparities 50..100 px (48..103 px on the kernels' grid).
+  tissuemosaic::RectifiedGeometry rig;
+  rig.imageSize = cv::Size(640, 360);
+  rig.focalPx = 1000;
+  rig.baselineMm = 5;
+  widget.setRigGeometry(&rig);
+  realBox(widget, "workingDistanceNearMm")->setValue(50);
+  realBox(widget, "workingDistanceFarMm")->setValue(100);
+  EXPECT_EQ(widget.parameters().disparityRangeMode, tissuemosaic::DisparityRangeMode::WorkingDistance)
+      << "typing a working distance uses it";
+  EXPECT_EQ(mode->currentIndex(), 2);
+  EXPECT_TRUE(label->text().contains("50..100 mm is 48..103 px")) << label->text().toStdString();
+  EXPECT_EQ(widget.workingDistanceText(), label->text());
+
+  // An inverted working distance is refused and named.
+  realBox(widget, "workingDistanceFarMm")->setValue(40);
+  EXPECT_FLOAT_EQ(widget.parameters().workingDistanceFarMm, 100.0f);
+  EXPECT_TRUE(widget.errorText().contains("workingDistanceFarMm")) << widget.errorText().toStdString();
+  realBox(widget, "workingDistanceFarMm")->setValue(100);
+
+  // Typing a disparity fixes the range; the combo box goes back to automatic.
+  intBox(widget, "maxDisparityPx")->setValue(70);
+  EXPECT_EQ(widget.parameters().disparityRangeMode, tissuemosaic::DisparityRangeMode::Fixed);
+  EXPECT_EQ(mode->currentIndex(), 1);
+  mode->setCurrentIndex(0);
+  EXPECT_EQ(widget.parameters().disparityRangeMode, tissuemosaic::DisparityRangeMode::Automatic);
+  EXPECT_EQ(widget.parameters().maxDisparityPx, 70) << "the fixed range is kept for later";
+  EXPECT_TRUE(label->text().contains("followed during the scan")) << label->text().toStdString();
+  widget.setRigGeometry(nullptr);
+  EXPECT_TRUE(label->text().contains("once the calibration is known")) << label->text().toStdString();
 }

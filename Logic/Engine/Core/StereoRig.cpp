@@ -1,6 +1,7 @@
 #include "StereoRig.h"
 
 #include "Error.h"
+#include "IO/Calibration/CalibrationFile.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -22,74 +23,6 @@ std::string shapeText(const cv::Mat& m) {
 
 bool allFinite(const cv::Mat& m) { return cv::checkRange(m, true, nullptr, -1e300, 1e300); }
 
-/// A number sequence ([a, b, c] or [[a, b], [c, d]]) as a CV_64F matrix: hand-written files and MATLAB exports
-/// often hold plain values instead of opencv-matrix nodes.
-cv::Mat readSequence(const cv::FileNode& node) {
-  std::vector<std::vector<double>> rows;
-  bool nested = node.size() > 0 && (*node.begin()).isSeq();
-  for (const cv::FileNode& item : node) {
-    std::vector<double> row;
-    if (nested) {
-      if (!item.isSeq()) return {};
-      for (const cv::FileNode& value : item) {
-        if (!value.isReal() && !value.isInt()) return {};
-        row.push_back(static_cast<double>(value));
-      }
-    } else {
-      if (!item.isReal() && !item.isInt()) return {};
-      row.push_back(static_cast<double>(item));
-    }
-    rows.push_back(row);
-  }
-  if (rows.empty()) return {};
-  if (!nested) {  // a flat list is one row
-    cv::Mat m(1, static_cast<int>(rows.size()), CV_64F);
-    for (std::size_t i = 0; i < rows.size(); ++i) m.at<double>(0, static_cast<int>(i)) = rows[i][0];
-    return m;
-  }
-  cv::Mat m(static_cast<int>(rows.size()), static_cast<int>(rows[0].size()), CV_64F);
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    if (rows[r].size() != rows[0].size()) return {};
-    for (std::size_t c = 0; c < rows[r].size(); ++c) m.at<double>(static_cast<int>(r), static_cast<int>(c)) = rows[r][c];
-  }
-  return m;
-}
-
-cv::Mat readMatrix(const cv::FileStorage& storage, const std::string& key) {
-  cv::FileNode node = storage[key];
-  require(!node.empty() && !node.isNone(), "key '" + key + "' is missing");
-  cv::Mat m;
-  if (node.isSeq()) {
-    m = readSequence(node);
-  } else if (node.isMap()) {
-    try {
-      node >> m;
-    } catch (const cv::Exception&) {
-      m.release();
-    }
-  }
-  require(!m.empty() && m.channels() == 1, "key '" + key + "' is not a matrix of numbers");
-  m.convertTo(m, CV_64F);
-  return m;
-}
-
-cv::Size readImageSize(const cv::FileStorage& storage) {
-  cv::FileNode sizeNode = storage["imageSize"];
-  if (!sizeNode.empty() && !sizeNode.isNone()) {
-    cv::Mat values = sizeNode.isSeq() ? readSequence(sizeNode) : readMatrix(storage, "imageSize");
-    require(values.total() == 2, "key 'imageSize' must be [width, height]");
-    values = values.reshape(1, 1);
-    double width = values.at<double>(0), height = values.at<double>(1);
-    require(width == std::floor(width) && height == std::floor(height), "key 'imageSize' must hold whole pixels");
-    return {static_cast<int>(width), static_cast<int>(height)};
-  }
-  cv::FileNode widthNode = storage["image_width"], heightNode = storage["image_height"];
-  require(!widthNode.empty() && !heightNode.empty(),
-          "the image size is missing: give 'imageSize' as [width, height] or 'image_width' and 'image_height'");
-  require(widthNode.isInt() && heightNode.isInt(), "keys 'image_width' and 'image_height' must be integers");
-  return {static_cast<int>(widthNode), static_cast<int>(heightNode)};
-}
-
 void validateCameraMatrix(const cv::Mat& K, const std::string& name) {
   require(K.rows == 3 && K.cols == 3 && K.channels() == 1, name + " must be a 3x3 camera matrix, not " + shapeText(K));
   require(K.type() == CV_64F, name + " must be CV_64F");
@@ -99,6 +32,25 @@ void validateCameraMatrix(const cv::Mat& K, const std::string& name) {
   require(K.at<double>(1, 0) == 0 && K.at<double>(2, 0) == 0 && K.at<double>(2, 1) == 0 &&
               std::abs(K.at<double>(2, 2) - 1) < 1e-12,
           name + " is not a camera matrix: its last row must be [0 0 1] and K(1,0) must be 0");
+}
+
+void validateGivenRectification(const GivenRectification& given) {
+  for (const auto& [m, name] : {std::pair{given.R1, "R1"}, {given.R2, "R2"}}) {
+    require(m.rows == 3 && m.cols == 3 && m.type() == CV_64F && allFinite(m),
+            std::string("the rectification rotation ") + name + " must be a finite 3x3 CV_64F matrix");
+    require(cv::norm(m.t() * m, cv::Mat::eye(3, 3, CV_64F), cv::NORM_INF) < 1e-4 && cv::determinant(m) > 0,
+            std::string("the rectification matrix ") + name + " is not a rotation");
+  }
+  for (const auto& [m, name] : {std::pair{given.P1, "P1"}, {given.P2, "P2"}}) {
+    require(m.rows == 3 && m.cols == 4 && m.type() == CV_64F && allFinite(m),
+            std::string("the rectified projection ") + name + " must be a finite 3x4 CV_64F matrix");
+    require(m.at<double>(0, 0) > 0 && m.at<double>(2, 2) == 1,
+            std::string("the rectified projection ") + name + " is not [f 0 cx Tx; 0 f cy 0; 0 0 1 0]");
+  }
+  require(given.P1.at<double>(0, 0) == given.P2.at<double>(0, 0) && given.P1.at<double>(1, 2) == given.P2.at<double>(1, 2),
+          "the rectified projections P1 and P2 must share the focal length and cy");
+  require(given.P1.at<double>(0, 3) == 0 && given.P2.at<double>(1, 3) == 0,
+          "the rectified projections describe no side-by-side pair (P1 needs Tx = 0, P2 Ty = 0)");
 }
 
 void validateDistortion(const cv::Mat& D, const std::string& name) {
@@ -112,41 +64,26 @@ void validateDistortion(const cv::Mat& D, const std::string& name) {
 }  // namespace
 
 StereoCalibration StereoCalibration::read(const std::string& path) {
-  const std::string context = "cannot read stereo calibration '" + path + "': ";
-  std::error_code ec;
-  require(std::filesystem::is_regular_file(path, ec), context + "file does not exist");
-  cv::FileStorage storage;
-  try {
-    storage.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception& e) {
-    throw Error(context + "not a valid OpenCV YAML/XML file (" + e.err + ")");
-  }
-  require(storage.isOpened(), context + "not a valid OpenCV YAML/XML file");
+  return readCalibrationFiles(CalibrationFiles{path, "", ""}).calibration;
+}
 
-  StereoCalibration calibration;
-  try {
-    calibration.K1 = readMatrix(storage, "K1");
-    calibration.D1 = readMatrix(storage, "D1");
-    calibration.K2 = readMatrix(storage, "K2");
-    calibration.D2 = readMatrix(storage, "D2");
-    calibration.R = readMatrix(storage, "R");
-    calibration.T = readMatrix(storage, "T");
-    calibration.imageSize = readImageSize(storage);
-    // Accept column distortion vectors and a row translation; store the documented shapes.
-    if (calibration.D1.cols == 1) calibration.D1 = calibration.D1.t();
-    if (calibration.D2.cols == 1) calibration.D2 = calibration.D2.t();
-    if (calibration.T.rows == 1 && calibration.T.cols == 3) calibration.T = calibration.T.t();
-    calibration.validate();
-  } catch (const Error& e) {
-    throw Error(context + e.what());
-  } catch (const cv::Exception& e) {
-    throw Error(context + e.err);
+void StereoCalibration::adoptFrameSize(const cv::Size& frameSize, const std::string& framesDescription) {
+  if (imageSize.empty()) {
+    imageSize = frameSize;
+    return;
   }
-  return calibration;
+  require(imageSize == frameSize, "the calibration is for " + std::to_string(imageSize.width) + "x" +
+                                      std::to_string(imageSize.height) + " but the frames of " + framesDescription +
+                                      " are " + std::to_string(frameSize.width) + "x" +
+                                      std::to_string(frameSize.height));
 }
 
 void StereoCalibration::write(const std::string& path) const {
   validate();
+  require(rectification.empty(), "cannot write stereo calibration '" + path +
+                                     "': it has its own rectification (ROS camera_info), which the stereoCalibrate "
+                                     "layout cannot hold");
+  require(!imageSize.empty(), "cannot write stereo calibration '" + path + "': its image size is not known");
   cv::FileStorage storage;
   try {
     storage.open(path, cv::FileStorage::WRITE);
@@ -174,15 +111,31 @@ void StereoCalibration::validate() const {
   require(T.rows == 3 && T.cols == 1 && T.channels() == 1, "T must be a 3x1 translation, not " + shapeText(T));
   require(T.type() == CV_64F && allFinite(T), "T must be CV_64F with finite values");
   require(cv::norm(T) > 1e-9, "T is zero: the baseline between the cameras must be positive");
-  require(imageSize.width > 0 && imageSize.height > 0, "the image size must be positive");
+  require(imageSize.empty() || (imageSize.width > 0 && imageSize.height > 0), "the image size must be positive");
+  if (!rectification.empty()) validateGivenRectification(rectification);
 }
 
 StereoRectifier::StereoRectifier(const StereoCalibration& calibration, RectificationMode mode)
     : calibration_(calibration) {
   calibration.validate();
-  int flags = mode == RectificationMode::ZeroDisparityAtInfinity ? cv::CALIB_ZERO_DISPARITY : 0;
-  cv::stereoRectify(calibration.K1, calibration.D1, calibration.K2, calibration.D2, calibration.imageSize,
-                    calibration.R, calibration.T, R1_, R2_, P1_, P2_, geometry_.Q, flags, 0.0, calibration.imageSize);
+  require(!calibration.imageSize.empty(),
+          "the calibration file gives no image size: it is taken from the frames (open the frames first)");
+  const GivenRectification& given = calibration.rectification;
+  if (given.empty()) {
+    int flags = mode == RectificationMode::ZeroDisparityAtInfinity ? cv::CALIB_ZERO_DISPARITY : 0;
+    cv::stereoRectify(calibration.K1, calibration.D1, calibration.K2, calibration.D2, calibration.imageSize,
+                      calibration.R, calibration.T, R1_, R2_, P1_, P2_, geometry_.Q, flags, 0.0,
+                      calibration.imageSize);
+  } else {  // the tool's own rectification; Q as cv::stereoRectify makes it (Tx = P2(0,3) / f = -baseline)
+    R1_ = given.R1.clone();
+    R2_ = given.R2.clone();
+    P1_ = given.P1.clone();
+    P2_ = given.P2.clone();
+    const double f = P1_.at<double>(0, 0), tx = P2_.at<double>(0, 3) / f;
+    const double cx1 = P1_.at<double>(0, 2), cx2 = P2_.at<double>(0, 2);
+    geometry_.Q = (cv::Mat_<double>(4, 4) << 1, 0, 0, -cx1, 0, 1, 0, -P1_.at<double>(1, 2), 0, 0, 0, f, 0, 0,
+                   -1.0 / tx, (cx1 - cx2) / tx);
+  }
   // stereoRectify makes a vertical pair when |T_y| > |T_x|; the matchers search along rows only.
   require(P2_.at<double>(1, 3) == 0,
           "the stereo calibration describes a vertical (top-bottom) rig; only side-by-side rigs are supported");

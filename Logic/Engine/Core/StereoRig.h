@@ -11,19 +11,33 @@
 
 namespace tissuemosaic {
 
+/// The rectification a calibration tool defined itself (ROS camera_info: each eye's R and P), kept so that frames
+/// rectified by that tool match exactly. Empty (the usual case): StereoRectifier computes it with cv::stereoRectify.
+struct GivenRectification {
+  cv::Mat R1, R2;  ///< CV_64F 3x3: unrectified to rectified left (right) camera frame
+  cv::Mat P1, P2;  ///< CV_64F 3x4 rectified projections in the rectified left frame, P2's translation in mm
+  bool empty() const { return P1.empty(); }
+};
+
 /// What cv::stereoCalibrate produces, plus the image size: K1 D1 (left), K2 D2 (right), and R, T taking points
 /// from the left camera frame to the right camera frame (X_right = R * X_left + T), T in millimetres.
 struct StereoCalibration {
   cv::Mat K1, D1, K2, D2, R, T;  ///< CV_64F: 3x3, 1xN (N in 4,5,8,12,14), 3x3, 1xN, 3x3, 3x1
-  cv::Size imageSize;            ///< width x height in pixels of the unrectified images
+  cv::Size imageSize;            ///< width x height in pixels of the unrectified images; empty: not in the file
+  GivenRectification rectification;
 
-  /// Reads OpenCV YAML or XML (cv::FileStorage) with keys K1 D1 K2 D2 R T and image size as "imageSize"
-  /// ([width, height]) or "image_width" + "image_height". Throws Error saying which key is missing or malformed.
+  /// Reads any layout IO/Calibration/CalibrationFile.h understands (one file; see readCalibrationFiles for the
+  /// layouts of two files). Throws Error saying which key is missing or malformed, or listing the layouts.
   static StereoCalibration read(const std::string& path);
-  /// Writes the same keys (imageSize as [width, height]).
+  /// Writes cv::stereoCalibrate's keys K1 D1 K2 D2 R T and imageSize as [width, height]. Throws Error for a
+  /// calibration with its own rectification (that layout cannot hold it) or without an image size.
   void write(const std::string& path) const;
-  /// Throws Error when a matrix has the wrong shape, K is not a camera matrix, R is not a rotation, etc.
+  /// Throws Error when a matrix has the wrong shape, K is not a camera matrix, R is not a rotation, etc. An empty
+  /// image size passes (the frames give it); a negative one does not.
   void validate() const;
+  /// The frames' size when the file gave none; Error "the calibration is for WxH but the frames of WHAT are WxH"
+  /// when it gave another.
+  void adoptFrameSize(const cv::Size& frameSize, const std::string& framesDescription);
 };
 
 /// The rectified pair's geometry: both rectified cameras share focalPx and cy; doffsPx = cx_right - cx_left.
@@ -47,8 +61,9 @@ struct RectifiedGeometry {
 /// infinity has disparity -doffsPx. Depth, Q and point clouds are consistent in both modes.
 enum class RectificationMode { ZeroDisparityAtInfinity, KeepPrincipalPoints };
 
-/// Undistorts and rectifies unrectified left/right images (cv::stereoRectify with alpha 0, then remap).
-/// The rectified images have the calibration's image size. Only side-by-side rigs with the right camera to the
+/// Undistorts and rectifies unrectified left/right images (cv::stereoRectify with alpha 0, or the calibration's
+/// given rectification, then remap). The rectified images have the calibration's image size, which must be known
+/// (Error otherwise: see StereoCalibration::adoptFrameSize). Only side-by-side rigs with the right camera to the
 /// right of the left one are accepted (Error otherwise: swapped or vertical rigs).
 class StereoRectifier {
 public:

@@ -3,6 +3,7 @@
 #include "Core/Error.h"
 #include "Core/PixelFormat.h"
 #include "IO/ImageFile.h"
+#include "IO/LiveVideoCapture.h"
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -119,26 +120,34 @@ private:
   int index_ = 0;
 };
 
-class SideBySideSource : public StereoFrameSource {
+class PackedVideoSource : public StereoFrameSource {
 public:
-  explicit SideBySideSource(const std::string& video) : capture_(openVideo(video)), description_("side-by-side video '" + video + "'") {
-    const int width = static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_WIDTH));
-    const int height = static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_HEIGHT));
-    require(width > 0 && width % 2 == 0, "side-by-side video '" + video + "' is " + std::to_string(width) +
-                                             " pixels wide: expected an even width (left eye | right eye)");
-    size_ = cv::Size(width / 2, height);
+  PackedVideoSource(const std::string& video, VideoLayout layout)
+      : capture_(openVideo(video)), layout_(layout),
+        description_(std::string(layout == VideoLayout::SideBySide ? "side-by-side" : videoLayoutName(layout)) +
+                     " video '" + video + "'") {
+    const cv::Size packed(static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_WIDTH)),
+                          static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_HEIGHT)));
+    try {
+      size_ = eyeSizeOf(packed, layout);
+    } catch (const Error& e) {
+      throw Error("video '" + video + "': " + e.what());
+    }
+    packedSize_ = packed;
     const int frames = static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_COUNT));
     frames_ = frames > 0 ? frames : -1;
   }
   bool next(StereoFrame& frame) override {
-    cv::Mat both;
-    if (!capture_.read(both) || both.empty()) return false;
-    require(both.cols == 2 * size_.width && both.rows == size_.height,
-            "video frame " + std::to_string(index_) + " has an unexpected size " + sizeText(both.size()));
+    cv::Mat packed;
+    if (!capture_.read(packed) || packed.empty()) return false;
+    require(packed.size() == packedSize_,
+            "video frame " + std::to_string(index_) + " has an unexpected size " + sizeText(packed.size()));
     frame.index = index_;
     frame.timeS = frameTimeS(capture_, index_);
-    frame.left = toBgr8(both(cv::Rect(0, 0, size_.width, size_.height)).clone(), "video frame");
-    frame.right = toBgr8(both(cv::Rect(size_.width, 0, size_.width, size_.height)).clone(), "video frame");
+    cv::Mat left, right;
+    unpackStereoFrame(packed, layout_, left, right);
+    frame.left = toBgr8(left, "video frame");
+    frame.right = toBgr8(right, "video frame");
     ++index_;
     return true;
   }
@@ -148,11 +157,80 @@ public:
 
 private:
   cv::VideoCapture capture_;
+  VideoLayout layout_;
   std::string description_;
-  cv::Size size_;
+  cv::Size size_, packedSize_;
   int frames_ = -1;
   int index_ = 0;
 };
+
+/// One live 3D video: the newest packed frame each time.
+class LivePackedSource : public StereoFrameSource {
+public:
+  LivePackedSource(const std::string& input, VideoLayout layout) : capture_(input), layout_(layout) {
+    size_ = eyeSizeOf(capture_.frameSize(), layout);
+  }
+  bool next(StereoFrame& frame) override {
+    cv::Mat packed;
+    if (!capture_.nextNewest(packed, frame.timeS)) return false;
+    require(packed.size() == capture_.frameSize(), capture_.description() + " changed its frame size to " +
+                                                       sizeText(packed.size()));
+    cv::Mat left, right;
+    unpackStereoFrame(packed, layout_, left, right);
+    frame.index = index_++;
+    frame.left = toBgr8(left, "live frame");
+    frame.right = toBgr8(right, "live frame");
+    return true;
+  }
+  int frameCount() const override { return -1; }
+  cv::Size frameSize() const override { return size_; }
+  std::string description() const override {
+    return std::string(videoLayoutName(layout_)) + " live video from " + capture_.description();
+  }
+  bool isLive() const override { return true; }
+  long long droppedFrames() const override { return capture_.droppedFrames(); }
+  void interrupt() override { capture_.interrupt(); }
+
+private:
+  LiveVideoCapture capture_;
+  VideoLayout layout_;
+  cv::Size size_;
+  int index_ = 0;
+};
+
+/// Two live inputs: the newest frame of each (both eyes' captures are assumed synchronised, as a stereo capture
+/// card's two channels are); the pair's time is the left frame's.
+class LivePairSource : public StereoFrameSource {
+public:
+  LivePairSource(const std::string& left, const std::string& right) : left_(left), right_(right) {
+    require(left_.frameSize() == right_.frameSize(), "the left live video is " + sizeText(left_.frameSize()) +
+                                                         " but the right one is " + sizeText(right_.frameSize()));
+  }
+  bool next(StereoFrame& frame) override {
+    double rightTimeS = 0;
+    cv::Mat left, right;
+    if (!left_.nextNewest(left, frame.timeS) || !right_.nextNewest(right, rightTimeS)) return false;
+    frame.index = index_++;
+    frame.left = toBgr8(left, "live frame");
+    frame.right = toBgr8(right, "live frame");
+    return true;
+  }
+  int frameCount() const override { return -1; }
+  cv::Size frameSize() const override { return left_.frameSize(); }
+  std::string description() const override { return "live videos " + left_.description() + " and " + right_.description(); }
+  bool isLive() const override { return true; }
+  long long droppedFrames() const override { return std::max(left_.droppedFrames(), right_.droppedFrames()); }
+  void interrupt() override {
+    left_.interrupt();
+    right_.interrupt();
+  }
+
+private:
+  LiveVideoCapture left_, right_;
+  int index_ = 0;
+};
+
+bool isLiveInput(const std::string& video) { return videoInputKind(video) != VideoInputKind::File; }
 
 }  // namespace
 
@@ -163,11 +241,19 @@ std::unique_ptr<StereoFrameSource> StereoFrameSource::openFrameFolders(const std
 
 std::unique_ptr<StereoFrameSource> StereoFrameSource::openVideoPair(const std::string& leftVideo,
                                                                     const std::string& rightVideo) {
+  require(isLiveInput(leftVideo) == isLiveInput(rightVideo),
+          "the left and right videos must both be files or both be live (device or pipeline)");
+  if (isLiveInput(leftVideo)) return std::make_unique<LivePairSource>(leftVideo, rightVideo);
   return std::make_unique<VideoPairSource>(leftVideo, rightVideo);
 }
 
+std::unique_ptr<StereoFrameSource> StereoFrameSource::openStereoVideo(const std::string& video, VideoLayout layout) {
+  if (isLiveInput(video)) return std::make_unique<LivePackedSource>(video, layout);
+  return std::make_unique<PackedVideoSource>(video, layout);
+}
+
 std::unique_ptr<StereoFrameSource> StereoFrameSource::openSideBySideVideo(const std::string& video) {
-  return std::make_unique<SideBySideSource>(video);
+  return openStereoVideo(video, VideoLayout::SideBySide);
 }
 
 }  // namespace tissuemosaic

@@ -45,13 +45,16 @@ ReconstructionParameters ReconstructionParameters::readFile(const std::string& p
   try {
     storage.open(path, cv::FileStorage::READ);
   } catch (const cv::Exception& error) {
-    throw Error("cannot parse parameters file '" + path + "': " + error.what());
+    // error.err, not what(): OpenCV's source file and line mean nothing to a user.
+    throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file (" + error.err + ")");
   }
-  require(storage.isOpened(), "cannot open parameters file '" + path + "'");
+  require(storage.isOpened(), "cannot read parameters file '" + path + "': not a valid YAML/XML file");
   try {
     return readStorage(storage);
   } catch (const Error& error) {
     throw Error("parameters file '" + path + "': " + error.what());
+  } catch (const cv::Exception& error) {
+    throw Error("parameters file '" + path + "': a value has the wrong type (" + error.err + ")");
   }
 }
 
@@ -60,10 +63,14 @@ ReconstructionParameters ReconstructionParameters::parse(const std::string& yaml
   try {
     storage.open(yamlText, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   } catch (const cv::Exception& error) {
-    throw Error(std::string("cannot parse parameters: ") + error.what());
+    throw Error("cannot parse parameters: not valid YAML/XML (" + error.err + ")");
   }
   require(storage.isOpened(), "cannot parse parameters");
-  return readStorage(storage);
+  try {
+    return readStorage(storage);
+  } catch (const cv::Exception& error) {
+    throw Error("cannot parse parameters: a value has the wrong type (" + error.err + ")");
+  }
 }
 
 void ReconstructionParameters::writeFile(const std::string& path) const {
@@ -71,7 +78,7 @@ void ReconstructionParameters::writeFile(const std::string& path) const {
   try {
     storage.open(path, cv::FileStorage::WRITE);
   } catch (const cv::Exception& error) {
-    throw Error("cannot write parameters file '" + path + "': " + error.what());
+    throw Error("cannot write parameters file '" + path + "': " + error.err);
   }
   require(storage.isOpened(), "cannot write parameters file '" + path + "'");
   storage << "pipeline" << "{" << "extractor"

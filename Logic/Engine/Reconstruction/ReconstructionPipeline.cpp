@@ -59,6 +59,7 @@ struct ReconstructionPipeline::Impl {
   ReconstructionParameters parameters;
   Device device;
   StereoMatcher matcher;
+  DisparityRangeFollower disparityRange;  ///< the matcher's range, frame by frame
   std::shared_ptr<SubPixelMatcher> subPixel;  ///< the tracker's and the refiner's
   FrameTracker tracker;
   KeyFrameRefiner refiner;
@@ -74,7 +75,8 @@ struct ReconstructionPipeline::Impl {
   Impl(const RectifiedGeometry& g, std::optional<StereoRectifier> r, const ReconstructionParameters& p, Device d,
        const Eigen::Matrix4d& T_world_start)
       : geometry(g), rectifier(std::move(r)), parameters(p), device(d), matcher(d, p.stereo),
-        subPixel(sharedSubPixelMatcher(p, d)), tracker(g, trackerOptions(p, d, subPixel), T_world_start),
+        disparityRange(p.stereo, g, d), subPixel(sharedSubPixelMatcher(p, d)),
+        tracker(g, trackerOptions(p, d, subPixel), T_world_start),
         refiner(g, p.refinement, p.tracking, p.features, d, subPixel), relocaliser(g, p.tracking, p.features, d),
         fusion(g, p.fusion, d) {}
 
@@ -135,6 +137,24 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     result.rightRectified = rightBgr;
   }
   result.timesMs.videoReading = millisecondsSince(start);
+
+  // The frame's disparity range is set before its dense matching starts and stays for the whole frame. The automatic
+  // range measures the first frame now; every later frame's sparse matches are measured beside the stereo and the
+  // tracking, and decide the next frame's range.
+  const bool firstRange = !s.disparityRange.history().current;
+  const auto rangeStart = Clock::now();
+  result.disparityRange = s.disparityRange.beforeFrame(result.leftRectified, result.rightRectified);
+  s.matcher.setDisparityRange(result.disparityRange);
+  if (s.disparityRange.automatic() && firstRange) result.disparityRangeMs = millisecondsSince(rangeStart);
+  std::optional<PendingResult<DisparitySample>> rangeSample;
+  if (s.disparityRange.automatic() && !firstRange) {
+    rangeSample.emplace(s.modelWorker.run([&] {
+      const auto measureStart = Clock::now();
+      DisparitySample sample = s.disparityRange.measure(result.leftRectified, result.rightRectified);
+      result.disparityRangeMs = millisecondsSince(measureStart);
+      return sample;
+    }));
+  }
 
   // Stereo runs beside the tracking: matching and the pose need only the reference frame's depth, and the tracker
   // asks for this frame's disparity at its end, to lift the features for the frames after it.
@@ -229,6 +249,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     result.pointsRemoved = s.fusion.updateMotion(s.matcher.lastDisparity(), result.T_world_camera, agreement);
     result.timesMs.agreement += millisecondsSince(motionStart);
   }
+  if (rangeSample) s.disparityRange.afterFrame(rangeSample->get());  // before the model worker's key-frame task
 
   if (result.tracked && !result.keyFrame) {
     s.refiner.addIntermediateFrame(result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera);
@@ -322,5 +343,9 @@ ModelPoints ReconstructionPipeline::modelSnapshot() const { return impl_->fusion
 std::size_t ReconstructionPipeline::modelPointCount() const { return impl_->fusion.pointCount(); }
 std::size_t ReconstructionPipeline::peakDeviceBytes() const { return impl_->peakDeviceBytes; }
 const std::string& ReconstructionPipeline::lastRefinementMessage() const { return impl_->lastRefinementMessage; }
+const DisparityRangeHistory& ReconstructionPipeline::disparityRangeHistory() const {
+  return impl_->disparityRange.history();
+}
+std::string ReconstructionPipeline::disparityRangeDescription() const { return impl_->disparityRange.description(); }
 
 }  // namespace tissuemosaic

@@ -15,6 +15,7 @@
 #include "Fusion/ModelAgreement.h"
 #include "Fusion/PointModel.h"
 #include "Reconstruction/ReconstructionParameters.h"
+#include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/StereoMatcher.h"
 
 #include <Eigen/Core>
@@ -92,6 +93,10 @@ struct FrameResult {
   TrackingPartsMs trackingPartsMs;
   cv::Mat leftRectified, rightRectified;  ///< 8-bit BGR
   cv::Mat disparityPx;                    ///< CV_32F, NaN = none
+  DisparityRange disparityRange;          ///< the range this frame was matched over
+  /// Automatic range: milliseconds of the sparse left-right matching (the first frame's before its stereo, on the
+  /// calling thread; later frames' beside the stereo and the tracking, for the next frame's range). 0 otherwise.
+  double disparityRangeMs = 0;
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
@@ -116,7 +121,9 @@ public:
   ReconstructionPipeline& operator=(const ReconstructionPipeline&) = delete;
 
   /// Processes the next stereo frame (8-bit grey or BGR, both the rig's size). timeS: its time stamp (TUM output).
-  /// Throws Error only for misuse (empty or mismatched frames); lost tracking is reported in the result.
+  /// Throws Error for misuse (empty or mismatched frames), and, with the automatic disparity range, when the first
+  /// frame has too few left-right feature matches to choose it (the message says what was found); lost tracking is
+  /// reported in the result.
   FrameResult process(const cv::Mat& left, const cv::Mat& right, double timeS);
 
   const RectifiedGeometry& geometry() const;
@@ -130,6 +137,10 @@ public:
   std::size_t modelPointCount() const;
   /// Peak device memory in use, sampled after every frame (cudaMemGetInfo: includes the CUDA context; 0 on the CPU).
   std::size_t peakDeviceBytes() const;
+  /// The disparity ranges used so far (StereoParameters::disparityRangeMode; DisparityRangeFollower.h).
+  const DisparityRangeHistory& disparityRangeHistory() const;
+  /// One line, e.g. "auto: 64..95 px (first frame: 412 left-right matches)".
+  std::string disparityRangeDescription() const;
   /// What the last key frame's refinement did (for logs and the GUI).
   const std::string& lastRefinementMessage() const;
 

@@ -54,8 +54,13 @@ std::vector<double> TimingTable::medians(bool keyFrames) const {
 
 std::vector<double> TimingTable::means(bool keyFrames) const {
   std::vector<double> result;
-  for (const auto& values : byStage(keyFrames ? keyFrameTimes_ : otherFrameTimes_))
-    result.push_back(values.empty() ? 0.0 : std::accumulate(values.begin(), values.end(), 0.0) / values.size());
+  for (const auto& values : byStage(keyFrames ? keyFrameTimes_ : otherFrameTimes_)) result.push_back(mean(values));
+  return result;
+}
+
+std::vector<double> TimingTable::percentiles99(bool keyFrames) const {
+  std::vector<double> result;
+  for (const auto& values : byStage(keyFrames ? keyFrameTimes_ : otherFrameTimes_)) result.push_back(percentile99(values));
   return result;
 }
 
@@ -63,16 +68,16 @@ std::string TimingTable::format() const {
   static const std::vector<std::string> labels = {"video reading", "stereo matching", "ORB matching and voting",
                                                   "DynamicR1PPnP", "model agreement", "refinement", "TSDF",
                                                   "total"};
-  const std::vector<double> keyMedian = medians(true), keyMean = means(true);
-  const std::vector<double> otherMedian = medians(false), otherMean = means(false);
+  const std::vector<double> keyMedian = medians(true), keyMean = means(true), keyP99 = percentiles99(true);
+  const std::vector<double> otherMedian = medians(false), otherMean = means(false), otherP99 = percentiles99(false);
   std::ostringstream out;
-  out << cv::format("%-26s %22s %22s\n", "milliseconds",
+  out << cv::format("%-26s %29s %29s\n", "milliseconds",
                     cv::format("key frames (%d)", keyFrames()).c_str(),
                     cv::format("other frames (%d)", otherFrames()).c_str());
-  out << cv::format("%-26s %10s %11s %10s %11s\n", "", "median", "mean", "median", "mean");
+  out << cv::format("%-26s %9s %9s %9s %9s %9s %9s\n", "", "median", "mean", "p99", "median", "mean", "p99");
   for (std::size_t i = 0; i < labels.size(); ++i) {
-    out << cv::format("%-26s %10.2f %11.2f %10.2f %11.2f\n", labels[i].c_str(), keyMedian[i], keyMean[i],
-                      otherMedian[i], otherMean[i]);
+    out << cv::format("%-26s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f\n", labels[i].c_str(), keyMedian[i], keyMean[i],
+                      keyP99[i], otherMedian[i], otherMean[i], otherP99[i]);
   }
   return out.str();
 }
@@ -81,8 +86,9 @@ std::string TimingTable::toJson() const {
   const std::vector<std::string>& names = stageNames();
   std::ostringstream out;
   out << "{\"key_frames\": {\"count\": " << keyFrames() << ", \"median_ms\": " << jsonGroup(names, medians(true))
-      << ", \"mean_ms\": " << jsonGroup(names, means(true)) << "}, \"other_frames\": {\"count\": " << otherFrames()
-      << ", \"median_ms\": " << jsonGroup(names, medians(false)) << ", \"mean_ms\": " << jsonGroup(names, means(false))
+      << ", \"mean_ms\": " << jsonGroup(names, means(true)) << ", \"p99_ms\": " << jsonGroup(names, percentiles99(true))
+      << "}, \"other_frames\": {\"count\": " << otherFrames() << ", \"median_ms\": " << jsonGroup(names, medians(false))
+      << ", \"mean_ms\": " << jsonGroup(names, means(false)) << ", \"p99_ms\": " << jsonGroup(names, percentiles99(false))
       << "}}";
   return out.str();
 }

@@ -24,10 +24,11 @@ public:
   /// stageNames() order; zeros when there are none.
   std::vector<double> medians(bool keyFrames) const;
   std::vector<double> means(bool keyFrames) const;
+  std::vector<double> percentiles99(bool keyFrames) const;  ///< Statistics.h percentile99
 
-  /// A plain-text table: one row per stage, columns key frame median / mean, other frame median / mean.
+  /// A plain-text table: one row per stage, columns key frame median / mean / p99, other frame median / mean / p99.
   std::string format() const;
-  /// {"key_frames": {"count": n, "median_ms": {...}, "mean_ms": {...}}, "other_frames": {...}} : one JSON object.
+  /// {"key_frames": {"count": n, "median_ms": {...}, "mean_ms": {...}, "p99_ms": {...}}, "other_frames": {...}}.
   std::string toJson() const;
 
 private:

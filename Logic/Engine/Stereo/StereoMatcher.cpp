@@ -83,6 +83,18 @@ StereoMatcher::StereoMatcher(Device device, const StereoParameters& parameters) 
 StereoMatcher::~StereoMatcher() = default;
 
 Device StereoMatcher::device() const { return impl_->device; }
+
+void StereoMatcher::setDisparityRange(const DisparityRange& range) {
+  StereoParameters changed = impl_->parameters;
+  changed.minDisparityPx = range.minPx;
+  changed.maxDisparityPx = range.maxPx;
+  changed.validate();
+  impl_->parameters = changed;  // a new count replaces the workspace at the next computeDisparity
+}
+
+DisparityRange StereoMatcher::disparityRange() const {
+  return {impl_->parameters.minDisparityPx, impl_->parameters.maxDisparityPx};
+}
 const StereoParameters& StereoMatcher::parameters() const { return impl_->parameters; }
 
 cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
@@ -105,8 +117,9 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
               ") are smaller than the " + (adCensus ? "census" : "ZNCC") + " window (" +
               std::to_string(minimumWidth) + "x" + std::to_string(minimumHeight) + " px)");
   auto& workspace = impl_->workspace;
-  if (!workspace || workspace->width != leftRectified.cols || workspace->height != leftRectified.rows) {
-    // The parameters (method, range) are the matcher's for its lifetime; only the image size can change.
+  if (!workspace || workspace->width != leftRectified.cols || workspace->height != leftRectified.rows ||
+      workspace->disparityCount != p.disparityCount()) {
+    // The method is the matcher's for its lifetime; the image size and the range's count can change.
     workspace = std::make_unique<stereo::StereoWorkspace>(impl_->device, p.method, leftRectified.cols,
                                                           leftRectified.rows, p.disparityCount());
   }

@@ -4,6 +4,7 @@
 /// the improved Laplacian refinement, on the CPU or on a CUDA GPU.
 #include "Core/Device.h"
 #include "Core/Image.h"
+#include "Stereo/DisparityRange.h"
 #include "StereoParameters.h"
 
 #include <opencv2/core.hpp>
@@ -47,6 +48,12 @@ public:
   /// A thread other than the one that computed it may read it once that call has returned (it synchronises).
   /// Throws Error before the first call.
   ImageView<const float> lastDisparity() const;
+
+  /// Matches later pairs over this range (between frames: never while computeDisparity runs). Throws Error for a
+  /// range StereoParameters refuses. A range of the same count keeps the workspace (the cost volumes); another count
+  /// replaces it at the next call, as a new image size does. Cheap when the range is unchanged.
+  void setDisparityRange(const DisparityRange& range);
+  DisparityRange disparityRange() const;
 
   Device device() const;
   const StereoParameters& parameters() const;

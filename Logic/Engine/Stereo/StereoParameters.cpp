@@ -29,6 +29,21 @@ StereoMethod parseStereoMethod(const std::string& name) {
   throw Error("unknown stereo method '" + name + "' (choices: paper, ad-census)");
 }
 
+const char* disparityRangeModeName(DisparityRangeMode mode) {
+  switch (mode) {
+    case DisparityRangeMode::Fixed: return "fixed";
+    case DisparityRangeMode::WorkingDistance: return "working-distance";
+    default: return "auto";
+  }
+}
+
+DisparityRangeMode parseDisparityRangeMode(const std::string& name) {
+  if (name == "auto") return DisparityRangeMode::Automatic;
+  if (name == "fixed") return DisparityRangeMode::Fixed;
+  if (name == "working-distance") return DisparityRangeMode::WorkingDistance;
+  throw Error("unknown disparity range mode '" + name + "' (choices: auto, fixed, working-distance)");
+}
+
 void StereoParameters::validate() const {
   requireRange("minDisparityPx", minDisparityPx, -1000, 1000);
   requireRange("maxDisparityPx", maxDisparityPx, -1000, 1000);
@@ -37,6 +52,13 @@ void StereoParameters::validate() const {
                 ") < minDisparityPx (" + std::to_string(minDisparityPx) + ")");
   }
   requireRange("disparityCount", disparityCount(), 2, 1024);
+  requireRange("workingDistanceNearMm", workingDistanceNearMm, 1.0f, 10000.0f);
+  requireRange("workingDistanceFarMm", workingDistanceFarMm, 1.0f, 10000.0f);
+  if (!(workingDistanceFarMm > workingDistanceNearMm)) {
+    throw Error("stereo working distance is inverted or empty: workingDistanceFarMm (" +
+                std::to_string(workingDistanceFarMm) + ") <= workingDistanceNearMm (" +
+                std::to_string(workingDistanceNearMm) + ")");
+  }
   requireRange("znccWindowPx", znccWindowPx, 3, 19);  // exact int32 ZNCC up to 19x19
   if (znccWindowPx % 2 == 0) throw Error("stereo parameter znccWindowPx must be odd");
   requireRange("minWindowStdDev", minWindowStdDev, 0.0f, 100.0f);
@@ -81,7 +103,9 @@ void StereoParameters::validate() const {
 void StereoParameters::write(cv::FileStorage& storage) const {
   storage << "stereo" << "{";
   storage << "method" << stereoMethodName(method);
+  storage << "disparityRange" << disparityRangeModeName(disparityRangeMode);
   storage << "minDisparityPx" << minDisparityPx << "maxDisparityPx" << maxDisparityPx;
+  storage << "workingDistanceNearMm" << workingDistanceNearMm << "workingDistanceFarMm" << workingDistanceFarMm;
   storage << "znccWindowPx" << znccWindowPx << "minWindowStdDev" << minWindowStdDev;
   storage << "leftRightMaxDifferencePx" << leftRightMaxDifferencePx << "refineMaxDeviationPx" << refineMaxDeviationPx;
   storage << "holeMaxEdgeDifferencePx" << holeMaxEdgeDifferencePx;
@@ -111,6 +135,16 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
   }
   readKey(node, "minDisparityPx", p.minDisparityPx);
   readKey(node, "maxDisparityPx", p.maxDisparityPx);
+  readKey(node, "workingDistanceNearMm", p.workingDistanceNearMm);
+  readKey(node, "workingDistanceFarMm", p.workingDistanceFarMm);
+  if (!node["disparityRange"].empty()) {
+    if (!node["disparityRange"].isString()) {
+      throw Error("stereo parameter disparityRange must be a string (auto, fixed or working-distance)");
+    }
+    p.disparityRangeMode = parseDisparityRangeMode(static_cast<std::string>(node["disparityRange"]));
+  } else if (!node["minDisparityPx"].empty() || !node["maxDisparityPx"].empty()) {
+    p.disparityRangeMode = DisparityRangeMode::Fixed;  // a file that gives a range means it
+  }
   readKey(node, "znccWindowPx", p.znccWindowPx);
   readKey(node, "minWindowStdDev", p.minWindowStdDev);
   readKey(node, "leftRightMaxDifferencePx", p.leftRightMaxDifferencePx);
@@ -153,10 +187,14 @@ StereoParameters StereoParameters::readFile(const std::string& path) {
   try {
     storage.open(path, cv::FileStorage::READ);
   } catch (const cv::Exception& error) {
-    throw Error("cannot parse parameters file '" + path + "': " + error.what());
+    throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file (" + error.err + ")");
   }
-  if (!storage.isOpened()) throw Error("cannot open parameters file '" + path + "'");
-  return read(storage["stereo"]);
+  if (!storage.isOpened()) throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file");
+  try {
+    return read(storage["stereo"]);
+  } catch (const cv::Exception& error) {
+    throw Error("parameters file '" + path + "': a value has the wrong type (" + error.err + ")");
+  }
 }
 
 void StereoParameters::writeFile(const std::string& path) const {

@@ -23,12 +23,31 @@ const char* stereoMethodName(StereoMethod method);
 /// Throws Error naming the choices for anything else.
 StereoMethod parseStereoMethod(const std::string& name);
 
+/// How the disparity range is chosen (docs/STEREO.md, "Disparity range"). The matcher itself always takes
+/// minDisparityPx..maxDisparityPx; whoever runs it on a video (the pipeline, the commands, the app's logic) turns the
+/// other modes into those two numbers (Stereo/DisparityRangeEstimator.h, Stereo/DisparityRange.h).
+enum class DisparityRangeMode {
+  Automatic,        ///< from sparse feature matches of the first frames, then following the tissue (the default)
+  Fixed,            ///< minDisparityPx..maxDisparityPx as given
+  WorkingDistance,  ///< workingDistanceNearMm..FarMm through the rig: d = f B / Z - doffs
+};
+
+/// "auto", "fixed" or "working-distance".
+const char* disparityRangeModeName(DisparityRangeMode mode);
+/// Throws Error naming the choices for anything else.
+DisparityRangeMode parseDisparityRangeMode(const std::string& name);
+
 struct StereoParameters {
   StereoMethod method = StereoMethod::Paper;
 
+  /// The disparity range. Automatic by default: a surgeon knows neither disparities nor, often, the distance.
+  /// Files: key "disparityRange"; a file that gives minDisparityPx/maxDisparityPx without it means Fixed.
+  DisparityRangeMode disparityRangeMode = DisparityRangeMode::Automatic;
   // ZNCC local matching (II.A). Windows use every other pixel (a chessboard that contains the centre).
-  int minDisparityPx = -20;           ///< smallest candidate disparity (left x matches right x - d)
-  int maxDisparityPx = 80;            ///< largest candidate disparity, inclusive
+  int minDisparityPx = -20;           ///< smallest candidate disparity (left x matches right x - d); paper: -20
+  int maxDisparityPx = 80;            ///< largest candidate disparity, inclusive; paper: 80
+  float workingDistanceNearMm = 30.0f;   ///< WorkingDistance: the nearest tissue, mm from the left rectified camera
+  float workingDistanceFarMm = 150.0f;   ///< ... and the farthest
   int znccWindowPx = 11;              ///< odd window side, 3..19
   float minWindowStdDev = 1.0f;       ///< grey-level std below which a window is textureless: no estimate
 
@@ -76,6 +95,12 @@ struct StereoParameters {
   int pathEdgeGrey = 15;              ///< a grey step of this much is an edge for the penalties (tau_SO)
 
   int disparityCount() const { return maxDisparityPx - minDisparityPx + 1; }
+  /// Mode Fixed with this range (not validated here).
+  void setFixedDisparityRange(int minPx, int maxPx) {
+    disparityRangeMode = DisparityRangeMode::Fixed;
+    minDisparityPx = minPx;
+    maxDisparityPx = maxPx;
+  }
   int znccRadiusPx() const { return znccWindowPx / 2; }
 
   /// Throws Error naming the first parameter that is out of range.

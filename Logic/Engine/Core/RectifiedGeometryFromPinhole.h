@@ -1,0 +1,30 @@
+#pragma once
+/// @file RectifiedGeometryFromPinhole.h
+/// @brief The geometry of frames that are already rectified, given by their pinhole numbers instead of a
+/// calibration file (`--focal-px F --baseline-mm B [--cx-px X] [--cy-px Y] [--doffs-px D]`): cx and cy default to
+/// the image centre, and Q is cv::stereoRectify's reprojection matrix for them.
+#include "Core/Error.h"
+#include "Core/StereoRig.h"
+
+#include <cmath>
+
+namespace tissuemosaic {
+
+/// Throws Error naming the option when the focal length or the baseline is not a positive finite number.
+inline RectifiedGeometry rectifiedGeometryFromPinhole(const cv::Size& imageSize, double focalPx, double baselineMm,
+                                                      double cxPx, double cyPx, double doffsPx) {
+  require(focalPx > 0 && std::isfinite(focalPx), "--focal-px must be a positive number of pixels");
+  require(baselineMm > 0 && std::isfinite(baselineMm), "--baseline-mm must be a positive number of mm");
+  RectifiedGeometry geometry;
+  geometry.imageSize = imageSize;
+  geometry.focalPx = focalPx;
+  geometry.baselineMm = baselineMm;
+  geometry.cxLeftPx = std::isfinite(cxPx) ? cxPx : (imageSize.width - 1) / 2.0;
+  geometry.cyPx = std::isfinite(cyPx) ? cyPx : (imageSize.height - 1) / 2.0;
+  geometry.doffsPx = doffsPx;
+  geometry.Q = (cv::Mat_<double>(4, 4) << 1, 0, 0, -geometry.cxLeftPx, 0, 1, 0, -geometry.cyPx, 0, 0, 0,
+                geometry.focalPx, 0, 0, 1.0 / geometry.baselineMm, geometry.doffsPx / geometry.baselineMm);
+  return geometry;
+}
+
+}  // namespace tissuemosaic

@@ -1,0 +1,181 @@
+#include "IO/Calibration/CalibrationDocument.h"
+
+#include "Core/Error.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace tissuemosaic {
+namespace {
+
+YAML::Node numberNode(double value) {
+  // YAML's spellings, which yaml-cpp reads back; validation then names the non-finite value.
+  if (std::isnan(value)) return YAML::Node(std::string(".nan"));
+  if (std::isinf(value)) return YAML::Node(std::string(value > 0 ? ".inf" : "-.inf"));
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);  // round-trips every double
+  return YAML::Node(std::string(text));
+}
+
+bool isOpenCvMatrix(const cv::FileNode& node) {
+  return node.isMap() && !node["rows"].empty() && !node["cols"].empty() && !node["dt"].empty() &&
+         !node["data"].empty();
+}
+
+/// FileStorage's tree as a YAML tree; OpenCV matrices (any dt) become lists of rows.
+YAML::Node fromFileNode(const cv::FileNode& node) {
+  if (isOpenCvMatrix(node)) {
+    cv::Mat m;
+    node >> m;
+    if (m.channels() != 1) return YAML::Node(std::string("<matrix with channels>"));
+    m.convertTo(m, CV_64F);
+    YAML::Node rows(YAML::NodeType::Sequence);
+    for (int r = 0; r < m.rows; ++r) {
+      YAML::Node row(YAML::NodeType::Sequence);
+      for (int c = 0; c < m.cols; ++c) row.push_back(numberNode(m.at<double>(r, c)));
+      rows.push_back(row);
+    }
+    return rows;
+  }
+  if (node.isMap()) {
+    YAML::Node map(YAML::NodeType::Map);
+    for (const cv::FileNode& child : node) map[child.name()] = fromFileNode(child);
+    return map;
+  }
+  if (node.isSeq()) {
+    YAML::Node sequence(YAML::NodeType::Sequence);
+    for (const cv::FileNode& child : node) sequence.push_back(fromFileNode(child));
+    return sequence;
+  }
+  if (node.isInt()) return YAML::Node(std::to_string(static_cast<int>(node)));
+  if (node.isReal()) return numberNode(static_cast<double>(node));
+  if (node.isString()) return YAML::Node(static_cast<std::string>(node));
+  return YAML::Node(YAML::NodeType::Null);
+}
+
+/// OpenCV writes "%YAML:1.0", which YAML parsers refuse, and XML; everything else goes to yaml-cpp (YAML and JSON).
+bool writtenByFileStorage(const std::string& path) {
+  std::ifstream file(path);
+  std::string head;
+  char c;
+  while (head.size() < 16 && file.get(c)) {
+    if (head.empty() && std::isspace(static_cast<unsigned char>(c))) continue;
+    head += c;
+  }
+  return head.rfind("%YAML:", 0) == 0 || head.rfind("<?xml", 0) == 0 || head.rfind("<opencv_storage", 0) == 0;
+}
+
+double toNumber(const YAML::Node& value, const std::string& key) {
+  if (!value.IsScalar()) throw Error("key '" + key + "' is not a matrix of numbers");
+  try {
+    return value.as<double>();
+  } catch (const YAML::Exception&) {
+    throw Error("key '" + key + "' is not a matrix of numbers ('" + value.Scalar() + "' is not a number)");
+  }
+}
+
+}  // namespace
+
+CalibrationDocument CalibrationDocument::load(const std::string& path) {
+  std::error_code ec;
+  require(std::filesystem::is_regular_file(path, ec), "file does not exist");
+  CalibrationDocument document;
+  document.path = path;
+  if (writtenByFileStorage(path)) {
+    cv::FileStorage storage;
+    try {
+      storage.open(path, cv::FileStorage::READ);
+    } catch (const cv::Exception& e) {
+      throw Error("not a valid OpenCV YAML/XML file (" + e.err + ")");
+    }
+    require(storage.isOpened(), "not a valid OpenCV YAML/XML file");
+    try {
+      document.root = fromFileNode(storage.root());
+    } catch (const cv::Exception& e) {
+      throw Error("not a valid OpenCV YAML/XML file (" + e.err + ")");
+    }
+  } else {
+    try {
+      document.root = YAML::LoadFile(path);
+    } catch (const YAML::Exception& e) {
+      throw Error("not a valid YAML or JSON file (" + std::string(e.what()) + ")");
+    }
+  }
+  require(document.root.IsMap() && document.root.size() > 0,
+          "holds no keys: a calibration file is a map of named values at its top level");
+  return document;
+}
+
+void CalibrationDocument::merge(const CalibrationDocument& other) {
+  for (const auto& entry : other.root) {
+    const std::string key = entry.first.as<std::string>();
+    require(!root[key], "key '" + key + "' is in both '" + path + "' and '" + other.path + "'");
+    root[key] = entry.second;
+  }
+}
+
+bool hasKeys(const YAML::Node& node, std::initializer_list<const char*> keys) {
+  if (!node.IsMap()) return false;
+  for (const char* key : keys)
+    if (!node[key]) return false;
+  return true;
+}
+
+YAML::Node requireKey(const YAML::Node& node, const std::string& key, const std::string& where) {
+  const YAML::Node value = node.IsMap() ? node[key] : YAML::Node();
+  require(value && !value.IsNull(), where + "key '" + key + "' is missing");
+  return value;
+}
+
+cv::Mat readMatrix(const YAML::Node& node, const std::string& key) {
+  const std::string notMatrix = "key '" + key + "' is not a matrix of numbers";
+  if (node.IsMap()) {  // ROS: {rows, cols, data}
+    require(static_cast<bool>(node["data"]), notMatrix + " (a map without 'data')");
+    cv::Mat m = readMatrix(node["data"], key);
+    if (node["rows"] && node["cols"]) {
+      const int rows = static_cast<int>(toNumber(node["rows"], key + ".rows"));
+      const int cols = static_cast<int>(toNumber(node["cols"], key + ".cols"));
+      require(rows > 0 && cols > 0 && static_cast<std::size_t>(rows) * cols == m.total(),
+              "key '" + key + "' says " + std::to_string(rows) + "x" + std::to_string(cols) + " but holds " +
+                  std::to_string(m.total()) + " values");
+      m = m.reshape(1, rows);
+    }
+    return m;
+  }
+  require(node.IsSequence() && node.size() > 0, notMatrix);
+  const bool nested = node[0].IsSequence();
+  const int rows = nested ? static_cast<int>(node.size()) : 1;
+  const int cols = static_cast<int>(nested ? node[0].size() : node.size());
+  require(cols > 0, notMatrix);
+  cv::Mat m(rows, cols, CV_64F);
+  for (int r = 0; r < rows; ++r) {
+    const YAML::Node row = nested ? node[r] : node;
+    require(row.IsSequence() && static_cast<int>(row.size()) == cols, notMatrix + " (rows of unequal length)");
+    for (int c = 0; c < cols; ++c) m.at<double>(r, c) = toNumber(row[c], key);
+  }
+  return m;
+}
+
+cv::Mat readMatrix(const YAML::Node& parent, const std::string& key, int rows, int cols, const std::string& where) {
+  cv::Mat m = readMatrix(requireKey(parent, key, where), key);
+  require(m.total() == static_cast<std::size_t>(rows) * cols,
+          where + "key '" + key + "' must hold " + std::to_string(rows) + "x" + std::to_string(cols) + " values, not " +
+              std::to_string(m.rows) + "x" + std::to_string(m.cols));
+  return m.reshape(1, rows).clone();
+}
+
+double readNumber(const YAML::Node& node, const std::string& key) {
+  const YAML::Node value = requireKey(node, key);
+  if (value.IsSequence() && value.size() == 1) return toNumber(value[0], key);  // MATLAB scalars can be [x]
+  return toNumber(value, key);
+}
+
+std::string readText(const YAML::Node& node, const std::string& key) {
+  const YAML::Node value = requireKey(node, key);
+  require(value.IsScalar(), "key '" + key + "' is not text");
+  return value.Scalar();
+}
+
+}  // namespace tissuemosaic

@@ -1,0 +1,83 @@
+#include "IO/Calibration/CalibrationFile.h"
+
+#include "Core/Error.h"
+#include "IO/Calibration/CalibrationLayout.h"
+
+namespace tissuemosaic {
+namespace {
+
+const std::vector<CalibrationLayout>& layouts() {
+  static const std::vector<CalibrationLayout> all = {openCvStereoCalibrateLayout(), stereoCalibSampleLayout(),
+                                                     rosCameraInfoLayout(), kalibrLayout(),
+                                                     matlabStereoParametersLayout()};
+  return all;
+}
+
+std::string describe(const CalibrationFiles& files) {
+  std::string text = "'" + files.calib + "'";
+  if (!files.extrinsics.empty()) text += " with extrinsics '" + files.extrinsics + "'";
+  if (!files.right.empty()) text += " with right eye '" + files.right + "'";
+  return text;
+}
+
+CalibrationDocument loadDocument(const std::string& path) {
+  try {
+    return CalibrationDocument::load(path);
+  } catch (const Error& e) {
+    throw Error("cannot read stereo calibration '" + path + "': " + e.what());
+  }
+}
+
+}  // namespace
+
+std::string calibrationLayoutsText() {
+  std::string text;
+  for (const CalibrationLayout& layout : layouts()) text += "  " + layout.name + ": " + layout.keys + "\n";
+  return text;
+}
+
+CalibrationFileContent readCalibrationFiles(const CalibrationFiles& files) {
+  CalibrationInput input{loadDocument(files.calib), std::nullopt};
+  if (!files.right.empty()) input.right = loadDocument(files.right);
+  const std::string context = "cannot read stereo calibration " + describe(files) + ": ";
+  try {
+    if (!files.extrinsics.empty()) input.main.merge(loadDocument(files.extrinsics));
+    for (const CalibrationLayout& layout : layouts()) {
+      if (!layout.matches(input)) continue;
+      CalibrationFileContent content{layout.read(input), layout.name};
+      content.calibration.validate();
+      return content;
+    }
+  } catch (const Error& e) {
+    throw Error(context + e.what());
+  } catch (const cv::Exception& e) {
+    throw Error(context + e.err);
+  }
+  std::string keys;
+  for (const auto& entry : input.main.root) keys += (keys.empty() ? "" : " ") + entry.first.as<std::string>();
+  throw Error(context + "no known layout matches its keys (" + keys + ")" +
+              (input.right ? " with a second, right-eye file" : "") + ". Layouts understood:\n" +
+              calibrationLayoutsText());
+}
+
+CalibrationFileContent readCalibrationFiles(const std::vector<std::string>& paths) {
+  require(paths.size() == 1 || paths.size() == 2, "give one or two calibration files, not " +
+                                                      std::to_string(paths.size()));
+  if (paths.size() == 1) return readCalibrationFiles(CalibrationFiles{paths[0], "", ""});
+  const CalibrationDocument a = loadDocument(paths[0]), b = loadDocument(paths[1]);
+  auto extrinsicsOnly = [](const CalibrationDocument& d) { return hasKeys(d.root, {"R", "T"}) && !d.root["M1"] && !d.root["K1"]; };
+  auto rosLeft = [](const CalibrationDocument& d) {
+    if (!hasKeys(d.root, {"projection_matrix"})) return false;
+    try {
+      return readMatrix(d.root, "projection_matrix", 3, 4).at<double>(0, 3) == 0;
+    } catch (const Error&) {
+      return false;
+    }
+  };
+  if (extrinsicsOnly(b)) return readCalibrationFiles(CalibrationFiles{paths[0], paths[1], ""});
+  if (extrinsicsOnly(a)) return readCalibrationFiles(CalibrationFiles{paths[1], paths[0], ""});
+  if (rosLeft(b) && !rosLeft(a)) return readCalibrationFiles(CalibrationFiles{paths[1], "", paths[0]});
+  return readCalibrationFiles(CalibrationFiles{paths[0], "", paths[1]});
+}
+
+}  // namespace tissuemosaic

@@ -1,0 +1,115 @@
+#include "IgtLinkOptions.h"
+
+#include "Core/Error.h"
+#include "Core/StereoRig.h"
+
+#if defined(TM_WITH_IGTLINK)
+#include "IgtLinkPublisher.h"
+#include "IgtLinkVideoSource.h"
+#endif
+
+namespace tissuemosaic::cli {
+
+namespace {
+
+const char* const kNoIgtLink =
+    "this build has no OpenIGTLink: install libopenigtlink-dev (Resources/scripts/setup.sh) and configure again";
+
+#if defined(TM_WITH_IGTLINK)
+class PublisherSender : public IgtLinkSender {
+public:
+  PublisherSender(int port, const igtlink::IgtLinkPublisherOptions& options)
+      : server_(port), publisher_(server_, options) {}
+  igtlink::IgtLinkServer& server() { return server_; }
+  void frameProcessed(int frameIndex, double timeS, bool tracked, const Eigen::Matrix4d& T_world_camera,
+                      const std::string& trackingMessage, const cv::Mat& leftRectified) override {
+    publisher_.frameProcessed(frameIndex, timeS, tracked, T_world_camera, trackingMessage, leftRectified);
+  }
+  bool modelDue() const override { return publisher_.modelDue(); }
+  void modelUpdated(const ColoredPointCloud& model, double timeS) override { publisher_.modelUpdated(model, timeS); }
+  void finished(const ColoredPointCloud& model, double timeS, const std::string& text) override {
+    publisher_.finished(server_.clientCount() > 0 ? std::optional<ColoredPointCloud>(model) : std::nullopt, timeS,
+                        text);
+  }
+  std::string summary() const override {
+    const igtlink::IgtLinkServerCounters c = server_.counters();
+    return "OpenIGTLink on port " + std::to_string(server_.port()) + ": " + std::to_string(c.connections) +
+           " client(s), " + std::to_string(c.messagesSent) + " messages sent (" +
+           std::to_string(publisher_.modelsSent()) + " models), " + std::to_string(c.messagesDropped) +
+           " dropped for slow clients";
+  }
+
+private:
+  igtlink::IgtLinkServer server_;  // declared first: the publisher stops before the server
+  igtlink::IgtLinkPublisher publisher_;
+};
+#endif
+
+}  // namespace
+
+void addIgtLinkServerOptions(CLI::App& command, IgtLinkServerOptions& options) {
+  CLI::Option* port = command.add_option(
+      "--igtl-port", options.port,
+      "OpenIGTLink server for 3D Slicer: TRANSFORM LeftCameraToModel per tracked frame, POLYDATA TissueModel after "
+      "key frames, STATUS TissueMosaic (Slicer's default port is 18944; 0: any free port)");
+  port->check(CLI::Range(0, 65535))->type_name("P");
+  CLI::Option* wait = command.add_option("--igtl-wait-client", options.waitClientS,
+                                         "hold processing up to S seconds for a first OpenIGTLink client");
+  wait->check(CLI::NonNegativeNumber)->type_name("S");
+  CLI::Option* video = command.add_flag("--igtl-send-video", options.sendVideo,
+                                        "also send IMAGE LeftVideo, the rectified left frame");
+  CLI::Option* rate = command.add_option("--igtl-model-rate", options.modelRateHz,
+                                         "POLYDATA messages per second at most");
+  rate->check(positiveNumber("per second"))->type_name("HZ")->capture_default_str();
+  CLI::Option* points = command.add_option("--igtl-model-points", options.modelPoints,
+                                           "points per POLYDATA at most (spread over the model)");
+  points->check(CLI::PositiveNumber)->type_name("N")->capture_default_str();
+  for (CLI::Option* option : {wait, video, rate, points}) option->needs(port);
+  for (CLI::Option* option : {port, wait, video, rate, points}) option->group(heading::output);
+}
+
+std::unique_ptr<IgtLinkSender> startIgtLinkSender(const IgtLinkServerOptions& options, std::ostream& log) {
+  if (!options.port) return nullptr;
+#if defined(TM_WITH_IGTLINK)
+  igtlink::IgtLinkPublisherOptions publisher;
+  publisher.sendVideo = options.sendVideo;
+  publisher.maxModelRateHz = options.modelRateHz;
+  publisher.modelPointBudget = static_cast<std::size_t>(options.modelPoints);
+  auto sender = std::make_unique<PublisherSender>(*options.port, publisher);
+  log << "OpenIGTLink server listening on port " << sender->server().port() << std::endl;
+  if (options.waitClientS > 0) {
+    log << "waiting up to " << options.waitClientS << " s for an OpenIGTLink client..." << std::endl;
+    if (!sender->server().waitForClient(options.waitClientS)) {
+      log << "no OpenIGTLink client came: reconstructing anyway" << std::endl;
+    }
+  }
+  return sender;
+#else
+  (void)log;
+  throw Error(std::string("--igtl-port: ") + kNoIgtLink);
+#endif
+}
+
+std::unique_ptr<StereoFrameSource> openIgtLinkInput(const InputOptions& input, VideoLayout layout) {
+#if defined(TM_WITH_IGTLINK)
+  igtlink::IgtLinkVideoInput source;
+  igtlink::IgtLinkVideoInput::parseAddress(input.igtlInput, source.host, source.port);
+  if (!input.igtlSbs.empty()) {
+    source.packedName = input.igtlSbs;
+    source.layout = layout;
+  } else if (!input.igtlLeft.empty()) {
+    source.leftName = input.igtlLeft;
+    source.rightName = input.igtlRight;
+  } else {
+    throw UsageError("--igtl-input needs either --igtl-left NAME --igtl-right NAME (two IMAGE streams) or "
+                     "--igtl-sbs NAME");
+  }
+  return igtlink::openIgtLinkVideo(source);
+#else
+  (void)input;
+  (void)layout;
+  throw Error(std::string("--igtl-input: ") + kNoIgtLink);
+#endif
+}
+
+}  // namespace tissuemosaic::cli
