@@ -6,16 +6,7 @@
 # regex finds nothing fails too. SAVE keeps the output in a file (for a later test). Each failure is printed on one
 # line ("check failed: ...") before the script fails.
 cmake_minimum_required(VERSION 3.22)  # the if() rules of today (CMP0054: quoted words are not variables)
-set(command)
-set(after_separator FALSE)
-math(EXPR last "${CMAKE_ARGC} - 1")
-foreach(i RANGE 1 ${last})
-  if(after_separator)
-    list(APPEND command "${CMAKE_ARGV${i}}")
-  elseif(CMAKE_ARGV${i} STREQUAL "--")
-    set(after_separator TRUE)
-  endif()
-endforeach()
+include(${CMAKE_CURRENT_LIST_DIR}/CommandAfterSeparator.cmake)
 if(NOT command)
   message(FATAL_ERROR "usage: cmake [-DMATCH=...] [-DBOUND_1=label~regex~low~high] -P CheckOutput.cmake -- COMMAND...")
 endif()

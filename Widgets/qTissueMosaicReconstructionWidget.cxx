@@ -135,17 +135,19 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   inputLayout->addWidget(demoButton, 0, 0);
   inputLayout->addWidget(foldersButton, 0, 1);
   inputLayout->addWidget(videoButton, 1, 0);
+  inputLayout->addWidget(liveButton, 1, 1);
+  // The 3D video button beside the layout it reads (also the live source's layout): a row of its own, so that
+  // neither is squeezed at 1280x800.
   auto* packedRow = new QHBoxLayout;
-  packedRow->addWidget(sideBySideButton);
-  packedRow->addWidget(layoutComboBox);
-  packedRow->addWidget(liveButton);
-  inputLayout->addLayout(packedRow, 1, 1);
-  inputLayout->addWidget(calibrationButton, 2, 0);
-  inputLayout->addWidget(rectifiedCheckBox, 2, 1);
-  inputLayout->addWidget(inputLabel, 3, 0, 1, 2);
+  packedRow->addWidget(sideBySideButton, 1);
+  packedRow->addWidget(layoutComboBox, 1);
+  inputLayout->addLayout(packedRow, 2, 0, 1, 2);
+  inputLayout->addWidget(calibrationButton, 3, 0);
+  inputLayout->addWidget(rectifiedCheckBox, 3, 1);
+  inputLayout->addWidget(inputLabel, 4, 0, 1, 2);
   inputMessage = new qTissueMosaicMessageLine(q);
   inputMessage->setObjectName("inputMessage");
-  inputLayout->addWidget(inputMessage, 4, 0, 1, 2);
+  inputLayout->addWidget(inputMessage, 5, 0, 1, 2);
   layout->addWidget(inputBox);
 
   auto* scanBox = new QGroupBox(QObject::tr("Scan"), q);

@@ -60,10 +60,19 @@ const std::vector<Field>& fields() {
     {"leftRightMaxDifferencePx", "Left-right check", Matching, TM_PARAMETER_FIELD(StereoParameters, leftRightMaxDifferencePx), -1, 1000, 1, 0, " px",
      "Winners whose right-view winner disagrees by more than this are dropped (occlusions, fattened depth edges). "
      "-1 switches the check off. An addition to the paper."},
-    {"specularMarginPx", "Specular margin", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMarginPx), 0, 20, 1, 0, " px",
-     "No estimate within this distance of a specular highlight in either eye. An addition to the paper."},
-    {"specularMinPixels", "Specular min. pixels", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMinPixels), 1, 1681, 1, 0, "",
-     "Pixels at or above the specular grey level that a neighbourhood must hold to count as a highlight."},
+    {"specularMarginPx", "Highlight margin", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMarginPx), 0, 20, 1, 0, " px",
+     "Estimates within this distance of a highlight (the left pixel, or its match in the right eye) that disagree "
+     "with the tissue around it are removed and refilled from that tissue. The margin follows the highlight's "
+     "outline. An addition to the paper."},
+    {"specularMaxRadiusPx", "Highlight max. radius", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMaxRadiusPx), 1, 100, 1, 0,
+     " px",
+     "A saturated area reaching this far on both sides of a pixel (along a row or column) is bright tissue, not a "
+     "highlight. Surroundings are sampled just beyond the bright spot and its matching windows."},
+    {"trackingHighlightMarginPx", "Tracking highlight margin", Matching,
+     TM_PARAMETER_FIELD(StereoParameters, trackingHighlightMarginPx), 0, 50, 1, 0, " px",
+     "Tracking and fusion leave out the pixels within this distance (a square) of a highlight in the left image. "
+     "The stereo output keeps the refilled tissue depth there, but a highlight slides over the tissue as the camera "
+     "moves, so features on it would mislead tracking. An addition to the paper."},
     {"znccWindowPx", "ZNCC window", Zncc, TM_PARAMETER_FIELD(StereoParameters, znccWindowPx), 3, 21, 2, 0, " px",
      "Side of the square ZNCC matching window, odd. Paper II.A: 11x11, using every other pixel (a chessboard)."},
     {"outlierIterations", "Iterations", Outliers, TM_PARAMETER_FIELD(StereoParameters, outlierIterations), 0, 10, 1, 0, "",
@@ -104,9 +113,17 @@ const std::vector<Field>& fields() {
      "Mei et al.'s 4."},
     {"pathEdgeGrey", "Path edge tau_SO", AdCensus, TM_PARAMETER_FIELD(StereoParameters, pathEdgeGrey), 1, 256, 1, 0, "",
      "A grey step of this much along a scanline path is an edge: the path penalties shrink there. Mei et al.: 15."},
-    {"specularMinGrey", "Specular grey level", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMinGrey), 1.0, 256.0, 1.0, 1, "",
-     "Grey level from which a pixel may belong to a specular highlight, which sits on a different surface point "
-     "in each eye and matches consistently but falsely. 256 switches the mask off. An addition to the paper."},
+    {"specularMinGrey", "Highlight grey level", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMinGrey), 1.0, 256.0, 1.0, 1, "",
+     "Grey level from which a pixel may be a specular highlight, which sits on a different surface point in each "
+     "eye and matches consistently but falsely. 256 switches highlight removal off. An addition to the paper."},
+    {"specularMinContrastGrey", "Highlight contrast", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMinContrastGrey), 0.0,
+     255.0, 1.0, 1, "",
+     "A highlight is brighter than the mean of its surroundings by at least this many grey levels (by half the "
+     "headroom to 255 on bright tissue); bright tissue is about as bright as its surroundings."},
+    {"specularViewToleranceGrey", "Highlight view tolerance", Matching, TM_PARAMETER_FIELD(StereoParameters, specularViewToleranceGrey),
+     0.0, 255.0, 1.0, 1, "",
+     "A highlight is view-dependent: at its surroundings' disparity the other eye is darker by more than this (or "
+     "the highlight matched elsewhere). Bright diffuse tissue looks alike to both eyes and keeps its estimates."},
     {"minWindowStdDev", "Min window std. dev.", Zncc, TM_PARAMETER_FIELD(StereoParameters, minWindowStdDev), 0.0, 100.0, 0.5, 2, "",
      "Grey-level standard deviation below which a window counts as textureless and gets no ZNCC estimate "
      "(an engine safeguard; not in the paper)."},

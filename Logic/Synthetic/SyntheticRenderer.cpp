@@ -30,10 +30,15 @@ double vignettingFactor(const SyntheticCamera& lens, const cv::Vec3d& rayWorld, 
   return std::max(0.0, 1.0 - strength * r2);
 }
 
-/// Linear BGR radiance of the surface point at ray parameter t (Lambert + Blinn-Phong, light at the scope tip).
-cv::Vec3d shade(const cv::Vec3d& origin, const cv::Vec3d& ray, double t, const cv::Vec2d& gradient,
-                const TissueTexture& texture, const ShadingParameters& shading) {
+/// Linear BGR radiance of the surface point at ray parameter t (Lambert + Blinn-Phong, light at the scope tip, or
+/// the realistic lighting), its diffuse and specular parts apart.
+SurfaceRadiance shade(const cv::Vec3d& origin, const cv::Vec3d& ray, double t, const cv::Vec2d& gradient,
+                      const TissueTexture& texture, const ShadingParameters& shading) {
   const cv::Vec3d point = origin + t * ray;
+  if (shading.realistic) {
+    return shading.realistic->shade(point, gradient, texture.albedo(point[0], point[1]), shading.lightWorldMm, origin,
+                                    shading.lightReferenceMm);
+  }
   const cv::Vec3d normal = cv::normalize(cv::Vec3d(gradient[0], gradient[1], -1.0));
   cv::Vec3d toLight = shading.lightWorldMm - point;
   const double distance2 = toLight.dot(toLight);
@@ -46,18 +51,26 @@ cv::Vec3d shade(const cv::Vec3d& origin, const cv::Vec3d& ray, double t, const c
   const double irradiance = shading.lightReferenceMm * shading.lightReferenceMm / distance2;
   const cv::Vec3f albedo = texture.albedo(point[0], point[1]);
   const double lit = (diffuse + shading.ambient) * irradiance * 1.2;
-  return {albedo[0] * lit + specular * irradiance, albedo[1] * lit + specular * irradiance,
-          albedo[2] * lit + specular * irradiance};
+  return {{albedo[0] * lit, albedo[1] * lit, albedo[2] * lit}, specular * irradiance};
+}
+
+/// 8-bit grey level (OpenCV's BGR weights) of gamma-encoded linear BGR, before noise.
+double encodedGrey(const cv::Vec3d& linear, const std::vector<float>& gamma, int tableSize) {
+  const double weights[3] = {0.114, 0.587, 0.299};
+  double grey = 0;
+  for (int c = 0; c < 3; ++c) grey += weights[c] * gamma[static_cast<int>(std::min(1.0, std::max(0.0, linear[c])) * tableSize + 0.5)];
+  return grey;
 }
 
 }  // namespace
 
 cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCamera, const TissueSurface& surface,
                    const TissueTexture& texture, const ShadingParameters& shading, uint32_t seed,
-                   uint32_t noiseStream, const RayOccluder* occluder) {
+                   uint32_t noiseStream, cv::Mat* highlightMask, const RayOccluder* occluder) {
   const int width = camera.imageSize.width, height = camera.imageSize.height;
   const int n = std::max(1, shading.supersampling);
   cv::Mat image(camera.imageSize, CV_8UC3);
+  if (highlightMask) highlightMask->create(camera.imageSize, CV_8U);
   // 8-bit gamma table (sRGB-like 1/2.2) over linear values in [0, 1].
   constexpr int tableSize = 4096;
   std::vector<float> gamma(tableSize + 1);
@@ -71,7 +84,7 @@ cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCam
       std::fill(beforeLast.begin(), beforeLast.end(), 0.0);
       cv::Vec3b* out = image.ptr<cv::Vec3b>(y);
       for (int x = 0; x < width; ++x) {
-        cv::Vec3d sum(0, 0, 0);
+        cv::Vec3d sum(0, 0, 0), diffuseSum(0, 0, 0);
         cv::Vec3d dRayDu, dRayDv;
         const cv::Vec3d centreRay = camera.rayWorld(x, y, dRayDu, dRayDv);
         for (int sy = 0; sy < n; ++sy) {
@@ -89,21 +102,34 @@ cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCam
             }
             cv::Vec3d occluded;
             if (occluder && occluder->shade(camera.centreWorldMm, ray, std::isfinite(t) ? t : HUGE_VAL, shading, occluded)) {
-              sum += occluded;  // an instrument in front of the tissue
+              // An instrument in front of the tissue: its glints are not the tissue's highlights (the mask's subject).
+              sum += occluded;
+              diffuseSum += occluded;
             } else if (std::isfinite(t)) {  // else looking away from the tissue: black
-              sum += shade(camera.centreWorldMm, ray, t, gradient, texture, shading);
+              const SurfaceRadiance radiance = shade(camera.centreWorldMm, ray, t, gradient, texture, shading);
+              const cv::Vec3d specular(radiance.specular, radiance.specular, radiance.specular);
+              sum += radiance.diffuse + specular;
+              diffuseSum += radiance.diffuse;
             }
           }
         }
         const double vignette = vignettingFactor(lensCamera, centreRay, shading.vignetting);
         const uint64_t pixel = static_cast<uint64_t>(y) * width + x;
         for (int c = 0; c < 3; ++c) {
-          const double linear = std::min(1.0, std::max(0.0, sum[c] * vignette / (n * n)));
+          const double exposed = sum[c] * vignette / (n * n);
+          const double linear = std::min(1.0, std::max(0.0, exposed));
           const double encoded = gamma[static_cast<int>(linear * tableSize + 0.5)];
           // Read noise plus shot noise growing with the signal.
           const double sigma = std::sqrt(shading.noiseStdGrey * shading.noiseStdGrey + 0.012 * encoded);
           const double noisy = encoded + (shading.noiseStdGrey > 0 ? sigma * hashedGaussian(seed, noiseStream, pixel * 3 + c) : 0.0);
-          out[x][c] = cv::saturate_cast<uchar>(noisy);
+          // A realistic sensor clips at full well: a saturated pixel reads 255 exactly, whatever the noise.
+          const bool clipped = shading.realistic != nullptr && exposed >= 1.0;
+          out[x][c] = clipped ? uchar(255) : cv::saturate_cast<uchar>(noisy);
+        }
+        if (highlightMask) {
+          const double scale = vignette / (n * n);
+          const double raised = encodedGrey(sum * scale, gamma, tableSize) - encodedGrey(diffuseSum * scale, gamma, tableSize);
+          highlightMask->at<uchar>(y, x) = raised >= kHighlightMinGrey ? 255 : 0;
         }
       }
     }

@@ -6,6 +6,7 @@
 /// disparity for a rectified pair.
 #include "RayOccluder.h"
 #include "SyntheticCamera.h"
+#include "SyntheticLighting.h"
 #include "TissueSurface.h"
 #include "TissueTexture.h"
 
@@ -24,15 +25,18 @@ struct ShadingParameters {
   double vignetting = 0.35;         ///< brightness lost at the image corner of the physical lens
   double noiseStdGrey = 1.5;        ///< read noise (8-bit grey levels); shot noise is added on top
   int supersampling = 2;            ///< n x n rays per pixel
+  /// Realistic lighting (SyntheticLighting.h) instead of the terms above, and sensor clipping; null: the standard look.
+  const RealisticLighting* realistic = nullptr;
 };
 
 /// Renders one 8-bit BGR image seen by `camera`. `lensCamera` is the physical (unrectified) camera of the same
 /// eye: its vignetting is applied, so a rectified render matches the raw render after rectification. The noise
-/// is a function of (seed, noiseStream, pixel) only, so the result does not depend on threading. occluder
-/// (optional): drawn wherever it is nearer than the tissue (the instruments), with the same camera response.
+/// is a function of (seed, noiseStream, pixel) only, so the result does not depend on threading. highlightMask
+/// (optional): CV_8U, 255 where the specular reflection raises the grey level by kHighlightMinGrey or more.
+/// occluder (optional): drawn wherever it is nearer than the tissue (the instruments), with the same camera response.
 cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCamera, const TissueSurface& surface,
                    const TissueTexture& texture, const ShadingParameters& shading, uint32_t seed, uint32_t noiseStream,
-                   const RayOccluder* occluder = nullptr);
+                   cv::Mat* highlightMask = nullptr, const RayOccluder* occluder = nullptr);
 
 /// Ground truth for a rectified pair (rectified cameras: no distortion, same orientation, right of left along x):
 /// per left pixel centre, depth in mm along the left optical axis and left-view disparity (x_left - x_right);

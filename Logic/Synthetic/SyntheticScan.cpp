@@ -178,6 +178,7 @@ struct SyntheticScan::Impl {
   std::unique_ptr<ScanPath> path;
   std::unique_ptr<TissueSurface> surface;
   std::unique_ptr<TissueTexture> texture;
+  std::unique_ptr<RealisticLighting> realisticLighting;  ///< with SyntheticLighting::Realistic only
   cv::Rect2d domainMm;
   // The hard mode (SyntheticHardMode.h).
   SyntheticCameraOut cameraOut;
@@ -333,6 +334,9 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
   double texelMm = 0.8 * nearestMm / s.geometry.focalPx;
   texelMm = std::max(texelMm, std::sqrt(s.domainMm.area() / 16e6));
   s.texture = std::make_unique<TissueTexture>(s.domainMm, texelMm, options.seed);
+  if (options.lighting == SyntheticLighting::Realistic) {
+    s.realisticLighting = std::make_unique<RealisticLighting>(*s.texture, options.seed);
+  }
 
   if (hard.breathing()) {
     // The breathing part: around where the scope looks a little before the middle of the scan.
@@ -392,6 +396,7 @@ SyntheticScanFrame SyntheticScan::renderFrame(int index) const {
     frame.disparityPx = cv::Mat(size, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
     frame.depthMm = frame.disparityPx.clone();
     if (s.instruments.count() > 0) frame.instrumentMask = cv::Mat::zeros(size, CV_8U);
+    frame.highlightMaskLeft = cv::Mat::zeros(size, CV_8U);
     return frame;
   }
   const Impl::Cameras c = s.cameras(index);
@@ -405,12 +410,15 @@ SyntheticScanFrame SyntheticScan::renderFrame(int index) const {
                                  : 0.5 * (s.options.minWorkingDistanceMm + s.options.maxWorkingDistanceMm);
   shading.noiseStdGrey = s.options.noiseStdGrey;
   shading.supersampling = s.options.supersampling;
+  shading.realistic = s.realisticLighting.get();
   // Each frame and eye has its own noise stream.
   const auto stream = static_cast<uint32_t>(2 * index);
   frame.leftRectified =
-      renderView(c.leftRect, c.leftRaw, *surface, *s.texture, shading, s.options.seed, stream + 1, occluder);
+      renderView(c.leftRect, c.leftRaw, *surface, *s.texture, shading, s.options.seed, stream + 1,
+                 &frame.highlightMaskLeft, occluder);
   frame.rightRectified =
-      renderView(c.rightRect, c.rightRaw, *surface, *s.texture, shading, s.options.seed, stream + 2, occluder);
+      renderView(c.rightRect, c.rightRaw, *surface, *s.texture, shading, s.options.seed, stream + 2,
+                 nullptr, occluder);
   renderRectifiedGroundTruth(c.leftRect, c.rightRect, *surface, frame.disparityPx, frame.depthMm);
   if (s.instruments.count() > 0) {
     frame.instrumentMask = cv::Mat::zeros(size, CV_8U);

@@ -11,6 +11,7 @@
 #include "Core/StereoRig.h"
 #include "IO/MeshPly.h"
 #include "SyntheticHardMode.h"
+#include "SyntheticLighting.h"
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -57,6 +58,7 @@ struct SyntheticScanOptions {
   double noiseStdGrey = 1.5;
   int supersampling = 2;
   SyntheticHardModeOptions hardMode;  ///< breathing, instruments, camera-out, smoke (all off by default)
+  SyntheticLighting lighting = SyntheticLighting::Standard;  ///< the look (SyntheticLighting.h)
 
   /// Throws Error naming the first option out of range.
   void validate() const;
@@ -68,6 +70,7 @@ struct SyntheticScanFrame {
   cv::Mat leftRectified, rightRectified;  ///< CV_8UC3 BGR
   cv::Mat disparityPx;                    ///< CV_32F left-view ground truth, NaN where not seen by both eyes
   cv::Mat depthMm;                        ///< CV_32F along the left rectified optical axis, NaN as above
+  cv::Mat highlightMaskLeft;              ///< CV_8U, left rectified view: 255 on specular highlights
   Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();  ///< left rectified camera
   /// False for a camera-out frame (SyntheticCameraOut.h): no tissue, NaN truth, and T_world_camera is not ground
   /// truth (the withdrawn scope).
@@ -132,10 +135,11 @@ private:
 /// Writes DIR/left/000000.png.., DIR/right/.. (rectified), DIR/rig.yml (raw rig calibration), and
 /// DIR/groundtruth/trajectory.txt (TUM, T_world_camera of the left rectified camera, mm; no line for a camera-out
 /// frame), surface.ply (world frame triangle mesh: seenSurfaceMesh(0.5), the surface the scan saw with both eyes, so
-/// that a reconstruction's coverage of it is a fair score) and depth_000000.pfm.. (mm, left rectified view, the
-/// tissue at that frame). With the hard-mode options also: static_surface.ply (breathing: staticSurfaceMesh(0.5)),
-/// instrument_mask_000000.png.. and instruments.ply (instruments: instrumentSurfaceMesh()), and scene.yml (what
-/// breathes, when each instrument is in, the camera-out span). progress (optional) is called after each frame.
+/// that a reconstruction's coverage of it is a fair score), depth_000000.pfm.. (mm, left rectified view, the tissue
+/// at that frame) and highlight_mask_left_000000.png.. (255 on specular highlights, left rectified view). With the
+/// hard-mode options also: static_surface.ply (breathing: staticSurfaceMesh(0.5)), instrument_mask_000000.png.. and
+/// instruments.ply (instruments: instrumentSurfaceMesh()), and scene.yml (what breathes, when each instrument is in,
+/// the camera-out span). progress (optional) is called after each frame.
 /// Returns the number of files written. Throws Error when a file cannot be written.
 int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory,
                        void (*progress)(int frame, int frames) = nullptr);

@@ -96,6 +96,7 @@ int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory, 
     writePfm((root / "groundtruth" / ("depth_" + name + ".pfm")).string(), frame.depthMm);
     ++written;
     if (!frame.instrumentMask.empty()) image(root / "groundtruth" / ("instrument_mask_" + name + ".png"), frame.instrumentMask);
+    image(root / "groundtruth" / ("highlight_mask_left_" + name + ".png"), frame.highlightMaskLeft);
     if (frame.tissueInView) {  // else the scope is out: no ground-truth pose
       TimedPose pose;
       pose.timeS = frame.timeS;

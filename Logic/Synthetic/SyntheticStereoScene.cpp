@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace tissuemosaic::synthetic {
 
@@ -183,7 +184,12 @@ SyntheticStereoPair renderSyntheticStereoPair(const SyntheticStereoOptions& opti
   shading.lightReferenceMm = options.workingDistanceMm;
   shading.noiseStdGrey = options.noiseStdGrey;
   shading.supersampling = options.supersampling;
-  pair.leftRectified = renderView(leftRect, leftRaw, surface, texture, shading, options.seed, 1);
+  std::unique_ptr<RealisticLighting> realistic;
+  if (options.lighting == SyntheticLighting::Realistic) {
+    realistic = std::make_unique<RealisticLighting>(texture, options.seed);
+    shading.realistic = realistic.get();
+  }
+  pair.leftRectified = renderView(leftRect, leftRaw, surface, texture, shading, options.seed, 1, &pair.highlightMaskLeft);
   pair.rightRectified = renderView(rightRect, rightRaw, surface, texture, shading, options.seed, 2);
   pair.leftRaw = renderView(leftRaw, leftRaw, surface, texture, shading, options.seed, 3);
   pair.rightRaw = renderView(rightRaw, rightRaw, surface, texture, shading, options.seed, 4);

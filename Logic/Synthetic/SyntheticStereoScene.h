@@ -6,6 +6,7 @@
 /// rectified cameras of cv::stereoRectify (alpha 0, zero-disparity principal points, as StereoRectifier), so the
 /// ground truth is exact for it; the unrectified ("raw") pair is rendered with the physical cameras.
 #include "Core/StereoRig.h"
+#include "SyntheticLighting.h"
 
 #include <opencv2/core.hpp>
 
@@ -27,6 +28,7 @@ struct SyntheticStereoOptions {
   double eyeRotationDeg = 0.5;     ///< size of the rotation between the eyes (0: parallel eyes)
   double noiseStdGrey = 1.5;       ///< sensor read noise in 8-bit grey levels (0: noise-free)
   int supersampling = 2;           ///< n x n rays per pixel (anti-aliasing)
+  SyntheticLighting lighting = SyntheticLighting::Standard;  ///< the look (SyntheticLighting.h)
 
   /// The default scene's disparities lie within about [45, 75] px at 960x540, inside the paper's [-20, 80].
   /// This variant (close, oblique view, 8 mm baseline) spans about 100 px at 960 px wide (twice that at 1920) for
@@ -43,6 +45,7 @@ struct SyntheticStereoPair {
   cv::Mat leftRaw, rightRaw;              ///< CV_8UC3 BGR, rendered with the physical (distorted, rotated) cameras
   cv::Mat disparityPx;  ///< CV_32F, rectified left view: x_left - x_right; NaN where not seen by both eyes
   cv::Mat depthMm;      ///< CV_32F, rectified left view: depth along the rectified left optical axis; NaN as above
+  cv::Mat highlightMaskLeft;  ///< CV_8U, rectified left view: 255 on specular highlights (kHighlightMinGrey)
   StereoCalibration calibration;  ///< of the raw pair
   RectifiedGeometry geometry;     ///< of the rectified pair (equals StereoRectifier(calibration).geometry())
   cv::Mat R1, R2, P1, P2;         ///< cv::stereoRectify's outputs that the rectified renders used
@@ -57,8 +60,9 @@ StereoCalibration syntheticStereoCalibration(const SyntheticStereoOptions& optio
 SyntheticStereoPair renderSyntheticStereoPair(const SyntheticStereoOptions& options);
 
 /// Writes left.png right.png (rectified), left_raw.png right_raw.png, rig.yml (calibration of the raw pair),
-/// disparity.pfm and depth_mm.pfm (rectified left view, NaN = invisible) into directory, which is created if
-/// needed. Returns the paths written. Throws Error when a file cannot be written.
+/// disparity.pfm and depth_mm.pfm (rectified left view, NaN = invisible) and groundtruth/highlight_mask_left.png
+/// (255 on highlights) into directory, which is created if needed. Returns the paths written. Throws Error when a
+/// file cannot be written.
 std::vector<std::string> writeSyntheticStereoPair(const SyntheticStereoPair& pair, const std::string& directory);
 
 }  // namespace tissuemosaic::synthetic

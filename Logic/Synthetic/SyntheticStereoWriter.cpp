@@ -40,6 +40,10 @@ std::vector<std::string> writeSyntheticStereoPair(const SyntheticStereoPair& pai
     writePfm(path, map);
     written.push_back(path);
   }
+  std::filesystem::create_directories(folder / "groundtruth", error);
+  require(std::filesystem::is_directory(folder / "groundtruth"),
+          "cannot create output folder '" + (folder / "groundtruth").string() + "'");
+  image("groundtruth/highlight_mask_left.png", pair.highlightMaskLeft);
   return written;
 }
 

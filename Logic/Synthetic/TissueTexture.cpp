@@ -11,9 +11,6 @@
 
 namespace tissuemosaic::synthetic {
 
-namespace {
-
-/// Value noise in [-1, 1]-ish: random values on a grid of `periodTexels` spacing, interpolated bicubically.
 cv::Mat valueNoise(cv::Size size, double periodTexels, std::mt19937& generator) {
   const int period = std::max(1, static_cast<int>(std::lround(periodTexels)));
   const int gridW = size.width / period + 4, gridH = size.height / period + 4;
@@ -26,6 +23,8 @@ cv::Mat valueNoise(cv::Size size, double periodTexels, std::mt19937& generator) 
   // Skip the first cell, where cubic interpolation sees the replicated border.
   return fine(cv::Rect(period, period, size.width, size.height)).clone();
 }
+
+namespace {
 
 cv::Mat smoothstep(const cv::Mat& x, float edge0, float edge1) {
   cv::Mat t = (x - edge0) / (edge1 - edge0);

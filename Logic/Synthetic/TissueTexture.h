@@ -6,8 +6,13 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <random>
 
 namespace tissuemosaic::synthetic {
+
+/// Value noise in [-1, 1]-ish over a size.width x size.height grid: random values every periodTexels, interpolated
+/// bicubically. Deterministic from the generator's state.
+cv::Mat valueNoise(cv::Size size, double periodTexels, std::mt19937& generator);
 
 class TissueTexture {
 public:

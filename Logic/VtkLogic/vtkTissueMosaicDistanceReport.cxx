@@ -1,5 +1,6 @@
 #include "vtkTissueMosaicDistanceReport.h"
 
+#include "IO/AtomicFile.h"
 #include "Core/Error.h"
 
 #include <opencv2/imgcodecs.hpp>
@@ -43,14 +44,13 @@ void writeDistanceCsv(const std::string& path, const std::vector<Eigen::Vector3d
                       const std::vector<double>& distancesMm, const std::vector<double>& signedDistancesMm) {
   require(pointsLps.size() == distancesMm.size() && distancesMm.size() == signedDistancesMm.size(),
           "distance report: one distance per point is needed");
-  std::ofstream file(path);
-  require(file.good(), "cannot write distance report '" + path + "'");
-  file << "index,x_mm,y_mm,z_mm,distance_mm,signed_distance_mm\n" << std::setprecision(9);
-  for (std::size_t i = 0; i < pointsLps.size(); ++i) {
-    file << i << ',' << pointsLps[i].x() << ',' << pointsLps[i].y() << ',' << pointsLps[i].z() << ','
-         << distancesMm[i] << ',' << signedDistancesMm[i] << '\n';
-  }
-  require(static_cast<bool>(file.flush()), "cannot write distance report '" + path + "'");
+  writeStreamAtomically(path, "distance report", [&](std::ostream& file) {
+    file << "index,x_mm,y_mm,z_mm,distance_mm,signed_distance_mm\n" << std::setprecision(9);
+    for (std::size_t i = 0; i < pointsLps.size(); ++i) {
+      file << i << ',' << pointsLps[i].x() << ',' << pointsLps[i].y() << ',' << pointsLps[i].z() << ','
+           << distancesMm[i] << ',' << signedDistancesMm[i] << '\n';
+    }
+  });
 }
 
 void addDistanceArrays(vtkPolyData* polyData, const std::vector<double>& distancesMm,
@@ -137,13 +137,13 @@ void writeHistogramPng(const std::string& path, const DistanceHistogram& histogr
     cv::putText(image, std::to_string(histogram.overflow) + " points beyond " + fixed(rangeMm, 2) + " mm not shown",
                 {left + plotWidth - 300, top - 15}, font, 0.45, p95Colour, 1, cv::LINE_AA);
   }
-  bool written = false;
-  try {
-    written = cv::imwrite(path, image);
-  } catch (const cv::Exception& error) {
-    throw Error("cannot write histogram plot '" + path + "': " + error.err);  // not OpenCV's file and line
-  }
-  require(written, "cannot write histogram plot '" + path + "' (use a .png name in a writable folder)");
+  writeFileAtomically(path, "histogram plot", [&](const std::string& temporaryPath) {
+    try {
+      return cv::imwrite(temporaryPath, image);
+    } catch (const cv::Exception& error) {
+      throw Error("cannot write histogram plot '" + path + "': " + error.err);  // not OpenCV's file and line
+    }
+  });
 }
 
 }  // namespace tissuemosaic

@@ -1,5 +1,6 @@
 #include "vtkTissueMosaicItkTransformFile.h"
 
+#include "IO/AtomicFile.h"
 #include "Core/Error.h"
 
 #include <Eigen/Dense>
@@ -44,16 +45,15 @@ bool isAffine(const Eigen::Matrix4d& matrix) {
 
 void writeItkTransformFile(const std::string& path, const Eigen::Matrix4d& itkFixedToMovingLps) {
   require(isAffine(itkFixedToMovingLps), "cannot write '" + path + "': the transform is not a finite affine 4x4");
-  std::ofstream file(path);
-  require(file.good(), "cannot write transform file '" + path + "'");
-  file << std::setprecision(17);
-  file << "#Insight Transform File V1.0\n#Transform 0\nTransform: AffineTransform_double_3_3\nParameters:";
-  for (int row = 0; row < 3; ++row) {
-    for (int col = 0; col < 3; ++col) file << ' ' << itkFixedToMovingLps(row, col);
-  }
-  for (int row = 0; row < 3; ++row) file << ' ' << itkFixedToMovingLps(row, 3);
-  file << "\nFixedParameters: 0 0 0\n";
-  require(static_cast<bool>(file.flush()), "cannot write transform file '" + path + "'");
+  writeStreamAtomically(path, "transform file", [&](std::ostream& file) {
+    file << std::setprecision(17);
+    file << "#Insight Transform File V1.0\n#Transform 0\nTransform: AffineTransform_double_3_3\nParameters:";
+    for (int row = 0; row < 3; ++row) {
+      for (int col = 0; col < 3; ++col) file << ' ' << itkFixedToMovingLps(row, col);
+    }
+    for (int row = 0; row < 3; ++row) file << ' ' << itkFixedToMovingLps(row, 3);
+    file << "\nFixedParameters: 0 0 0\n";
+  });
 }
 
 Eigen::Matrix4d readItkTransformFile(const std::string& path) {

@@ -1,5 +1,6 @@
 #include "vtkTissueMosaicLandmarksFile.h"
 
+#include "IO/AtomicFile.h"
 #include "Core/Error.h"
 
 #include <nlohmann/json.hpp>
@@ -8,6 +9,7 @@
 #include <cctype>
 #include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -164,6 +166,7 @@ std::vector<LandmarkList> readFcsv(const std::string& path, std::optional<Anatom
     landmark.label = field("label");
     list.points.push_back(landmark);
   }
+  require(!list.points.empty(), "landmark file '" + path + "' holds no landmarks (no point lines)");
   list.fileFrame = frame ? *frame : undeclared(fallback, path);
   for (Landmark& landmark : list.points) landmark.positionLps = toLps(landmark.positionLps, list.fileFrame);
   return {list};
@@ -198,8 +201,7 @@ LandmarkList readLandmarks(const std::string& path, std::optional<AnatomicalFram
 }
 
 void writeLandmarkFile(const std::string& path, const std::vector<LandmarkList>& lists, AnatomicalFrame fileFrame) {
-  std::ofstream file(path);
-  require(file.good(), "cannot write landmark file '" + path + "'");
+  std::ostringstream file;  // built whole, then written atomically
   if (endsWith(path, ".fcsv")) {
     require(lists.size() == 1, "an .fcsv file holds exactly one landmark list; use .mrk.json for several");
     file << "# Markups fiducial file version = 4.11\n# CoordinateSystem = " << frameName(fileFrame)
@@ -243,7 +245,7 @@ void writeLandmarkFile(const std::string& path, const std::vector<LandmarkList>&
     }
     file << json{{"@schema", kMarkupsSchema}, {"markups", markups}}.dump(4) << '\n';
   }
-  require(static_cast<bool>(file.flush()), "cannot write landmark file '" + path + "'");
+  writeStreamAtomically(path, "landmark file", [&](std::ostream& out) { out << file.str(); });
 }
 
 LandmarkPairs pairLandmarks(const LandmarkList& model, const LandmarkList& target) {
@@ -256,7 +258,25 @@ LandmarkPairs pairLandmarks(const LandmarkList& model, const LandmarkList& targe
     return labels;
   };
   const auto modelLabels = uniqueLabels(model);
-  if (!modelLabels.empty() && modelLabels == uniqueLabels(target)) {
+  const auto targetLabels = uniqueLabels(target);
+  // Labels that match in part are a mistake (a misnamed or missing point): pairing such lists by order would pair
+  // wrong points silently. Order is used only where the labels say nothing (missing, repeated, or none in common).
+  std::vector<std::string> onlyModel, onlyTarget;
+  std::set_difference(modelLabels.begin(), modelLabels.end(), targetLabels.begin(), targetLabels.end(),
+                      std::back_inserter(onlyModel));
+  std::set_difference(targetLabels.begin(), targetLabels.end(), modelLabels.begin(), modelLabels.end(),
+                      std::back_inserter(onlyTarget));
+  const bool someInCommon = onlyModel.size() < modelLabels.size();
+  if (!modelLabels.empty() && !targetLabels.empty() && someInCommon && (!onlyModel.empty() || !onlyTarget.empty())) {
+    const auto joined = [](const std::vector<std::string>& labels) {
+      std::string text;
+      for (const std::string& label : labels) text += (text.empty() ? "'" : ", '") + label + "'";
+      return text.empty() ? std::string("none") : text;
+    };
+    throw Error("the landmark labels do not match: only on the model: " + joined(onlyModel) +
+                "; only on the target: " + joined(onlyTarget) + " (landmarks are paired by label: rename them)");
+  }
+  if (!modelLabels.empty() && modelLabels == targetLabels) {
     std::map<std::string, Eigen::Vector3d> targetByLabel;
     for (const Landmark& landmark : target.points) targetByLabel[landmark.label] = landmark.positionLps;
     for (const Landmark& landmark : model.points) {

@@ -1,5 +1,6 @@
 #include "vtkTissueMosaicReconstructionLogic.h"
 
+#include "IO/AtomicFile.h"
 #include "IO/Calibration/CalibrationFile.h"
 #include "vtkTissueMosaicDisparityColours.h"
 #include "vtkTissueMosaicRunCatching.h"
@@ -172,7 +173,8 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           std::optional<ModelPoints> model;
           std::optional<tissuemosaic::ModelArrays> modelArrays;
           std::optional<std::vector<KeyFramePose>> keyFrames;
-          if (result.keyFrame) {  // the model only changes at key frames
+          // The model changes at key frames (fusion) and where motion evidence removed points (any tracked frame).
+          if (result.keyFrame || result.pointsRemoved > 0) {
             model = pipeline->modelSnapshot();
             // Double buffering: the owner swaps these in without touching the model's memory.
             modelArrays = tissuemosaic::makeModelArrays(model->cloud);
@@ -831,13 +833,17 @@ bool vtkTissueMosaicReconstructionLogic::ExportModel(const std::string& path) {
         this->LastErrorText);
   }
   if (extension == ".vtp") {
-    vtkNew<vtkXMLPolyDataWriter> writer;
-    writer->SetFileName(path.c_str());
-    writer->SetInputData(this->Model);
-    writer->SetDataModeToBinary();
-    if (writer->Write() != 1) return this->Fail("cannot write the model file " + path);
-    this->LastErrorText.clear();
-    return true;
+    return runCatching(
+        [&] {
+          tissuemosaic::writeFileAtomically(path, "model file", [&](const std::string& temporaryPath) {
+            vtkNew<vtkXMLPolyDataWriter> writer;
+            writer->SetFileName(temporaryPath.c_str());
+            writer->SetInputData(this->Model);
+            writer->SetDataModeToBinary();
+            return writer->Write() == 1;
+          });
+        },
+        this->LastErrorText);
   }
   return this->Fail("unknown model file type '" + extension + "' of " + path + ": use .ply or .vtp");
 }

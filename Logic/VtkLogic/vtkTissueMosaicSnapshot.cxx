@@ -1,5 +1,6 @@
 #include "vtkTissueMosaicSnapshot.h"
 
+#include "IO/AtomicFile.h"
 #include "vtkTissueMosaicDisplay.h"
 #include "vtkTissueMosaicFrusta.h"
 #include "vtkTissueMosaicModelScene.h"
@@ -97,15 +98,13 @@ SnapshotReport writeSnapshotPng(const std::string& pngPath, vtkPolyData* model, 
                                 vtkPolyData* cameraPath, const SnapshotOptions& options) {
   SnapshotReport report;
   vtkSmartPointer<vtkImageData> image = renderSnapshot(model, keyFrameFrusta, cameraPath, options, &report);
-  const std::filesystem::path parent = std::filesystem::path(pngPath).parent_path();
-  require(parent.empty() || std::filesystem::is_directory(parent),
-          "cannot write the snapshot " + pngPath + ": the folder does not exist");
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(pngPath.c_str());
-  writer->SetInputData(image);
-  writer->Write();
-  require(writer->GetErrorCode() == 0 && std::filesystem::is_regular_file(pngPath),
-          "cannot write the snapshot " + pngPath);
+  writeFileAtomically(pngPath, "snapshot", [&](const std::string& temporaryPath) {
+    vtkNew<vtkPNGWriter> writer;
+    writer->SetFileName(temporaryPath.c_str());
+    writer->SetInputData(image);
+    writer->Write();
+    return writer->GetErrorCode() == 0;
+  });
   return report;
 }
 

@@ -9,25 +9,65 @@
 #include <vtkPolyData.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkStaticCellLocator.h>
+#include <vtkCellArray.h>
+#include <vtkIdList.h>
+#include <vtkTriangle.h>
 #include <vtkTriangleFilter.h>
 
 #include <algorithm>
 #include <cmath>
 
 namespace tissuemosaic {
+namespace {
+
+/// The triangles of `triangles` with a non-zero area (same points).
+vtkSmartPointer<vtkPolyData> withoutDegenerateTriangles(vtkPolyData* triangles) {
+  vtkNew<vtkCellArray> kept;
+  vtkNew<vtkIdList> ids;
+  vtkCellArray* polys = triangles->GetPolys();
+  polys->InitTraversal();
+  while (polys->GetNextCell(ids)) {
+    if (ids->GetNumberOfIds() != 3) continue;
+    double a[3], b[3], c[3];
+    triangles->GetPoint(ids->GetId(0), a);
+    triangles->GetPoint(ids->GetId(1), b);
+    triangles->GetPoint(ids->GetId(2), c);
+    if (vtkTriangle::TriangleArea(a, b, c) > 0) kept->InsertNextCell(ids);
+  }
+  auto output = vtkSmartPointer<vtkPolyData>::New();
+  output->SetPoints(triangles->GetPoints());
+  output->SetPolys(kept);
+  return output;
+}
+
+}  // namespace
 
 TargetSurface::TargetSurface(vtkPolyData* surfaceLps) {
   require(surfaceLps != nullptr && surfaceLps->GetNumberOfPoints() > 0, "the target surface is empty");
   require(surfaceLps->GetNumberOfPolys() + surfaceLps->GetNumberOfStrips() > 0,
           "the target model has no polygons: it must be a surface mesh (e.g. a segmentation exported as STL), not a "
           "point cloud");
+  for (vtkIdType i = 0; i < surfaceLps->GetNumberOfPoints(); ++i) {
+    double p[3];
+    surfaceLps->GetPoint(i, p);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      throw Error("the target surface's vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+    }
+  }
   vtkNew<vtkTriangleFilter> triangulate;
   triangulate->SetInputData(surfaceLps);
   triangulate->PassVertsOff();
   triangulate->PassLinesOff();
+  triangulate->Update();
+  // Zero-area triangles carry no surface, and vtkPolyDataNormals' consistency pass loops on a mesh made of them.
+  const vtkSmartPointer<vtkPolyData> nonDegenerate = withoutDegenerateTriangles(triangulate->GetOutput());
+  require(nonDegenerate->GetNumberOfPolys() > 0,
+          "the target model has no non-degenerate triangles: all " +
+              std::to_string(triangulate->GetOutput()->GetNumberOfPolys()) +
+              " have zero area (repeated or collinear vertices)");
   // Face normals only: point normals would be unused, splitting would duplicate points.
   vtkNew<vtkPolyDataNormals> normals;
-  normals->SetInputConnection(triangulate->GetOutputPort());
+  normals->SetInputData(nonDegenerate);
   normals->ComputeCellNormalsOn();
   normals->ComputePointNormalsOff();
   normals->SplittingOff();
@@ -115,8 +155,9 @@ DistanceHistogram distanceHistogram(const std::vector<double>& distancesMm, doub
   histogram.binWidthMm = binWidthMm;
   double largest = 0;
   for (double d : distancesMm) largest = std::max(largest, d);
-  const auto needed = static_cast<long>(std::floor(largest / binWidthMm)) + 1;
-  histogram.counts.assign(static_cast<std::size_t>(std::min<long>(needed, maxBins)), 0);
+  // In double first: a tiny bin width (1e-300 mm) gives a count no integer holds.
+  const double needed = std::floor(largest / binWidthMm) + 1;
+  histogram.counts.assign(static_cast<std::size_t>(std::min(needed, static_cast<double>(maxBins))), 0);
   for (double d : distancesMm) {
     const auto bin = static_cast<std::size_t>(std::floor(std::max(d, 0.0) / binWidthMm));
     if (bin < histogram.counts.size()) {

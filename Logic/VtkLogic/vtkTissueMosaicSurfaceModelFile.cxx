@@ -1,5 +1,6 @@
 #include "vtkTissueMosaicSurfaceModelFile.h"
 
+#include "IO/AtomicFile.h"
 #include "IO/PointCloudPly.h"
 
 #include "Core/Error.h"
@@ -174,19 +175,19 @@ void writeSurfaceModel(const std::string& path, vtkPolyData* polyDataLps, Anatom
   const std::string mark = std::string("SPACE=") + frameName(fileFrame);
   const std::string extension = lowercaseExtension(path);
 
-  {
-    // VTK's writers report a missing folder with their own internals: say it plainly first.
-    std::ofstream probe(path, std::ios::app);
-    require(probe.good(), "cannot write surface model '" + path + "': the folder does not exist or is not writable");
-  }
+  // VTK's writers report a missing folder with their own internals: say it plainly first.
+  requireWritableOutput(path, "surface model");
   auto write = [&](auto* writer) {
-    VtkMessageCatcher catcher(writer);
-    writer->SetFileName(path.c_str());
-    const int ok = writer->Write();
-    if (!ok || catcher.hasErrors()) {
-      throw Error("cannot write surface model '" + path + "': " +
-                  (catcher.messages().empty() ? std::string("the writer failed") : catcher.messages()));
-    }
+    writeFileAtomically(path, "surface model", [&](const std::string& temporaryPath) {
+      VtkMessageCatcher catcher(writer);
+      writer->SetFileName(temporaryPath.c_str());
+      const int ok = writer->Write();
+      if (!ok || catcher.hasErrors()) {
+        throw Error("cannot write surface model '" + path + "': " +
+                    (catcher.messages().empty() ? std::string("the writer failed") : catcher.messages()));
+      }
+      return true;
+    });
   };
   if (extension == ".vtp") {
     vtkNew<vtkStringArray> space;
@@ -251,6 +252,16 @@ vtkSmartPointer<vtkPolyData> transformedPolyData(vtkPolyData* polyData, const Ei
   rotateVectors(output->GetPointData()->GetNormals(), normalMap);
   rotateVectors(output->GetCellData()->GetNormals(), normalMap);
   return output;
+}
+
+std::vector<Eigen::Vector3d> finitePoints(const std::vector<Eigen::Vector3d>& points, std::size_t* leftOut) {
+  std::vector<Eigen::Vector3d> finite;
+  finite.reserve(points.size());
+  for (const Eigen::Vector3d& p : points) {
+    if (p.allFinite()) finite.push_back(p);
+  }
+  if (leftOut) *leftOut = points.size() - finite.size();
+  return finite;
 }
 
 std::vector<Eigen::Vector3d> polyDataPoints(vtkPolyData* polyData) {

@@ -44,4 +44,8 @@ vtkSmartPointer<vtkPolyData> transformedPolyData(vtkPolyData* polyData, const Ei
 /// The points of a model, in its frame.
 std::vector<Eigen::Vector3d> polyDataPoints(vtkPolyData* polyData);
 
+/// The points with finite coordinates; those with a NaN or infinite one are left out and counted in *leftOut. A
+/// model's NaN points (a disparity without estimate) must never count as points at some finite distance.
+std::vector<Eigen::Vector3d> finitePoints(const std::vector<Eigen::Vector3d>& points, std::size_t* leftOut);
+
 }  // namespace tissuemosaic

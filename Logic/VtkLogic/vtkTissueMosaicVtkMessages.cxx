@@ -50,7 +50,19 @@ void VtkMessageCatcher::add(bool error, const char* text) {
     const auto newline = message.find('\n');
     if (newline != std::string::npos) message.erase(0, newline + 1);
   }
-  while (!message.empty() && (message.back() == '\n' || message.back() == '\r')) message.pop_back();
+  // The executive's "returned failure for request: vtkInformation (0x...)" is followed by the request's whole dump
+  // (Debug, Modified Time, Reference Count, keys...): internals, not a reason. The reader's own error says why.
+  const auto dump = message.find(" for request: vtkInformation");
+  if (dump != std::string::npos) message.erase(dump);
+  // "vtkSTLReader (0x55d...)": no object addresses.
+  for (auto address = message.find("(0x"); address != std::string::npos; address = message.find("(0x", address)) {
+    const auto close = message.find(')', address);
+    if (close == std::string::npos) break;
+    message.erase(address, close - address + 1);
+  }
+  while (!message.empty() && (message.back() == '\n' || message.back() == '\r' || message.back() == ' ')) {
+    message.pop_back();
+  }
   if (!messages_.empty()) messages_ += '\n';
   messages_ += message;
 }

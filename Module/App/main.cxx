@@ -39,6 +39,9 @@ qTissueMosaicCommandLine parse(int argc, char** argv) {
   QString error;
   if (!options.parse(arguments, error)) usageError(error);
   if (options.help) {
+    // QCommandLineParser's help names the program from QCoreApplication::arguments(): without an application
+    // object it crashed. A plain one is enough (no display needed for the help).
+    QCoreApplication application(argc, argv);
     std::cout << qTissueMosaicCommandLine::helpText().toStdString();
     std::exit(0);
   }

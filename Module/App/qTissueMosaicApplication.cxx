@@ -1,22 +1,12 @@
 #include "qTissueMosaicApplication.h"
+#include "qTissueMosaicStallProbe.h"
 
 #include <QByteArray>
 #include <QEvent>
 
 #include <cstdio>
 
-#include <time.h>
 
-namespace {
-
-/// CPU time of the calling thread (ns): an event's own work, without the time it waited for a CPU.
-qint64 threadCpuNs() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<qint64>(now.tv_sec) * 1000000000 + now.tv_nsec;
-}
-
-}  // namespace
 
 qTissueMosaicApplication::qTissueMosaicApplication(int& argc, char** argv) : QApplication(argc, argv) {
   this->Clock.start();
@@ -31,12 +21,12 @@ bool qTissueMosaicApplication::notify(QObject* receiver, QEvent* event) {
   const QByteArray objectName = receiver->objectName().toLocal8Bit();
   const int type = event->type();
   const qint64 startNs = this->Clock.nsecsElapsed();
-  const qint64 startCpuNs = threadCpuNs();
+  const qint64 startCpuNs = qTissueMosaicThreadCpuNs();
   const bool handled = QApplication::notify(receiver, event);
   const double milliseconds = (this->Clock.nsecsElapsed() - startNs) * 1e-6;
   if (milliseconds > this->ThresholdMs) {
     std::fprintf(stderr, "tissuemosaic-app: slow event at %.1f ms: %.1f ms (%.1f ms CPU), QEvent type %d, %s \"%s\"\n",
-                 startNs * 1e-6, milliseconds, (threadCpuNs() - startCpuNs) * 1e-6, type, className.constData(),
+                 startNs * 1e-6, milliseconds, (qTissueMosaicThreadCpuNs() - startCpuNs) * 1e-6, type, className.constData(),
                  objectName.constData());
   }
   return handled;

@@ -27,7 +27,8 @@ const OptionSpec kOptions[] = {
     {"left-video", "L", "left video file (with --right-video, read in lock step)"},
     {"right-video", "R", "right video file"},
     {"video", "SBS", "one side-by-side video (left eye in the left half)"},
-    {"calib", "rig.yml", "OpenCV YAML/XML stereo calibration (K1 D1 K2 D2 R T, image size): frames are rectified"},
+    {"calib", "rig.yml", "stereo calibration, recognised by its keys (docs/CALIBRATION.md: OpenCV, stereo_calib / "
+              "SCARED / SurgT, Kalibr, MATLAB); without an image size the frames give it: frames are rectified"},
     {"rectified", "", "with --calib: the frames are already rectified as StereoRectifier makes them from it"},
     {"focal-px", "F", "frames already rectified with this focal length (px), with --baseline-mm"},
     {"baseline-mm", "B", "the rectified rig's baseline (mm), with --focal-px"},

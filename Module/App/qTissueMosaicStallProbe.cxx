@@ -4,16 +4,11 @@
 
 #include <time.h>
 
-namespace {
-
-/// CPU time of the calling thread (ns).
-qint64 threadCpuNs() {
+qint64 qTissueMosaicThreadCpuNs() {
   timespec now{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
   return static_cast<qint64>(now.tv_sec) * 1000000000 + now.tv_nsec;
 }
-
-}  // namespace
 
 qTissueMosaicStallProbe::qTissueMosaicStallProbe(QObject* parent, int intervalMs)
     : QObject(parent), IntervalMs(intervalMs) {
@@ -27,7 +22,7 @@ void qTissueMosaicStallProbe::start() {
   this->Ticks = 0;
   this->Clock.start();
   this->LastNs = this->Clock.nsecsElapsed();
-  this->LastCpuNs = threadCpuNs();
+  this->LastCpuNs = qTissueMosaicThreadCpuNs();
   this->Timer.start();
 }
 
@@ -35,7 +30,7 @@ void qTissueMosaicStallProbe::stop() { this->Timer.stop(); }
 
 void qTissueMosaicStallProbe::tick() {
   const qint64 now = this->Clock.nsecsElapsed();
-  const qint64 cpuNow = threadCpuNs();
+  const qint64 cpuNow = qTissueMosaicThreadCpuNs();
   const double gapMs = (now - this->LastNs) * 1e-6;
   const double busyMs = (cpuNow - this->LastCpuNs) * 1e-6;
   this->LastNs = now;

@@ -7,6 +7,9 @@
 #include <QObject>
 #include <QTimer>
 
+/// CPU time of the calling thread (ns): an event's own work, without the time it waited for a CPU.
+qint64 qTissueMosaicThreadCpuNs();
+
 class qTissueMosaicStallProbe : public QObject {
   Q_OBJECT
 public:

@@ -60,13 +60,18 @@ bounded memory shows as a plateau. --supersampling (default 2) sets the renderer
 4x faster. --threads N caps the engine's CPU threads (the oneTBB loops: guided matching, DynamicR1PPnP solves, ...;
 default all cores); "cpu_threads" reports the cap.
 
+--soak-frames N processes N frames instead of the scan's own: the rendered scan played forward and back (frames
+0, 1, ..., F-1, F-2, ..., 0, 1, ...), so that a long run (108000 frames: an hour of 30 fps video) costs the
+rendering of F frames only and the camera never jumps. "memory" then samples the four quarters of the N frames:
+host and device memory flat after the first quarter is what a long scan needs. Not with --stream or --out.
+
 --out DIR also writes DIR/model.ply (the fused model), DIR/keyframes.txt (TUM) and the scan's ground truth
 DIR/groundtruth/surface.ply (the surface both eyes saw) and DIR/groundtruth/trajectory.txt, for
 `tissuemosaic eval` on a machine that has it.)";
 
 struct BenchReconstructOptions {
   int width = 960, height = 540, frames = 60, seed = 1;
-  std::optional<int> supersampling, chunk, threads, disparities;
+  std::optional<int> supersampling, chunk, threads, disparities, soakFrames;
   std::optional<std::string> params, out;
   bool stream = false;
   DisparityRangeOptions range;
@@ -123,6 +128,15 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   const int chunk = settings.chunk.value_or(1);
   require(chunk >= 1, "--chunk must be at least 1");
   require(stream || !settings.chunk, "--chunk needs --stream");
+  const int framesToProcess = settings.soakFrames.value_or(options.frames);
+  require(!settings.soakFrames || (*settings.soakFrames >= 1 && !stream && !settings.out),
+          "--soak-frames needs a positive count and neither --stream nor --out");
+  // The scan frame shown as the k-th processed frame: the scan itself, or played forward and back (--soak-frames).
+  const auto scanFrameOf = [&](int k) {
+    if (!settings.soakFrames) return k;
+    const int period = 2 * options.frames - 2, phase = k % period;
+    return phase < options.frames ? phase : period - phase;
+  };
   const Device device = settings.device.resolve();
   std::optional<tbb::global_control> threadCap;
   if (settings.threads) {
@@ -180,31 +194,39 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   // The true disparities of the key frames: whether the range searched held the scene.
   float trueDisparityMin = INFINITY, trueDisparityMax = -INFINITY;
   std::vector<double> rangeMs;  // the automatic range's sparse matching, beside the stereo (0 for a given range)
-  for (int k = 0; k < scan.frameCount(); ++k) {
+  const double frameIntervalS = scan.timeS(1) - scan.timeS(0);
+  for (int k = 0; k < framesToProcess; ++k) {
     if (stream && k % chunk == 0) {  // the next chunk, rendered before any of it is processed
       rendered.clear();
       for (int j = k; j < std::min(k + chunk, scan.frameCount()); ++j) rendered.push_back(scan.renderFrame(j));
     }
-    const synthetic::SyntheticScanFrame frame = rendered[static_cast<std::size_t>(stream ? k % chunk : k)];
-    std::fprintf(stderr, "\rbench reconstruct: frame %d/%d", frame.index + 1, scan.frameCount());
-    const FrameResult result = pipeline.process(frame.leftRectified, frame.rightRectified, frame.timeS);
-    const int quarter = scan.frameCount() / 4;
-    if (k + 1 == scan.frameCount() || (quarter > 0 && (k + 1) % quarter == 0 && memory.size() < 3)) {
+    const synthetic::SyntheticScanFrame& frame = rendered[static_cast<std::size_t>(stream ? k % chunk : scanFrameOf(k))];
+    if (!settings.soakFrames || k % 100 == 0 || k + 1 == framesToProcess) {
+      std::fprintf(stderr, "\rbench reconstruct: frame %d/%d", k + 1, framesToProcess);
+    }
+    const FrameResult result = pipeline.process(frame.leftRectified, frame.rightRectified, k * frameIntervalS);
+    const int quarter = framesToProcess / 4;
+    if (k + 1 == framesToProcess || (quarter > 0 && (k + 1) % quarter == 0 && memory.size() < 3)) {
       memory.push_back({k + 1, residentHostMib(), pipeline.peakDeviceBytes() / (1024.0 * 1024.0), pipeline.modelPointCount()});
+      const MemorySample& sample = memory.back();
+      // Said as it happens too: a long run cut short still tells how its memory went.
+      std::fprintf(stderr, "\nbench reconstruct: after %d frames: host resident %.1f MiB, device peak %.1f MiB, %zu model "
+                   "points, %zu key frames\n", sample.frame, sample.hostMib, sample.peakDeviceMib, sample.modelPoints,
+                   pipeline.keyFrames().size());
     }
     lost += !result.tracked;
-    if (frame.index > 0) {
+    if (k > 0) {
       stereoParts.add(result.stereoPartsMs);
       rangeMs.push_back(result.disparityRangeMs);
       trackingParts.add(result.trackingPartsMs);
     }
-    if (result.keyFrame && frame.index > 0) {
+    if (result.keyFrame && k > 0) {
       refinementParts.add(result.refinementPartsMs);
       const RefinementPartsMs& parts = result.refinementPartsMs;
       keyFramesJson += cv::format(
           "%s{\"frame\": %d, \"total_ms\": %.3f, \"matching_call_ms\": %.3f, \"key_frame_matching_ms\": %.3f, "
           "\"solve_call_ms\": %.3f, \"matched_key_frames\": %d, \"guided_key_frames\": %d}",
-          keyFramesJson.empty() ? "" : ", ", frame.index, result.timesMs.total, parts.matchingCall,
+          keyFramesJson.empty() ? "" : ", ", k, result.timesMs.total, parts.matchingCall,
           parts.keyFrameMatching, parts.solveCall, result.matchedKeyFrames, result.guidedKeyFrames);
       keyFramesMatched += result.matchedKeyFrames;
       keyFramesGuided += result.guidedKeyFrames;
@@ -230,16 +252,17 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
       ++keyFramesScored;
       if (share > worstKeyFrameGross) {
         worstKeyFrameGross = share;
-        worstKeyFrame = frame.index;
+        worstKeyFrame = k;
       }
     }
-    if (frame.index > 0) timing.add(result);  // the first frame has nothing to track or refine
+    if (k > 0) timing.add(result);  // the first frame has nothing to track or refine
   }
   std::fprintf(stderr, "\n");
 
   double errorSum2 = 0;
   for (const KeyFramePose& k : pipeline.keyFrames()) {
-    errorSum2 += (k.T_world_camera.block<3, 1>(0, 3) - scan.T_world_camera(k.frameIndex).block<3, 1>(0, 3)).squaredNorm();
+    const Eigen::Matrix4d truth = scan.T_world_camera(scanFrameOf(k.frameIndex));
+    errorSum2 += (k.T_world_camera.block<3, 1>(0, 3) - truth.block<3, 1>(0, 3)).squaredNorm();
   }
   const double keyFrameErrorMm = std::sqrt(errorSum2 / static_cast<double>(std::max<std::size_t>(1, pipeline.keyFrames().size())));
   // The model against the analytic true surface.
@@ -309,7 +332,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
               "\"tracking_parts_median_ms\": %s,\n \"tracking_parts_mean_ms\": %s,\n \"tracking_parts_p99_ms\": %s,\n "
               "\"refinement_matching\": {\"key_frames_matched\": %d, "
               "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"disparity_range\": %s, \"disparity_range_median_ms\": %.3f,\n \"timing\": %s}\n",
-              deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, options.frames,
+              deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, framesToProcess,
               lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), searched.minPx, searched.maxPx, trueDisparityMin, trueDisparityMax, shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
@@ -343,6 +366,9 @@ void setupBenchReconstruct(CLI::App& bench) {
   command->add_option("--chunk", options->chunk, "with --stream: frames rendered at a time (default 1)")
       ->group(heading::options);
   command->add_option("--supersampling", options->supersampling, "the renderer's N x N rays per pixel (default 2)")
+      ->group(heading::options);
+  command->add_option("--soak-frames", options->soakFrames,
+                      "process N frames: the scan played forward and back (a long run; see below)")
       ->group(heading::options);
   command->add_option("--threads", options->threads, "cap on the engine's CPU threads (default all cores)")
       ->group(heading::options);

@@ -31,7 +31,8 @@ stage (zncc, outliers_holes, refinement, total; "median_ms", "mean_ms", "p99_ms"
 on a synthetic tissue pair seen with the same field of view at every size. On the CPU it also times OpenCV
 StereoSGBM (MODE_SGBM_3WAY) on the same pair and disparity range (rounded up to a multiple of 16, as SGBM needs).
 --method ad-census times the AD-Census matcher instead; its stages are reported under the same keys (cost and
-aggregation as zncc, scanline optimisation and winners as outliers_holes, median and checks as refinement).)";
+aggregation as zncc, scanline optimisation and winners as outliers_holes, median and checks as refinement).
+"explain" holds the counts of `tissuemosaic stereo --explain` for the pair, from one more, untimed run.)";
 
 struct BenchStereoOptions {
   int width = 960, height = 540, disparities = 100, seed = 7;
@@ -83,6 +84,8 @@ void runBenchStereo(const BenchStereoOptions& settings) {
                  profiling::report().c_str());
   }
   const DisparityScore ours = scoreDisparity(disparity, pair.disparityPx);
+  StereoExplanation explanation;  // an extra run: counting waits between the steps, so it is not timed
+  matcher.computeDisparity(pair.leftRectified, pair.rightRectified, nullptr, &explanation);
 
   std::printf("{\"command\": \"bench stereo\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
               "\"height\": %d, \"method\": \"%s\", \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
@@ -90,7 +93,8 @@ void runBenchStereo(const BenchStereoOptions& settings) {
               stereoMethodName(parameters.method), disparities,
               parameters.minDisparityPx, repeats, cpuThreadCount());
   std::printf(" %s,\n", timings.json().c_str());
-  std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f}", ours.density, ours.badOver1);
+  std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f},\n \"explain\": %s", ours.density, ours.badOver1,
+              explanation.json().c_str());
 
   if (device == Device::Cpu) {
     const int sgbmDisparities = (disparities + 15) / 16 * 16;

@@ -33,6 +33,18 @@ CLI::Validator positiveNumber(const std::string& unit) {
       "");
 }
 
+CLI::Validator numberWithin(double low, double high, const std::string& unit) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "";  // not a number at all: the conversion says so
+        if (value >= low && value <= high) return "";
+        return cv::format("must be a number of %s within [%g, %g], got '%s'", unit.c_str(), low, high, text.c_str());
+      },
+      "");
+}
+
 void addInputOptions(CLI::App& command, InputOptions& input) {
   CLI::Option* leftFrames = command.add_option("--left-frames", input.leftFrames,
                                                "left frames (PNG/JPEG/BMP/TIFF..., taken in file-name order)");
@@ -70,7 +82,7 @@ void addInputOptions(CLI::App& command, InputOptions& input) {
   rightVideo->type_name("FILE")->needs(leftVideo);
   video->type_name("FILE");
   command.add_option("--fps", input.fps, "frame rate of frame folders, for their time stamps (videos carry their own)")
-      ->check(positiveNumber("of frames per second"))
+      ->check(numberWithin(0.01, 10000, "frames per second"))
       ->capture_default_str();
   for (CLI::Option* option :
        {leftFrames, rightFrames, leftVideo, rightVideo, video, layout, igtlInput, igtlLeft, igtlRight, igtlSbs})
@@ -156,6 +168,14 @@ void addParamsOption(CLI::App& command, std::optional<std::string>& path, const 
                   "parameters file (OpenCV YAML/XML; nodes " + nodes + "; missing keys keep the paper's defaults)")
       ->type_name("p.yml")
       ->group(heading::common);
+}
+
+void requireDisparityRangeMeetsImage(const StereoParameters& parameters, int widthPx) {
+  if (parameters.disparityRangeMode != DisparityRangeMode::Fixed) return;  // the others are measured or derived
+  if (parameters.minDisparityPx < widthPx && parameters.maxDisparityPx > -widthPx) return;
+  throw Error(cv::format("the disparity range %d..%d px lies beyond the %d-pixel-wide frames: no left pixel can match "
+                         "a right one (set --min-disparity/--max-disparity within +-%d)",
+                         parameters.minDisparityPx, parameters.maxDisparityPx, widthPx, widthPx - 1));
 }
 
 namespace {

@@ -91,6 +91,9 @@ void addDeviceOption(CLI::App& command, DeviceOption& device, const std::string&
 /// --params p.yml: OpenCV YAML/XML parameters; `nodes` says which nodes this command reads.
 void addParamsOption(CLI::App& command, std::optional<std::string>& path, const std::string& nodes);
 
+/// Throws Error when no disparity of a fixed range can match inside frames widthPx wide (it would give 0 % density).
+void requireDisparityRangeMeetsImage(const StereoParameters& parameters, int widthPx);
+
 /// The stereo disparity range, overriding the parameters file's (whose default is the automatic range).
 struct DisparityRangeOptions {
   std::optional<int> minPx, maxPx;
@@ -126,5 +129,7 @@ void applyBenchDisparityRange(StereoParameters& parameters, int widthPx, const s
 /// A validator for positive finite numbers; its message reads after the option's name, which CLI11 puts first:
 /// "--focal-px: must be a positive number of pixels, got '-3'".
 CLI::Validator positiveNumber(const std::string& unit);
+/// The same for a number within [low, high]: "--fps: must be a number of frames per second within [0.01, 10000]".
+CLI::Validator numberWithin(double low, double high, const std::string& unit);
 
 }  // namespace tissuemosaic::cli

@@ -77,7 +77,7 @@ bool isPly(const std::string& path) {
 // truncated or malformed files instead of reporting them. Other formats go through readSurfaceModel. Coordinates
 // are taken as stored (trajectories carry no LPS/RAS mark, so no model file is flipped either).
 
-std::vector<Eigen::Vector3d> readModelPoints(const std::string& path) {
+std::vector<Eigen::Vector3d> readModelPoints(const std::string& path, std::size_t* nonFinite) {
   std::vector<Eigen::Vector3d> points;
   if (isPly(path)) {
     for (const cv::Point3f& p : readPly(path).pointsMm) points.emplace_back(p.x, p.y, p.z);
@@ -85,6 +85,14 @@ std::vector<Eigen::Vector3d> readModelPoints(const std::string& path) {
     points = polyDataPoints(readSurfaceModel(path, ModelFrameChoice::LPS).polyDataLps);
   }
   require(!points.empty(), "the model '" + path + "' has no points");
+  const std::size_t all = points.size();
+  points = finitePoints(points, nonFinite);
+  require(!points.empty(), "the model '" + path + "' has no finite point: all " + std::to_string(all) +
+                               " have NaN or infinite coordinates");
+  if (*nonFinite > 0) {
+    std::cerr << "note: " << *nonFinite << " of the model's " << all
+              << " points have NaN or infinite coordinates and are left out\n";
+  }
   return points;
 }
 
@@ -159,8 +167,10 @@ void printJson(const Report& report) {
   std::cout << "}\n";
 }
 
-void printTable(const ModelEvaluation& e, const std::string& model, const std::string& reference) {
-  std::cout << "model      " << model << " (" << e.distances.count << " points)\n"
+void printTable(const ModelEvaluation& e, const std::string& model, const std::string& reference,
+                std::size_t nonFinitePoints) {
+  std::cout << "model      " << model << " (" << e.distances.count << " points"
+            << (nonFinitePoints > 0 ? ", " + std::to_string(nonFinitePoints) + " non-finite left out" : "") << ")\n"
             << "reference  " << reference << cv::format(" (%.1f mm^2)\n", e.coverage.surfaceAreaMm2)
             << "alignment  " << e.alignment;
   if (e.icp) {
@@ -198,7 +208,8 @@ void runEval(const EvalOptions& given) {
   const std::string& modelPath = given.model;
   const std::string& referencePath = given.reference;
 
-  const std::vector<Eigen::Vector3d> modelPoints = readModelPoints(modelPath);
+  std::size_t nonFinitePoints = 0;
+  const std::vector<Eigen::Vector3d> modelPoints = readModelPoints(modelPath, &nonFinitePoints);
   const TargetSurface referenceSurface(readReferenceSurface(referencePath));
   std::optional<EvaluationTrajectories> trajectories;
   if (given.trajectory) {
@@ -207,9 +218,11 @@ void runEval(const EvalOptions& given) {
   const ModelEvaluation evaluation = evaluateModel(modelPoints, referenceSurface,
                                                    trajectories ? &*trajectories : nullptr, options);
   if (given.json) {
-    printJson(report(evaluation, options));
+    Report json = report(evaluation, options);
+    json.emplace_back("non_finite_points_left_out", nonFinitePoints);
+    printJson(json);
   } else {
-    printTable(evaluation, modelPath, referencePath);
+    printTable(evaluation, modelPath, referencePath, nonFinitePoints);
   }
 }
 

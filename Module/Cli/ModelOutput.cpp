@@ -1,6 +1,7 @@
 #include "ModelOutput.h"
 
 #include "Core/Error.h"
+#include "IO/AtomicFile.h"
 #include "IO/PointCloudPly.h"
 #include "Reconstruction/ReconstructionPipeline.h"
 
@@ -33,9 +34,7 @@ void checkModelOutputPath(const std::string& path) {
 #if !defined(TM_WITH_REGISTRATION)
   require(extension == ".ply", "--out '" + path + "': this build has no VTK, so it writes .ply only");
 #endif
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  require(parent.empty() || std::filesystem::is_directory(parent),
-          "--out '" + path + "': the folder '" + parent.string() + "' does not exist");
+  requireWritableOutput(path, "model (--out)");
 }
 
 void writeModelFile(const std::string& path, const ColoredPointCloud& model, const std::string& comment) {

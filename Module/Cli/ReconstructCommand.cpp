@@ -11,6 +11,7 @@
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
 #include "Core/Stopwatch.h"
+#include "IO/AtomicFile.h"
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
@@ -29,6 +30,7 @@
 #include <fstream>
 #include <utility>
 #include <iostream>
+#include <sstream>
 
 namespace tissuemosaic::cli {
 
@@ -64,16 +66,15 @@ double peakHostMegabytes() {
 
 void runReconstruct(const ReconstructOptions& options) {
   checkModelOutputPath(options.out);
-  // The reports are written after the run: a folder that does not exist is refused before it starts.
-  for (const auto& [flag, path] : {std::pair{"quality-json", options.qualityJson}, {"timing-json", options.timingJson},
-                                   {"frames-trajectory", options.framesTrajectory}, {"trajectory", options.trajectory}}) {
-    if (!path) continue;
-    const std::filesystem::path parent = std::filesystem::path(*path).parent_path();
-    require(parent.empty() || std::filesystem::is_directory(parent),
-            std::string("cannot write --") + flag + " '" + *path + "': the folder '" + parent.string() +
-                "' does not exist");
+  // Every output is checked before any work: a bad secondary path found after the scan would waste it.
+  if (options.trajectory) requireWritableOutput(*options.trajectory, "trajectory (--trajectory)");
+  if (options.framesTrajectory) requireWritableOutput(*options.framesTrajectory, "trajectory (--frames-trajectory)");
+  if (options.qualityJson) requireWritableOutput(*options.qualityJson, "quality JSON (--quality-json)");
+  if (options.timingJson) requireWritableOutput(*options.timingJson, "timing JSON (--timing-json)");
+  if (options.snapshot) {
+    checkSnapshotAvailable();
+    requireWritableOutput(*options.snapshot, "snapshot (--snapshot)");
   }
-  if (options.snapshot) checkSnapshotAvailable();
   const int maxFrames = options.maxFrames.value_or(-1);
   require(!options.maxFrames || maxFrames > 0, "--max-frames must be positive");
 
@@ -93,6 +94,7 @@ void runReconstruct(const ReconstructOptions& options) {
   std::unique_ptr<StereoFrameSource> source = openInput(options.input);
   const cv::Size frameSize = source->frameSize();
   const StereoGeometry geometry = resolveGeometry(options.geometry, frameSize, source->description());
+  requireDisparityRangeMeetsImage(parameters.stereo, frameSize.width);
   const std::unique_ptr<IgtLinkSender> igtl = startIgtLinkSender(options.igtl, std::cerr);
   StereoFrameSource* const sourceToStop = source.get();
   const StopOnSignal stop([sourceToStop] { sourceToStop->interrupt(); });
@@ -163,6 +165,7 @@ void runReconstruct(const ReconstructOptions& options) {
                        (stop.requested() ? " (stopped by a signal)" : ""));
   }
   require(model.size() > 0, "the reconstruction produced no model points (tracking never started?)");
+  OutputBatch outputs;  // the model, trajectories, snapshot and timing replace existing files together, or not at all
   writeModelFile(options.out, model.cloud, "TissueMosaic reconstruct: world frame = first left rectified camera, mm");
   if (options.trajectory) {
     Trajectory keyFrames;
@@ -208,8 +211,7 @@ void runReconstruct(const ReconstructOptions& options) {
   if (igtl) std::cout << igtl->summary() << "\n";
   if (options.qualityJson) quality.writeJson(*options.qualityJson);
   if (options.timingJson) {
-    std::ofstream json(*options.timingJson);
-    require(json.good(), "cannot write '" + *options.timingJson + "'");
+    std::ostringstream json;
     json << "{\"device\": \"" << deviceDescription(device) << "\", \"width\": " << frameSize.width
          << ", \"height\": " << frameSize.height << ", \"frames\": " << frames << ", \"lost\": " << lost
          << ", \"key_frames\": " << pipeline->keyFrames().size() << ", \"model_points\": " << model.size()
@@ -219,8 +221,9 @@ void runReconstruct(const ReconstructOptions& options) {
          << cv::format("%.1f", deviceMb) << ", \"disparity_range\": "
          << disparityRangeJson(pipeline->disparityRangeHistory()) << ", \"lost_spans\": " << quality.lostSpansJson()
          << ", \"relocalisations\": " << quality.relocalisationsJson() << ", \"timing\": " << timing.toJson() << "}\n";
-    require(json.good(), "cannot write '" + *options.timingJson + "' (disk full?)");
+    writeStreamAtomically(*options.timingJson, "timing JSON", [&](std::ostream& out) { out << json.str(); });
   }
+  outputs.commit();
 }
 
 }  // namespace

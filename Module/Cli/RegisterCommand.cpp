@@ -3,6 +3,7 @@
 #include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
+#include "IO/AtomicFile.h"
 #include "vtkTissueMosaicDistanceReport.h"
 #include "vtkTissueMosaicItkTransformFile.h"
 #include "vtkTissueMosaicLandmarksFile.h"
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <vtkPolyData.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -67,12 +69,29 @@ void runRegister(const RegisterOptions& options) {
   if (options.outLandmarks && !pairsFile && !twoFiles) throw UsageError("--out-landmarks needs landmarks");
   std::optional<AnatomicalFrame> landmarksFrame;
   if (options.landmarksFrame) landmarksFrame = parseFrame(*options.landmarksFrame);
-  if (!(options.binMm > 0)) throw Error("--bin-mm must be a positive number of mm");
+  if (!(options.binMm >= 1e-6 && options.binMm <= 1e6)) {
+    throw Error("--bin-mm must be a number of mm within [0.000001, 1000000], got " + std::to_string(options.binMm));
+  }
+  // Every output is checked before any work: a bad path found after the run would leave the others written.
+  requireWritableOutput(transformPath, "transform file (--out-transform)");
+  requireWritableOutput(reportPath, "report (--report)");
+  if (options.outModel) requireWritableOutput(*options.outModel, "registered model (--out-model)");
+  if (options.outLandmarks) requireWritableOutput(*options.outLandmarks, "landmark file (--out-landmarks)");
+  if (options.distances) requireWritableOutput(*options.distances, "distance report (--distances)");
+  if (options.histogram) requireWritableOutput(*options.histogram, "histogram plot (--histogram)");
 
   const SurfaceModelFile model = readSurfaceModel(options.model, parseModelFrameChoice(options.modelFrame));
   const SurfaceModelFile target = readSurfaceModel(options.target, parseModelFrameChoice(options.targetFrame));
   const TargetSurface targetSurface(target.polyDataLps);
-  const std::vector<Eigen::Vector3d> modelPoints = polyDataPoints(model.polyDataLps);
+  std::size_t nonFinitePoints = 0;
+  const std::vector<Eigen::Vector3d> allModelPoints = polyDataPoints(model.polyDataLps);
+  const std::vector<Eigen::Vector3d> modelPoints = finitePoints(allModelPoints, &nonFinitePoints);
+  require(!modelPoints.empty(), "the model '" + options.model + "' has no finite point: all " +
+                                    std::to_string(allModelPoints.size()) + " have NaN or infinite coordinates");
+  if (nonFinitePoints > 0) {
+    std::cerr << "note: " << nonFinitePoints << " of the model's " << allModelPoints.size()
+              << " points have NaN or infinite coordinates and are left out\n";
+  }
 
   nlohmann::json report;
   report["frame"] = "LPS";
@@ -120,6 +139,7 @@ void runRegister(const RegisterOptions& options) {
   const DistanceStatistics statistics = distanceStatistics(distances);
   const DistanceHistogram histogram = distanceHistogram(distances, options.binMm);
   report["points"] = statistics.count;
+  report["non_finite_points_left_out"] = nonFinitePoints;
   report["rmse_mm"] = statistics.rmseMm;
   report["mean_mm"] = statistics.meanMm;
   report["median_mm"] = statistics.medianMm;
@@ -127,12 +147,21 @@ void runRegister(const RegisterOptions& options) {
   report["max_mm"] = statistics.maxMm;
   report["histogram"] = {{"bin_mm", histogram.binWidthMm}, {"counts", histogram.counts}, {"overflow", histogram.overflow}};
 
+  OutputBatch outputs;  // every output replaces its file together with the others, or not at all
   writeModelToTargetTransform(transformPath, targetFromModel);
   report["transform_file"] = transformPath;
   report["transform_file_direction"] = "ITK resampling convention: the file holds T_model_target (target -> model)";
   if (options.outModel) {
     auto registeredModel = transformedPolyData(model.polyDataLps, targetFromModel);
-    addDistanceArrays(registeredModel, distances, signedDistances);
+    // One value per point of the file: NaN at the points left out for their non-finite coordinates.
+    std::vector<double> allDistances, allSignedDistances;
+    for (std::size_t i = 0, next = 0; i < allModelPoints.size(); ++i) {
+      const bool finite = allModelPoints[i].allFinite();
+      allDistances.push_back(finite ? distances[next] : std::nan(""));
+      allSignedDistances.push_back(finite ? signedDistances[next] : std::nan(""));
+      next += finite;
+    }
+    addDistanceArrays(registeredModel, allDistances, allSignedDistances);
     writeSurfaceModel(*options.outModel, registeredModel, AnatomicalFrame::LPS);
   }
   if (options.outLandmarks) {
@@ -147,10 +176,8 @@ void runRegister(const RegisterOptions& options) {
   if (options.distances) writeDistanceCsv(*options.distances, registered, distances, signedDistances);
   if (options.histogram) writeHistogramPng(*options.histogram, histogram, statistics);
 
-  std::ofstream reportFile(reportPath);
-  if (!reportFile) throw Error("cannot write report '" + reportPath + "'");
-  reportFile << report.dump(2) << '\n';
-  if (!reportFile.flush()) throw Error("cannot write report '" + reportPath + "'");
+  writeStreamAtomically(reportPath, "report", [&](std::ostream& file) { file << report.dump(2) << '\n'; });
+  outputs.commit();
   std::printf("distance to the target over %zu points: RMSE %.3f mm, mean %.3f, median %.3f, p95 %.3f, max %.3f mm\n",
               statistics.count, statistics.rmseMm, statistics.meanMm, statistics.medianMm, statistics.p95Mm,
               statistics.maxMm);

@@ -2,10 +2,12 @@
 #include "CommonOptions.h"
 #include "Commands.h"
 #include "Core/Error.h"
+#include "IO/AtomicFile.h"
 #include "Core/StereoRig.h"
 #include "IO/DisparityPfm.h"
 #include "IO/ImageFile.h"
 #include "IO/PointCloudPly.h"
+#include "Reconstruction/ReconstructionParameters.h"
 #include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
@@ -35,10 +37,21 @@ matches (dark, blurred, not rectified) is an error, never a silent default.)";
 struct StereoOptions {
   std::string left, right, out;
   GeometryOptions geometry;
-  std::optional<std::string> cloud, rectifiedLeft, groundTruth, method, params;
+  std::optional<std::string> cloud, rectifiedLeft, groundTruth, method, params, explain;
   DisparityRangeOptions range;
   DeviceOption device;
 };
+
+void writeExplanation(const std::string& path, const StereoExplanation& explanation, const cv::Mat& disparity,
+                      const StereoParameters& parameters) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) throw Error("cannot write '" + path + "'");
+  const int written = std::fprintf(file, "{\"command\": \"stereo\", \"width\": %d, \"height\": %d, \"method\": \"%s\", "
+                                         "\"min_disparity\": %d, \"max_disparity\": %d,\n \"explain\": %s}\n",
+                                   disparity.cols, disparity.rows, stereoMethodName(parameters.method),
+                                   parameters.minDisparityPx, parameters.maxDisparityPx, explanation.json().c_str());
+  if (std::fclose(file) != 0 || written < 0) throw Error("cannot write '" + path + "'");
+}
 
 void printScore(const cv::Mat& disparity, const cv::Mat& truth) {
   const DisparityScore score = scoreDisparity(disparity, truth);
@@ -53,13 +66,20 @@ void runStereo(const StereoOptions& options) {
     throw UsageError("--cloud needs --calib (or --focal-px and --baseline-mm): depth needs the rig's focal length "
                      "and baseline");
   }
-  StereoParameters parameters = options.params ? StereoParameters::readFile(*options.params) : StereoParameters{};
+  // Every output is checked before any work: a bad secondary path found after the run would leave --out replaced.
+  requireWritableOutput(options.out, "PFM");
+  if (options.cloud) requireWritableOutput(*options.cloud, "PLY (--cloud)");
+  if (options.rectifiedLeft) requireWritableOutput(*options.rectifiedLeft, "image (--rectified-left)");
+  // The whole file is read (and checked strictly), as reconstruct reads it; stereo uses its stereo node.
+  StereoParameters parameters =
+      options.params ? ReconstructionParameters::readFile(*options.params).stereo : StereoParameters{};
   options.range.applyTo(parameters);
   if (options.method) parameters.method = parseStereoMethod(*options.method);
   parameters.validate();
   const Device device = options.device.resolve();
 
   const ImagePair pair = loadImagePair(options.left, options.right);
+  requireDisparityRangeMeetsImage(parameters, pair.left.cols);
   cv::Mat left = pair.left, right = pair.right;
   std::optional<StereoGeometry> geometry;
   if (options.geometry.given()) {
@@ -71,8 +91,11 @@ void runStereo(const StereoOptions& options) {
       right = rightRectified;
     }
   }
-  if (options.rectifiedLeft && !cv::imwrite(*options.rectifiedLeft, left)) {
-    throw Error("cannot write '" + *options.rectifiedLeft + "'");
+  OutputBatch outputs;  // the disparity, cloud and image replace existing files together, or not at all
+  if (options.rectifiedLeft) {
+    writeFileAtomically(*options.rectifiedLeft, "image", [&](const std::string& temporaryPath) {
+      return cv::imwrite(temporaryPath, left);
+    });
   }
 
   requireGeometryForWorkingDistance(parameters, geometry.has_value());
@@ -85,18 +108,33 @@ void runStereo(const StereoOptions& options) {
   }
   std::printf("disparity range %s\n", range.description().c_str());
   StereoTimingsMs timings;
-  const cv::Mat disparity = matcher.computeDisparity(left, right, &timings);
+  StereoExplanation explanation;
+  const cv::Mat disparity =
+      matcher.computeDisparity(left, right, &timings, options.explain ? &explanation : nullptr);
   writePfm(options.out, disparity);
   const int estimated = cv::countNonZero(disparity == disparity);
   std::printf("disparity %dx%d on %s: %d of %d pixels estimated (%.1f%%), written to %s\n", disparity.cols,
               disparity.rows, deviceDescription(device).c_str(), estimated, disparity.rows * disparity.cols,
               100.0 * estimated / (disparity.rows * disparity.cols), options.out.c_str());
+  if (estimated == 0) {
+    std::fprintf(stderr, "warning: no pixel has a disparity: the images may be uniform (black, saturated) or "
+                         "featureless, or the range %d..%d px misses the scene\n",
+                 parameters.minDisparityPx, parameters.maxDisparityPx);
+  }
   // The timing fields are shared; AD-Census's three stages are named by what they are.
   const bool adCensus = parameters.method == StereoMethod::AdCensus;
   std::printf("time: %s %.2f ms, %s %.2f ms, %s %.2f ms, total %.2f ms\n", adCensus ? "cost+aggregation" : "zncc",
               timings.zncc, adCensus ? "paths+winners" : "outliers+holes", timings.outliersHoles,
               adCensus ? "median+checks" : "refinement", timings.refinement, timings.total());
 
+  if (options.explain) {
+    writeExplanation(*options.explain, explanation, disparity, parameters);
+    std::printf("removed: outside the right image %ld, textureless window %ld, left-right check %ld, highlight %ld, "
+                "outlier sweeps %ld; hole filling gave back %ld, left %ld unfilled; written to %s\n",
+                explanation.outsideRightImage, explanation.texturelessWindow, explanation.leftRightCheck,
+                explanation.highlight, explanation.outlierSweeps, explanation.filledBack, explanation.notFilled,
+                options.explain->c_str());
+  }
   if (options.cloud) {
     const ColoredPointCloud cloud = disparityToPointCloud(disparity, left, geometry->rectified);
     writePly(*options.cloud, cloud, "TissueMosaic stereo cloud, mm, left rectified camera frame");
@@ -106,7 +144,18 @@ void runStereo(const StereoOptions& options) {
     std::printf("point cloud: %zu points, centroid (%.3f, %.3f, %.3f) mm, written to %s\n", cloud.size(),
                 centroidMm[0], centroidMm[1], centroidMm[2], options.cloud->c_str());
   }
-  if (options.groundTruth) printScore(disparity, readPfm(*options.groundTruth));
+  outputs.commit();
+  if (options.groundTruth) {
+    const cv::Mat truth = readPfm(*options.groundTruth);
+    require(truth.channels() == 1, "--ground-truth '" + *options.groundTruth + "' is a colour PFM ('PF', " +
+                                       std::to_string(truth.channels()) +
+                                       " channels): a disparity map has one channel ('Pf')");
+    require(truth.size() == disparity.size(),
+            "--ground-truth '" + *options.groundTruth + "' is " + std::to_string(truth.cols) + "x" +
+                std::to_string(truth.rows) + " but the disparity is " + std::to_string(disparity.cols) + "x" +
+                std::to_string(disparity.rows));
+    printScore(disparity, truth);
+  }
 }
 
 }  // namespace
@@ -133,6 +182,12 @@ void setupStereo(CLI::App& tool) {
                       "print density, bad-1 and bad-2 against a ground-truth disparity (PFM, NaN = unknown)")
       ->type_name("GT.pfm")
       ->group(heading::options);
+  command->add_option("--explain", options->explain,
+                      "write JSON: how many pixels each step removed (outside the right image, textureless window, "
+                      "left-right check, highlight, outlier sweeps), how many the hole filling gave back and how "
+                      "many it left unfilled (docs/STEREO.md)")
+      ->type_name("explain.json")
+      ->group(heading::output);
   addDisparityRangeOptions(*command, options->range);
   addDeviceOption(*command, options->device, "where to compute");
   addParamsOption(*command, options->params, "stereo");

@@ -16,10 +16,16 @@ const char* const details = R"(Renders a synthetic stereo-endoscope pair of live
   DIR/left_raw.png DIR/right_raw.png   unrectified pair (lens distortion, rotated eyes)
   DIR/rig.yml                          calibration of the unrectified pair (K1 D1 K2 D2 R T imageSize)
   DIR/disparity.pfm DIR/depth_mm.pfm   rectified left view ground truth, NaN where not seen by both eyes
+  DIR/groundtruth/highlight_mask_left.png
+                                       rectified left view: 255 where a specular highlight raises the grey level
+                                       by 10 or more, 0 elsewhere
+--lighting realistic: the light at the scope tip with inverse-square fall-off, exposed so that near pale tissue is
+bright and partly saturated; wet tissue whose highlights break into glints on different surface points in each eye;
+sensor clipping at 255. standard (the default): small white highlights on darker tissue.
 The scene options default to the preset's values (default | wide).)";
 
 struct SynthPairOptions {
-  std::string out, preset = "default";
+  std::string out, preset = "default", lighting = "standard";
   std::optional<int> seed, width, height, supersampling;
   std::optional<double> workingDistanceMm, tiltDeg, reliefMm, baselineMm, focalPx, noiseStdGrey, distortion,
       eyeRotationDeg;
@@ -53,6 +59,7 @@ void runSynthPair(const SynthPairOptions& given) {
   override(options.distortion, given.distortion);
   override(options.eyeRotationDeg, given.eyeRotationDeg);
   override(options.supersampling, given.supersampling);
+  options.lighting = synthetic::parseSyntheticLighting(given.lighting);
 
   const synthetic::SyntheticStereoPair pair = synthetic::renderSyntheticStereoPair(options);
   const std::vector<std::string> written = synthetic::writeSyntheticStereoPair(pair, given.out);
@@ -90,6 +97,8 @@ void setupSynthPair(CLI::App& synth) {
   add("--distortion", options->distortion, "scale of the lens distortion (default 1, 0 = none)");
   add("--eye-rotation", options->eyeRotationDeg, "rotation in degrees between the eyes (default 0.5)");
   add("--supersampling", options->supersampling, "N x N rays per pixel (default 2)");
+  add("--lighting", options->lighting, "the light's look: standard (default) or realistic (see above)");
+  command->get_option("--lighting")->type_name("standard|realistic");
   command->callback([options] { runSynthPair(*options); });
 }
 

@@ -26,6 +26,11 @@ const char* const details = R"(Renders a synthetic stereo-endoscope video that s
                                        rectified views, 5 px border, in some frame), triangle mesh, world frame, mm:
                                        the reference of `tissuemosaic eval`
   DIR/groundtruth/depth_000000.pfm ... depth (mm) along the left rectified optical axis, NaN = not seen by both eyes
+  DIR/groundtruth/highlight_mask_left_000000.png ...
+                                       left rectified view: 255 where a specular highlight raises the grey level
+                                       by 10 or more, 0 elsewhere
+--lighting realistic: the light's look of `synth pair --lighting realistic` (bright, partly saturated tissue, wet
+glints, clipping); standard is the default.
 The world frame has the tissue at Z = h(X, Y), +Z into the tissue. --path approach moves the scope in from
 --max-distance to --min-distance over the scan instead of up and down between them (add --auto-exposure, or the
 nearest frames get several times the light of the farthest); --focal-px, --baseline-mm and --doffs-px choose the
@@ -45,6 +50,7 @@ struct SynthScanOptions {
   synthetic::SyntheticScanOptions scan;
   int seed = static_cast<int>(synthetic::SyntheticScanOptions{}.seed);
   std::string cameraOut;  ///< "S:E", empty: none
+  std::string lighting = "standard";
 };
 
 void printProgress(int frame, int frames) {
@@ -65,6 +71,7 @@ void runSynthScan(const SynthScanOptions& given) {
     options.hardMode.cameraOutStart = first;
     options.hardMode.cameraOutEnd = back;
   }
+  options.lighting = synthetic::parseSyntheticLighting(given.lighting);
   const std::string& out = given.out;
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScan scan(options);
@@ -138,6 +145,8 @@ void setupSynthScan(CLI::App& synth) {
                       "from where it left")
       ->type_name("S:E")->group(hardMode);
   command->add_flag("--smoke", hard.smoke, "a drifting haze over the tissue in every frame")->group(hardMode);
+  add("--lighting", options->lighting, "the light's look: standard or realistic");
+  command->get_option("--lighting")->type_name("standard|realistic");
   command->callback([options] { runSynthScan(*options); });
 }
 

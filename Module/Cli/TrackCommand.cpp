@@ -2,25 +2,30 @@
 // TUM trajectory.
 #include "CommonOptions.h"
 #include "Commands.h"
+#include "StopSignal.h"
 
 #include "Core/Device.h"
 #include "Core/Error.h"
 #include "Core/Statistics.h"
 #include "Core/StereoRig.h"
+#include "IO/AtomicFile.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryError.h"
 #include "IO/TrajectoryTum.h"
+#include "Reconstruction/ReconstructionParameters.h"
 #include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
 
 #include <opencv2/core/persistence.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 namespace tissuemosaic::cli {
 
@@ -49,13 +54,14 @@ struct TrackOptions {
 };
 
 void runTrack(const TrackOptions& options) {
+  requireWritableOutput(options.out, "trajectory");
   StereoParameters stereoParameters;
   FrameTrackerOptions trackerOptions;
   if (options.params) {
-    stereoParameters = StereoParameters::readFile(*options.params);
-    const cv::FileStorage storage(*options.params, cv::FileStorage::READ);
-    require(storage.isOpened(), "cannot read parameters file '" + *options.params + "'");
-    trackerOptions.tracking = TrackingParameters::read(storage["tracking"]);
+    // The whole file is read (and checked strictly), as reconstruct reads it; track uses its stereo and tracking.
+    const ReconstructionParameters fileParameters = ReconstructionParameters::readFile(*options.params);
+    stereoParameters = fileParameters.stereo;
+    trackerOptions.tracking = fileParameters.tracking;
   }
   options.range.applyTo(stereoParameters);
   const Device device = options.device.resolve();
@@ -80,20 +86,24 @@ void runTrack(const TrackOptions& options) {
 
   const std::unique_ptr<StereoFrameSource> source = openInput(options.input);
   const StereoGeometry geometry = resolveGeometry(options.geometry, source->frameSize(), source->description());
+  requireDisparityRangeMeetsImage(stereoParameters, source->frameSize().width);
   StereoMatcher matcher(device, stereoParameters);
   DisparityRangeFollower range(stereoParameters, geometry.rectified, device);
   FrameTracker tracker(geometry.rectified, trackerOptions, T_world_start);
-  std::ofstream file(options.out);
-  require(file.good(), "cannot write trajectory '" + options.out + "'");
+  // The trajectory is kept in memory and written atomically at the end: a run that fails midway leaves an existing
+  // file as it was; one stopped by Ctrl-C or SIGTERM writes the frames it tracked and says so in the file.
+  std::ostringstream file;
   file << "# TissueMosaic track: T_world_camera of the left rectified camera, millimetres, seconds\n"
        << "# t tx ty tz qx qy qz qw\n";
 
   std::vector<double> loadMs, rectifyMs, stereoMs, orbMs, pnpMs, totalMs;
-  int count = 0, lost = 0, keyFrames = 0;
+  int count = 0, lost = 0, keyFrames = 0, mostFeatures = 0;
   Trajectory tracked;
   const int expected = source->frameCount();
   StereoFrame frame;
+  const StopOnSignal stop(nullptr);
   for (;;) {
+    if (stop.requested()) break;
     const auto t0 = std::chrono::steady_clock::now();
     if (!source->next(frame)) break;
     ++count;
@@ -106,7 +116,9 @@ void runTrack(const TrackOptions& options) {
     } catch (const DisparityRangeError& error) {
       rethrowWithRangeOptions(error);
     }
-    const cv::Mat disparity = matcher.computeDisparity(left, right);
+    // As the reconstruction pipeline does: features near a highlight get no depth (StereoMatcher.h).
+    const cv::Mat stereo = matcher.computeDisparity(left, right);
+    const cv::Mat disparity = withoutHighlightNeighbourhood(stereo, matcher.lastHighlightNeighbourhood());
     const auto t3 = std::chrono::steady_clock::now();
     const TrackResult result = tracker.track(left, disparity);
     range.afterFrame(left, right);  // the next frame's range, from this frame's sparse matches
@@ -122,6 +134,7 @@ void runTrack(const TrackOptions& options) {
     TimedPose pose;
     pose.timeS = frame.timeS;
     pose.T_world_camera = result.T_world_camera;
+    mostFeatures = std::max(mostFeatures, result.features);
     if (result.tracked) {
       file << formatTumLine(pose) << "\n";
       keyFrames += result.keyFrame;
@@ -140,12 +153,13 @@ void runTrack(const TrackOptions& options) {
   }
   if (!options.quiet) std::cerr << "\n";
   require(count > 0, "no frame could be read from " + source->description());
-  file.flush();
-  require(file.good(), "cannot write trajectory '" + options.out + "' (disk full?)");
+  if (stop.requested()) file << "# stopped by a signal after " << count << " frames: the trajectory is incomplete\n";
+  writeStreamAtomically(options.out, "trajectory", [&](std::ostream& out) { out << file.str(); });
 
   std::cout << "tracked " << count - lost << " of " << count << " frames (" << lost << " lost, " << keyFrames
             << " key frames) on " << deviceDescription(device) << "; wrote " << options.out << "\n"
             << "disparity range " << range.description() << "\n";
+  if (stop.requested()) std::cout << "stopped by a signal after " << count << " frames\n";
   std::cout << cv::format("per-frame milliseconds (median / mean): load %.1f / %.1f, rectify %.1f / %.1f, stereo "
                           "%.1f / %.1f, ORB + voting %.1f / %.1f, DynamicR1PPnP %.1f / %.1f, total %.1f / %.1f\n",
                           median(loadMs), mean(loadMs), median(rectifyMs), mean(rectifyMs), median(stereoMs),
@@ -160,7 +174,11 @@ void runTrack(const TrackOptions& options) {
                             "relative pose error per frame: RMS %.3f mm\n",
                             errors.poses, errors.ateRmseMm, errors.ateMaxMm, errors.rpeRmseMm);
   }
-  require(count == 1 || lost < count - 1, "tracking was lost on every frame after the first");
+  require(count == 1 || lost < count - 1,
+          "tracking was lost on every frame after the first" +
+              std::string(mostFeatures == 0 ? " (no frame has a single ORB feature: are the frames black, saturated or "
+                                              "uniform?)"
+                                            : ""));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // working (bad data, unreadable file, tracking lost), 2 a command line that does not make sense.
 #include "CommonOptions.h"
 #include "Commands.h"
+#include "Core/EditDistance.h"
 #include "Core/Error.h"
 
 #include <opencv2/core/utility.hpp>
@@ -75,21 +76,6 @@ std::string commandPath(const CLI::App& tool) {
     path = command->get_name() + (path.empty() ? "" : " " + path);
   }
   return path;
-}
-
-std::size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
 }
 
 /// " (did you mean --x?)" when one of the command's options is a near miss of `word`, else "".

@@ -3,16 +3,7 @@
 # checks it. Checks are comma-separated: key:LOW:HIGH (a number within [LOW, HIGH]), key:null, key:true, key:false,
 # or key:TEXT (a string equal to TEXT). EXPECT_FILE holds more checks in the same form (written by the test that
 # made the inputs).
-set(command)
-set(after_separator FALSE)
-math(EXPR last "${CMAKE_ARGC} - 1")
-foreach(i RANGE 1 ${last})
-  if(after_separator)
-    list(APPEND command "${CMAKE_ARGV${i}}")
-  elseif(CMAKE_ARGV${i} STREQUAL "--")
-    set(after_separator TRUE)
-  endif()
-endforeach()
+include(${CMAKE_CURRENT_LIST_DIR}/../CommandAfterSeparator.cmake)
 if(NOT command)
   message(FATAL_ERROR "usage: cmake -DEXPECT=... -P CheckEvalJson.cmake -- COMMAND...")
 endif()

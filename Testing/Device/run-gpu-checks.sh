@@ -5,7 +5,9 @@
 # (libsgm-timing: Testing/Device/libsgm-peer, the peer of bench stereo, timed in the same run when it is in the bundle).
 # It runs the CUDA-vs-CPU tests and the benchmarks (stereo, ORB, PnP, tracking three times, the 300-frame reconstruction;
 # with HD=1 also stereo and the reconstruction at 1280x1024 and 1920x1080 with 256 disparities; with LONG=1 the 5-minute
-# scan, 9000 frames rendered 100 at a time, about 7 minutes) and leaves logs and JSON in ./gpu-checks (CHECKS_DIR), one
+# scan, 9000 frames rendered 100 at a time, about 7 minutes; with SOAK=1 only the CUDA tests and the one-hour soak:
+# 108000 frames (SOAK_FRAMES) of the 300-frame scan played forward and back, its memory at each quarter in
+# soak.log) and leaves logs and JSON in ./gpu-checks (CHECKS_DIR), one
 # bench-*.json per run: Resources/scripts/benchmark-report.py turns them into docs/BENCHMARKS.md's tables. Where $OUT is
 # set (the device tool), everything is also packed into $OUT/gpu-checks.tgz: only a few files come back from there.
 # The exit status is non-zero when a CUDA test failed, or skipped (check-cuda-log.sh): here every one must run.
@@ -20,6 +22,15 @@ nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.max.sm 
 tests_status=${PIPESTATUS[0]}
 "$here/check-cuda-log.sh" "$out/cuda-tests.log" | tee "$out/cuda-tests-verdict.txt"
 verdict_status=${PIPESTATUS[0]}
+if [ "${SOAK:-0}" = 1 ]; then
+  timeout ${SOAK_TIMEOUT_S:-560} $bench reconstruct --device cuda --frames 300 --supersampling 1 \
+    --soak-frames ${SOAK_FRAMES:-108000} > "$out/bench-reconstruct-cuda-soak.json" \
+    2> >(tr '\r' '\n' | grep -v "frame [0-9]*/" > "$out/soak.log")
+  echo "soak exit status: $?" >> "$out/soak.log"
+  sleep 1
+  cat "$out/soak.log"
+  head -c 1500 "$out/bench-reconstruct-cuda-soak.json"
+else
 $bench stereo --device cuda --repeats ${REPEATS:-200} 2>/dev/null | tee "$out/bench-stereo-cuda.json"
 $bench stereo --device cpu --repeats 5 2>/dev/null > "$out/bench-stereo-cpu.json"
 $bench stereo --device cuda --method ad-census 2>/dev/null > "$out/bench-stereo-adcensus-cuda.json"
@@ -50,6 +61,7 @@ if [ "${HD:-0}" = 1 ]; then
     $bench reconstruct --device cuda --width "$width" --height "$height" --disparities 256 --frames ${HD_FRAMES:-120} \
       2>/dev/null | tee "$out/bench-reconstruct-cuda-$size-256.json"
   done
+fi
 fi
 if [ "${LONG:-0}" = 1 ]; then
   $bench reconstruct --device cuda --frames 9000 --stream --chunk 100 --supersampling 1 2>/dev/null |

@@ -1,6 +1,7 @@
 // Calibration files as the field ships them (IO/Calibration): each layout's minimal example is written here from
 // one reference rig, in that tool's own conventions, and must read back as the reference (and rectify as it does).
 #include "Core/Error.h"
+#include "ErrorText.h"
 #include "Core/StereoRig.h"
 #include "IO/Calibration/CalibrationFile.h"
 
@@ -62,15 +63,6 @@ void expectReference(const StereoCalibration& read, double tolerance, bool withI
   EXPECT_EQ(read.T.size(), cv::Size(1, 3));
   EXPECT_EQ(read.D1.rows, 1);
   if (withImageSize) EXPECT_EQ(read.imageSize, reference.imageSize);
-}
-
-std::string errorOf(const std::function<void()>& run) {
-  try {
-    run();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 TEST(CalibrationLayouts, OpenCvStereoCalibrateNames) {

@@ -71,28 +71,9 @@ SyntheticScanOptions scanOptions(const ScopeCase& c, int frames, double fps) {
   return options;
 }
 
-/// Left-view pixels where the matcher gives no estimate whatever the range: near a specular highlight in the left
-/// eye, or whose match (through the true disparity) is near one in the right eye (StereoParameters' specular rule).
-cv::Mat highlightPixels(const SyntheticScanFrame& frame, const StereoParameters& p) {
-  const auto nearBright = [&](const cv::Mat& bgr) {
-    cv::Mat grey, bright, count;
-    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-    bright = grey >= p.specularMinGrey;
-    const int side = 2 * p.specularMarginPx + 1;
-    cv::boxFilter(bright / 255, count, CV_32S, cv::Size(side, side), cv::Point(-1, -1), false);
-    return cv::Mat(count >= p.specularMinPixels);
-  };
-  const cv::Mat left = nearBright(frame.leftRectified), right = nearBright(frame.rightRectified);
-  cv::Mat excluded = left.clone();
-  for (int y = 0; y < excluded.rows; ++y) {
-    for (int x = 0; x < excluded.cols; ++x) {
-      const float d = frame.disparityPx.at<float>(y, x);
-      const int xr = std::isfinite(d) ? x - static_cast<int>(std::lround(d)) : -1;
-      if (xr >= 0 && xr < right.cols && right.at<uint8_t>(y, xr)) excluded.at<uint8_t>(y, x) = 255;
-    }
-  }
-  return excluded;
-}
+/// Left-view pixels on a specular highlight (the generator's ground truth). The matcher removes its estimates
+/// there that disagree with the tissue around and refills them; the score outside them is that of the tissue.
+cv::Mat highlightPixels(const SyntheticScanFrame& frame, const StereoParameters&) { return frame.highlightMaskLeft; }
 
 }  // namespace
 

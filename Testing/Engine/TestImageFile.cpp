@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <vector>
 
 namespace tissuemosaic {
 namespace {
@@ -67,6 +68,37 @@ TEST(ImageFile, PairMustHaveOneSize) {
   EXPECT_EQ(pair.right.at<cv::Vec3b>(23, 31), cv::Vec3b(4, 5, 6));
   expectError([&] { loadImagePair(left, other); }, "left '" + left + "' is 32x24 but right '" + other + "' is 33x24");
   expectError([&] { loadImagePair(left, outputPath("gone.png")); }, "does not exist");
+}
+
+// Issue 32: libjpeg decodes a JPEG cut short into a half-grey image with only a warning; a header declaring a
+// 20000x20000 image ended in std::bad_alloc. Both are errors that say so; the whole JPEG still loads.
+TEST(ImageFile, TruncatedJpegAndHugeImagesAreRefused) {
+  cv::Mat image(120, 160, CV_8UC3);
+  cv::randu(image, 0, 256);
+  const std::string whole = outputPath("whole.jpg"), cut = outputPath("cut.jpg");
+  ASSERT_TRUE(cv::imwrite(whole, image));
+  EXPECT_EQ(loadImage(whole).size(), image.size());
+  std::filesystem::copy_file(whole, cut, std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::resize_file(cut, std::filesystem::file_size(whole) / 2);
+  expectError([&] { loadImage(cut); }, "cannot read image '" + cut + "': the JPEG file is truncated");
+  // Trailing zero padding after the end-of-image marker is common and harmless.
+  std::filesystem::copy_file(whole, outputPath("padded.jpg"), std::filesystem::copy_options::overwrite_existing);
+  std::ofstream(outputPath("padded.jpg"), std::ios::binary | std::ios::app) << std::string(16, '\0');
+  EXPECT_EQ(loadImage(outputPath("padded.jpg")).size(), image.size());
+
+  // A PNG whose header says 20000x20000 (a 1x1 image with its IHDR size rewritten; its checksum no longer matters,
+  // the size is refused before decoding).
+  std::vector<uchar> png;
+  ASSERT_TRUE(cv::imencode(".png", cv::Mat(1, 1, CV_8UC3, cv::Scalar::all(0)), png));
+  const auto putBigEndian = [&](std::size_t at, std::uint32_t value) {
+    for (int i = 0; i < 4; ++i) png[at + i] = static_cast<uchar>(value >> (24 - 8 * i));
+  };
+  putBigEndian(16, 20000);
+  putBigEndian(20, 20000);
+  const std::string huge = outputPath("huge.png");
+  std::ofstream(huge, std::ios::binary).write(reinterpret_cast<const char*>(png.data()),
+                                              static_cast<std::streamsize>(png.size()));
+  expectError([&] { loadImage(huge); }, "its header declares 20000x20000 pixels, more than the 67 megapixels");
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // The engine's grey conversion (one helper for stereo and tracking, which each had their own) against OpenCV's.
 #include "Core/Error.h"
+#include "ErrorText.h"
 #include "Core/PixelFormat.h"
 #include "Tracking/StereoFeatures.h"
 
@@ -24,15 +25,6 @@ int differingPixels(const cv::Mat& a, const cv::Mat& b) {
   EXPECT_EQ(a.size(), b.size());
   EXPECT_EQ(a.type(), b.type());
   return cv::countNonZero(a != b);
-}
-
-std::string errorOf(const std::function<void()>& call) {
-  try {
-    call();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(PixelFormat, GreyIsOpenCvsConversionOfEveryLayout) {

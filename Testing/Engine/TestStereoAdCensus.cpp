@@ -206,8 +206,9 @@ TEST(StereoAdCensus, WinnersTakeTheLowestDisparityAndTheParabolaVertex) {
   EXPECT_FLOAT_EQ(subpixel[3], 3.25f);
   EXPECT_EQ(leftDisparity[2], 2);
   EXPECT_FLOAT_EQ(subpixel[2], 2.0f);
-  // Pixel 0 costs 1000 everywhere: disparity minDisparity (i = 0) and no offset at the range's end.
-  EXPECT_EQ(leftDisparity[0], 1);
+  // Pixel 0 costs 1000 everywhere: no winner (a uniform patch says nothing about its disparity; issue 32); its
+  // sub-pixel value is minDisparity's (i = 0) without offset, dropped at the end.
+  EXPECT_EQ(leftDisparity[0], kNoDisparity);
   EXPECT_FLOAT_EQ(subpixel[0], 1.0f);
   // Right pixel 0 sees left pixels 0 + d for d = 1..3 (4 and 5 fall outside): left pixel 1 at d = 1 (i = 0) costs
   // 1000, left pixel 2 at d = 2 (i = 1) costs 5, left pixel 3 at d = 3 (i = 2) costs 10 -> d = 2.
@@ -253,6 +254,28 @@ TEST(StereoAdCensus, RecoversAKnownShift) {
   std::printf("estimated %.4f, within 1 px %.4f\n", double(estimated) / inside, double(within) / estimated);
   EXPECT_GE(double(estimated) / inside, 0.95);
   EXPECT_GE(double(within) / estimated, 0.98);
+}
+
+// Issue 32: an all-black pair gave "93.8 % estimated", every value the range's minimum. Uniform images carry no
+// disparity: nothing is estimated, with the left-right check on or off. A textured control keeps its estimates.
+TEST(StereoAdCensus, UniformPairGivesNoEstimate) {
+  for (const int leftRightMaxDifferencePx : {1, -1}) {
+    StereoParameters parameters;
+    parameters.method = StereoMethod::AdCensus;
+    parameters.minDisparityPx = -20;
+    parameters.maxDisparityPx = 40;
+    parameters.leftRightMaxDifferencePx = leftRightMaxDifferencePx;
+    StereoMatcher matcher(Device::Cpu, parameters);
+    for (const int grey : {0, 128, 255}) {
+      const cv::Mat uniform(90, 160, CV_8UC3, cv::Scalar::all(grey));
+      const cv::Mat disparity = matcher.computeDisparity(uniform, uniform);
+      EXPECT_EQ(cv::countNonZero(disparity == disparity), 0)
+          << "grey " << grey << ", left-right check " << leftRightMaxDifferencePx;
+    }
+    const cv::Mat texture = test::randomTexture(160, 90, 5);
+    const cv::Mat textured = matcher.computeDisparity(texture, test::shiftedView(texture, 4.5, 0.0, 0.0));
+    EXPECT_GT(cv::countNonZero(textured == textured), 160 * 90 / 2);
+  }
 }
 
 TEST(StereoAdCensus, WorkspaceHoldsOnlyItsMethodsBuffers) {

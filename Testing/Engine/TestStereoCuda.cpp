@@ -75,6 +75,82 @@ TEST(StereoCuda, MatchesCpuOnSyntheticTissuePair) {
   compareBackends(pair.leftRectified, pair.rightRectified, StereoParameters{}, "synthetic tissue 960x540, -20..80");
 }
 
+TEST(StereoCuda, MatchesCpuBitForBitWithHighlights) {
+  // Highlight seeds, their margins and the re-selection that leaves highlights their filled values: the realistic
+  // look (glints, bright tissue, clipping) and the standard look (one large highlight), final disparities and the
+  // explanation's counts identical.
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  for (const auto lighting : {synthetic::SyntheticLighting::Realistic, synthetic::SyntheticLighting::Standard}) {
+    synthetic::SyntheticStereoOptions options;
+    options.lighting = lighting;
+    const auto pair = synthetic::renderSyntheticStereoPair(options);
+    const char* what = synthetic::syntheticLightingName(lighting);
+    compareBackends(pair.leftRectified, pair.rightRectified, StereoParameters{}, what);
+    StereoMatcher cpu(Device::Cpu, StereoParameters{});
+    StereoMatcher gpu(Device::Cuda, StereoParameters{});
+    StereoExplanation cpuCounts, gpuCounts;
+    const cv::Mat cpuDisparity = cpu.computeDisparity(pair.leftRectified, pair.rightRectified, nullptr, &cpuCounts);
+    const cv::Mat gpuDisparity = gpu.computeDisparity(pair.leftRectified, pair.rightRectified, nullptr, &gpuCounts);
+    std::printf("%s: cpu %s\n     gpu %s\n", what, cpuCounts.json().c_str(), gpuCounts.json().c_str());
+    EXPECT_EQ(countDifferent(cpuDisparity, gpuDisparity), 0) << what;
+    // What tracking and fusion leave out: the same pixels.
+    const cv::Mat cpuNear = cpu.lastHighlightNeighbourhood(), gpuNear = gpu.lastHighlightNeighbourhood();
+    EXPECT_GT(cv::countNonZero(cpuNear), 0) << what;
+    EXPECT_EQ(cv::countNonZero(cpuNear != gpuNear), 0) << what;
+    EXPECT_GT(cpuCounts.highlight, 0) << what;
+    EXPECT_EQ(cpuCounts.json(), gpuCounts.json()) << what;
+  }
+}
+
+TEST(StereoCuda, HighlightSeedsMatchCpu) {
+  // The seed rule alone on random grey levels crowded near saturation (runs, rings and view tests all taken) with
+  // random winners (holes among them), odd sizes, both eyes.
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    const int width = 131 + 57 * seed, height = 67 + 23 * seed;
+    std::mt19937 random(seed);
+    const auto grey = [&]() { return static_cast<float>(random() % 3 == 0 ? 200 + random() % 56 : random() % 256); };
+    const auto winner = [&]() {
+      return static_cast<int16_t>(random() % 9 == 0 ? stereo::kNoDisparity : static_cast<int>(random() % 40) - 5);
+    };
+    const std::size_t n = static_cast<std::size_t>(width) * height;
+    std::vector<float> left(n), right(n);
+    std::vector<int16_t> leftWinners(n), rightWinners(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      left[i] = grey();
+      right[i] = grey();
+      leftWinners[i] = winner();
+      rightWinners[i] = winner();
+    }
+    const stereo::HighlightRule rule{240.0f, 4 + static_cast<int>(seed), 6, 20.0f, 10.0f};
+    std::vector<int16_t> cpuLeft(n), cpuRight(n);
+    stereo::detectHighlightSeedsCpu({{left.data(), width, height}, {right.data(), width, height},
+                                     {leftWinners.data(), width, height}, {rightWinners.data(), width, height},
+                                     {cpuLeft.data(), width, height}, {cpuRight.data(), width, height}, rule});
+    Buffer<float> leftDevice(Device::Cuda, n), rightDevice(Device::Cuda, n);
+    Buffer<int16_t> leftWinnersDevice(Device::Cuda, n), rightWinnersDevice(Device::Cuda, n);
+    Buffer<int16_t> leftSeedsDevice(Device::Cuda, n), rightSeedsDevice(Device::Cuda, n);
+    leftDevice.upload(left.data());
+    rightDevice.upload(right.data());
+    leftWinnersDevice.upload(leftWinners.data());
+    rightWinnersDevice.upload(rightWinners.data());
+    stereo::detectHighlightSeedsCuda({{leftDevice.data(), width, height}, {rightDevice.data(), width, height},
+                                      {leftWinnersDevice.data(), width, height},
+                                      {rightWinnersDevice.data(), width, height},
+                                      {leftSeedsDevice.data(), width, height}, {rightSeedsDevice.data(), width, height},
+                                      rule});
+    const std::vector<int16_t> gpuLeft = leftSeedsDevice.toHost(), gpuRight = rightSeedsDevice.toHost();
+    long seeds = 0, different = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      seeds += (cpuLeft[i] != stereo::kNoDisparity) + (cpuRight[i] != stereo::kNoDisparity);
+      different += (cpuLeft[i] != gpuLeft[i]) + (cpuRight[i] != gpuRight[i]);
+    }
+    std::printf("seeds %dx%d: %ld seeds on the CPU, %ld pixels differ\n", width, height, seeds, different);
+    EXPECT_GT(seeds, 20) << "too few seeds for the comparison to mean much";  // 27 at the smallest size
+    EXPECT_EQ(different, 0);
+  }
+}
+
 TEST(StereoCuda, MatchesCpuOnWideRangeAndOtherWindows) {
   if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
   const auto pair = synthetic::renderSyntheticStereoPair(synthetic::SyntheticStereoOptions::wideDisparity());
@@ -130,10 +206,11 @@ TEST(StereoCuda, MatchesCpuFrameAfterFrameOnOneMatcher) {
     EXPECT_EQ(countDifferent(cpu.lastZnccDisparity(), gpu.lastZnccDisparity()), 0) << "frame " << i;
     EXPECT_GE(shareWithin(expected, computed, 0.5f), 0.995) << "frame " << i;
   }
-  // The two scenes differ, so a frame computed from the other frame's pixels would have failed above.
+  // The two scenes differ, so a frame computed from the other frame's pixels would have failed above: its share
+  // within 0.5 px is below the 0.995 asked there (0.900 measured).
   EXPECT_LT(shareWithin(cpu.computeDisparity(first.leftRectified, first.rightRectified),
                         cpu.computeDisparity(second.leftRectified, second.rightRectified), 0.5f),
-            0.9);
+            0.99);
 }
 
 TEST(StereoCuda, AdCensusMatchesCpuBitForBit) {

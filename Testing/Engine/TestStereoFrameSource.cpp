@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -115,3 +116,57 @@ TEST(StereoFrameSource, BadInputIsReported) {
   EXPECT_THROW(StereoFrameSource::openSideBySideVideo((folder / "corrupt.avi").string()), Error);
   EXPECT_THROW(StereoFrameSource::openVideoPair((folder / "missing.avi").string(), (folder / "corrupt.avi").string()), Error);
 }
+
+namespace {
+
+/// Issue 32: videos of a pair with unequal frame counts, and a video cut short, were read silently in part.
+TEST(StereoFrameSource, UnequalAndTruncatedVideosAreReported) {
+  const auto folder = freshFolder("short-videos");
+  const int fourcc = cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+  const auto writeVideo = [&](const std::string& name, int frames, bool rightEye, cv::Size size) {
+    cv::VideoWriter writer((folder / name).string(), fourcc, 30.0, size);
+    ASSERT_TRUE(writer.isOpened()) << "OpenCV cannot write MJPG AVI here";
+    for (int i = 0; i < frames; ++i) {
+      cv::Mat image = eyeImage(i, rightEye);
+      if (size.width != image.cols) cv::hconcat(eyeImage(i, false), eyeImage(i, true), image);
+      writer.write(image);
+    }
+  };
+  writeVideo("left6.avi", 6, false, {160, 120});
+  writeVideo("right3.avi", 3, true, {160, 120});
+  writeVideo("sbs6.avi", 6, false, {320, 120});
+  const auto messageOf = [](const std::function<void()>& action) {
+    try {
+      action();
+    } catch (const Error& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  const std::string unequal = messageOf([&] {
+    StereoFrameSource::openVideoPair((folder / "left6.avi").string(), (folder / "right3.avi").string());
+  });
+  EXPECT_NE(unequal.find("has 6 frames but the right video"), std::string::npos) << unequal;
+  EXPECT_NE(unequal.find("has 3"), std::string::npos) << unequal;
+
+  // The side-by-side video cut after its first third: its header still declares 6 frames.
+  const auto bytes = std::filesystem::file_size(folder / "sbs6.avi");
+  std::filesystem::copy_file(folder / "sbs6.avi", folder / "cut.avi");
+  std::filesystem::resize_file(folder / "cut.avi", bytes / 3);
+  const std::string cut = messageOf([&] {
+    auto source = StereoFrameSource::openSideBySideVideo((folder / "cut.avi").string());
+    StereoFrame frame;
+    while (source->next(frame)) {
+    }
+  });
+  EXPECT_NE(cut.find("its header declares cannot be read (the file is truncated or corrupt)"), std::string::npos)
+      << cut;
+  // The whole video reads to its end without complaint (the control).
+  auto whole = StereoFrameSource::openSideBySideVideo((folder / "sbs6.avi").string());
+  StereoFrame frame;
+  int frames = 0;
+  while (whole->next(frame)) ++frames;
+  EXPECT_EQ(frames, 6);
+}
+
+}  // namespace

@@ -131,7 +131,7 @@ TEST(SyntheticScan, WrittenGroundTruthIsConsistent) {
   std::filesystem::remove_all(folder);
   const SyntheticScan scan(smallScan());
   const int written = writeSyntheticScan(scan, folder.string());
-  EXPECT_EQ(written, 3 + 3 * scan.frameCount());
+  EXPECT_EQ(written, 3 + 4 * scan.frameCount());
   for (int k = 0; k < scan.frameCount(); ++k) {
     const std::string name = cv::format("%06d", k);
     EXPECT_TRUE(std::filesystem::exists(folder / "left" / (name + ".png")));

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
@@ -225,9 +226,13 @@ TEST(SyntheticStereoScene, WritesImagesCalibrationAndGroundTruthThatReadBack) {
   const std::string folder = std::string(TM_TEST_OUTPUT_DIR) + "/synthetic_pair";
   std::filesystem::remove_all(folder);
   const std::vector<std::string> written = writeSyntheticStereoPair(pair, folder);
-  EXPECT_EQ(written.size(), 7u);
-  for (const char* name : {"left.png", "right.png", "left_raw.png", "right_raw.png", "rig.yml", "disparity.pfm", "depth_mm.pfm"})
+  EXPECT_EQ(written.size(), 8u);
+  for (const char* name : {"left.png", "right.png", "left_raw.png", "right_raw.png", "rig.yml", "disparity.pfm",
+                           "depth_mm.pfm", "groundtruth/highlight_mask_left.png"})
     EXPECT_TRUE(std::filesystem::is_regular_file(folder + "/" + name)) << name;
+  const cv::Mat mask = cv::imread(folder + "/groundtruth/highlight_mask_left.png", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(mask.type(), CV_8U);
+  EXPECT_EQ(cv::norm(mask, pair.highlightMaskLeft, cv::NORM_INF), 0.0);
   const StereoCalibration calibration = StereoCalibration::read(folder + "/rig.yml");
   EXPECT_EQ(calibration.imageSize, pair.calibration.imageSize);
   EXPECT_LT(cv::norm(calibration.K1, pair.calibration.K1, cv::NORM_INF), 1e-9);
@@ -250,4 +255,59 @@ TEST(SyntheticStereoScene, RejectsInvalidOptions) {
   options = SyntheticStereoOptions();
   options.supersampling = 9;
   EXPECT_THROW(renderSyntheticStereoPair(options), Error);
+}
+
+// The realistic look (SyntheticLighting.h): large bright diffuse areas near and at saturation, a sensor that clips at
+// 255 exactly, and highlights that the ground-truth mask marks and that sit elsewhere on the surface in each eye.
+TEST(SyntheticStereoScene, RealisticLightingHasBrightTissueClippingAndViewDependentHighlights) {
+  SyntheticStereoOptions options;
+  options.width = 480;
+  options.height = 270;
+  options.lighting = SyntheticLighting::Realistic;
+  const SyntheticStereoPair pair = renderSyntheticStereoPair(options);
+  const cv::Mat left = grey(pair.leftRectified), right = grey(pair.rightRectified);
+  const double pixels = static_cast<double>(left.total());
+  const cv::Mat mask = pair.highlightMaskLeft;
+  ASSERT_EQ(mask.type(), CV_8U);
+  ASSERT_EQ(mask.size(), left.size());
+  EXPECT_GT(cv::countNonZero(mask) / pixels, 0.0015);  // 0.0025 at seed 1: glints, a few larger lobes
+  EXPECT_LT(cv::countNonZero(mask) / pixels, 0.10);
+  // Bright diffuse tissue: many pixels above 230 outside the highlights.
+  EXPECT_GT(cv::countNonZero((left > 230) & (mask == 0)) / pixels, 0.05);
+  // Clipping: a saturated channel reads 255 exactly, without noise (the standard look adds noise after clipping, so
+  // that its saturated pixels spread over 250..255).
+  std::vector<cv::Mat> channels;
+  cv::split(pair.leftRectified, channels);
+  const int clipped = cv::countNonZero((channels[1] == 255) & (mask != 0));
+  EXPECT_GT(clipped, 200);
+  EXPECT_GT(clipped, 10 * cv::countNonZero((channels[1] == 254) & (mask != 0)));
+  // The mask marks the highlights: on it the image is brighter than around it.
+  EXPECT_GT(cv::mean(left, mask)[0], cv::mean(left, mask == 0)[0] + 40);
+  // View-dependent: at the true match the right eye sees the same diffuse tissue alike, but not the highlights.
+  double highlightDifference = 0, tissueDifference = 0;
+  long highlightPixels = 0, tissuePixels = 0;
+  for (int y = 0; y < left.rows; ++y)
+    for (int x = 0; x < left.cols; ++x) {
+      const float d = pair.disparityPx.at<float>(y, x);
+      if (std::isnan(d)) continue;
+      const int xr = static_cast<int>(std::lround(x - d));
+      const double difference = left.at<uchar>(y, x) - right.at<uchar>(y, xr);
+      if (mask.at<uchar>(y, x)) {
+        highlightDifference += difference;
+        ++highlightPixels;
+      } else {
+        tissueDifference += std::abs(difference);
+        ++tissuePixels;
+      }
+    }
+  ASSERT_GT(highlightPixels, 100);
+  std::printf("left - right at the true match: highlights %+.1f, tissue |%.1f| grey levels\n",
+              highlightDifference / highlightPixels, tissueDifference / tissuePixels);
+  // Seed 1: +9.2 on highlights (their rims overlap the twin's), |3.4| on tissue (noise). Without view dependence the
+  // highlights' mean would be as near 0 as the tissue's.
+  EXPECT_GT(highlightDifference / highlightPixels, 2.0 * tissueDifference / tissuePixels);
+  EXPECT_LT(tissueDifference / tissuePixels, 6.0);
+  // The looks by name, as `synth --lighting` takes them.
+  EXPECT_THROW(parseSyntheticLighting("neon"), Error);
+  EXPECT_EQ(parseSyntheticLighting("realistic"), SyntheticLighting::Realistic);
 }

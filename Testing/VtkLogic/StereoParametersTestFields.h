@@ -12,7 +12,7 @@ namespace tissuemosaic::test {
 
 /// Numeric fields of StereoParameters, besides the method and the disparity range's mode; the lists below must
 /// name every one of them.
-constexpr std::size_t kStereoParameterNumericFields = 37;
+constexpr std::size_t kStereoParameterNumericFields = 40;
 static_assert(sizeof(StereoParameters) ==
                       sizeof(StereoMethod) + sizeof(DisparityRangeMode) + kStereoParameterNumericFields * sizeof(int) &&
                   sizeof(int) == sizeof(float),
@@ -48,7 +48,10 @@ inline StereoParameters unusualParameters() {
   p.holeMaxEdgeDifferencePx = -1.0f;
   p.specularMinGrey = 250.0f;
   p.specularMarginPx = 9;
-  p.specularMinPixels = 30;
+  p.specularMaxRadiusPx = 15;
+  p.specularMinContrastGrey = 35.5f;
+  p.specularViewToleranceGrey = 22.5f;
+  p.trackingHighlightMarginPx = 11;
   p.censusWidthPx = 7;
   p.censusHeightPx = 5;
   p.censusLambda = 25.0f;
@@ -81,7 +84,8 @@ struct StereoParameterFields {
       {"refineSearchPx", &StereoParameters::refineSearchPx},
       {"leftRightMaxDifferencePx", &StereoParameters::leftRightMaxDifferencePx},
       {"specularMarginPx", &StereoParameters::specularMarginPx},
-      {"specularMinPixels", &StereoParameters::specularMinPixels},
+      {"specularMaxRadiusPx", &StereoParameters::specularMaxRadiusPx},
+      {"trackingHighlightMarginPx", &StereoParameters::trackingHighlightMarginPx},
       {"censusWidthPx", &StereoParameters::censusWidthPx},
       {"censusHeightPx", &StereoParameters::censusHeightPx},
       {"armMaxPx", &StereoParameters::armMaxPx},
@@ -99,6 +103,8 @@ struct StereoParameterFields {
       {"refineMaxDeviationPx", &StereoParameters::refineMaxDeviationPx},
       {"holeMaxEdgeDifferencePx", &StereoParameters::holeMaxEdgeDifferencePx},
       {"specularMinGrey", &StereoParameters::specularMinGrey},
+      {"specularMinContrastGrey", &StereoParameters::specularMinContrastGrey},
+      {"specularViewToleranceGrey", &StereoParameters::specularViewToleranceGrey},
       {"censusLambda", &StereoParameters::censusLambda},
       {"absoluteDifferenceLambda", &StereoParameters::absoluteDifferenceLambda},
       {"pathPenaltySmall", &StereoParameters::pathPenaltySmall},

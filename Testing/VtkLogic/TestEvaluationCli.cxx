@@ -2,6 +2,7 @@
 // and models whose scores are known, written to $TM_EVAL_CLI_DIR (default: the test output folder). Values that
 // depend on the random noise are written beside them as checks for Testing/Cli/CheckEvalJson.cmake.
 #include "EvaluationTestScene.h"
+#include "IO/MeshPly.h"
 #include "IO/PointCloudPly.h"
 #include "IO/TrajectoryTum.h"
 #include "vtkTissueMosaicRegistration.h"
@@ -113,4 +114,28 @@ TEST(EvalCliInputs, WriteReferenceModelsAndTrajectories) {
   EXPECT_TRUE(std::filesystem::exists(folder / "perturbed.ply"));
   EXPECT_EQ(readSurfaceModel((folder / "offset.ply").string()).polyDataLps->GetNumberOfPoints(),
             static_cast<vtkIdType>(offset.size()));
+}
+
+// Issue 32's bad models and references: NaN points are left out and counted (never scored at a finite distance); a
+// model of NaN points only, and a reference whose faces all have zero area, are refused with a message (the latter
+// hung in vtkPolyDataNormals).
+TEST(EvalCliInputs, WriteNonFiniteModelsAndDegenerateReference) {
+  const std::filesystem::path folder = evalFolder();
+  std::vector<Eigen::Vector3d> halfNan, allNan;
+  const double nan = std::nan("");
+  for (double y = -20; y <= 20 + 1e-9; y += 0.5) {
+    for (double x = -20; x <= 20 + 1e-9; x += 0.5) {
+      halfNan.push_back(Eigen::Vector3d(x, y, height(x, y)) + 0.25 * surfaceNormal(x, y));
+      halfNan.emplace_back(nan, nan, nan);
+      allNan.emplace_back(nan, nan, nan);
+    }
+  }
+  writeCloud(folder / "half_nan.ply", halfNan);
+  writeCloud(folder / "all_nan.ply", allNan);
+  std::ofstream(folder / "half_nan.expect") << "non_finite_points_left_out:" << allNan.size() << ":" << allNan.size()
+                                            << ",points:" << allNan.size() << ":" << allNan.size() << "\n";
+  TriangleMesh degenerate;
+  degenerate.verticesMm = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  degenerate.triangles = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}};
+  writeMeshPly((folder / "degenerate_reference.ply").string(), degenerate, "all faces degenerate");
 }

@@ -207,6 +207,9 @@ TEST(RegistrationFiles, SlicerMarkupsJsonAndFcsvAreRead) {
   // No declared frame: an error unless the caller states one.
   writeText(fcsv, "1,1,2,3,0,0,0,1,1,1,0,P,,\n");
   expectError([&] { readLandmarks(fcsv); }, "does not say whether it is in LPS or RAS");
+  writeText(fcsv, "");  // issue 32: an empty file said "does not say LPS or RAS"
+  expectError([&] { readLandmarks(fcsv, AnatomicalFrame::RAS); }, "holds no landmarks");
+  writeText(fcsv, "1,1,2,3,0,0,0,1,1,1,0,P,,\n");
   EXPECT_LT((readLandmarks(fcsv, AnatomicalFrame::RAS).points[0].positionLps - Eigen::Vector3d(-1, -2, 3)).norm(),
             1e-12);
 }
@@ -223,6 +226,16 @@ TEST(RegistrationFiles, LandmarkPairingAndBadLandmarkFiles) {
   EXPECT_LT((byOrder.targetLps[2] - Eigen::Vector3d(7, 0, 0)).norm(), 1e-12);
   unlabeled.points.pop_back();
   expectError([&] { pairLandmarks(model, unlabeled); }, "cannot pair the landmarks: 3 on the model but 2");
+  // Issue 32: labels that match in part (one misnamed point, listed in another order) were paired by order, a wrong
+  // fit without a word. They are an error naming the labels on one side only.
+  LandmarkList misnamed{"", {{"C", {0, 3, 0}}, {"A", {0, 0, 3}}, {"X", {3, 0, 0}}}};
+  expectError([&] { pairLandmarks(model, misnamed); },
+              "the landmark labels do not match: only on the model: 'B'; only on the target: 'X'");
+  misnamed.points.pop_back();
+  expectError([&] { pairLandmarks(model, misnamed); }, "only on the model: 'B'; only on the target: none");
+  // No label in common (each list numbered by its own name): the labels say nothing, order pairs them.
+  LandmarkList ownNames{"", {{"T-1", {5, 0, 0}}, {"T-2", {6, 0, 0}}, {"T-3", {7, 0, 0}}}};
+  EXPECT_FALSE(pairLandmarks(model, ownNames).pairedByLabel);
 
   const std::string path = outputPath("bad.mrk.json");
   writeText(path, "{\"markups\": [ {\"coordinateSystem\": \"LPS\", \"controlPoints\": [ {\"position\": [1, 2]} ]} ]}");

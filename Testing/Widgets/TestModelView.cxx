@@ -90,19 +90,13 @@ TEST(ModelView, LiveRendersOfALargeModelStayReducedUntilTheScanEnds) {
   EXPECT_EQ(view.scene()->GetDrawnModelPoints(), points);
 }
 
-// A render and the repaint of the window that shows it run in separate passes of the event loop (on software
-// OpenGL each costs tens of milliseconds; back to back they made one stall twice as long).
-TEST_F(SmallModelView, RenderLeavesTheWindowRepaintToALaterEventLoopPass) {
+// A render keeps the OpenGL widget's updates on. Holding them until a later pass of the event loop (to part the
+// render from the window's repaint) left the view grey for good once the window was resized before its first render;
+// app.view_after_resize checks the picture on screen.
+TEST_F(SmallModelView, RenderKeepsTheWidgetsUpdatesOn) {
   view.render();
-  EXPECT_FALSE(view.vtkWidget()->updatesEnabled()) << "the repaint would run straight after the render";
-  QElapsedTimer waited;
-  waited.start();
-  while (!view.vtkWidget()->updatesEnabled() && waited.elapsed() < 2000) {
-    QCoreApplication::processEvents(QEventLoop::AllEvents, 10);
-  }
-  EXPECT_TRUE(view.vtkWidget()->updatesEnabled()) << "the repaint never came";
-
-  view.renderFullModel();  // a picture follows at once: no deferral
+  EXPECT_TRUE(view.vtkWidget()->updatesEnabled());
+  view.renderFullModel();
   EXPECT_TRUE(view.vtkWidget()->updatesEnabled());
 }
 

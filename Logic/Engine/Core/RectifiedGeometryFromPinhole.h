@@ -15,6 +15,18 @@ inline RectifiedGeometry rectifiedGeometryFromPinhole(const cv::Size& imageSize,
                                                       double cxPx, double cyPx, double doffsPx) {
   require(focalPx > 0 && std::isfinite(focalPx), "--focal-px must be a positive number of pixels");
   require(baselineMm > 0 && std::isfinite(baselineMm), "--baseline-mm must be a positive number of mm");
+  // A principal point far outside the frames is a typo, and would only show later as "tracking was lost".
+  const auto nearImage = [](double valuePx, int extentPx) {
+    return std::isnan(valuePx) || (valuePx >= -extentPx && valuePx <= 2.0 * extentPx);
+  };
+  require(nearImage(cxPx, imageSize.width),
+          "--cx-px " + cv::format("%g", cxPx) + " lies far outside the " + std::to_string(imageSize.width) +
+              "-pixel-wide frames: the principal point must lie near the image (default: its centre)");
+  require(nearImage(cyPx, imageSize.height),
+          "--cy-px " + cv::format("%g", cyPx) + " lies far outside the " + std::to_string(imageSize.height) +
+              "-pixel-high frames: the principal point must lie near the image (default: its centre)");
+  require(std::isfinite(doffsPx) && std::abs(doffsPx) <= 2.0 * imageSize.width,
+          "--doffs-px " + cv::format("%g", doffsPx) + " is not a plausible difference of principal points");
   RectifiedGeometry geometry;
   geometry.imageSize = imageSize;
   geometry.focalPx = focalPx;

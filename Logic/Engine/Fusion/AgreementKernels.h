@@ -76,7 +76,7 @@ constexpr float kMotionEvidenceToPenalise = 0.75f;
 /// Per live model point seen by the frame (in front, inside the image, facing it, with a stereo depth at its
 /// pixel): the frame contradicts it when the measured depth r = z_measured - z_point lies beyond thresholdMm on
 /// either side, and its motion evidence rises; while the evidence is high, each contradicting frame takes `penalty`
-/// of its weight, and at 0 it leaves the model. A measurement nearer than occlusionMarginMm in front of the point is
+/// of its weight, and at 0 it leaves the model: it stays as a moved-tissue marker (kMovedTissueMarker). A measurement nearer than occlusionMarginMm in front of the point is
 /// something passing in front (an instrument): no evidence either way.
 struct UpdateMotionEvidence {
   ModelArrays model;
@@ -105,7 +105,9 @@ struct UpdateMotionEvidence {
     if (!contradicts || normal.w < kMotionEvidenceToPenalise) return;
     positionWeight.w = positionWeight.w > penalty ? positionWeight.w - penalty : 0.0f;
     model.positionWeight[index] = positionWeight;
-    if (!isLive(positionWeight)) atomicAddInt(counters + kRemovedPoints, 1);
+    if (isLive(positionWeight)) return;
+    model.normal[index] = {normal.x, normal.y, normal.z, kMovedTissueMarker};
+    atomicAddInt(counters + kRemovedPoints, 1);
   }
 };
 

@@ -29,6 +29,5 @@ int updateMotionCpu(FusionModel& model, const FramePose& pose, const FusionSetti
   return updateMotionOn<CpuBackend>(model, pose, settings, measured, thresholdMm, occlusionMarginMm, penalty);
 }
 
-void compactCpu(FusionModel& model) { compactOn<CpuBackend>(model); }
 
 }  // namespace tissuemosaic::fusion

@@ -38,6 +38,5 @@ int updateMotionCuda(FusionModel& model, const FramePose& pose, const FusionSett
   return updateMotionOn<CudaBackend>(model, pose, settings, measured, thresholdMm, occlusionMarginMm, penalty);
 }
 
-void compactCuda(FusionModel& model) { compactOn<CudaBackend>(model); }
 
 }  // namespace tissuemosaic::fusion

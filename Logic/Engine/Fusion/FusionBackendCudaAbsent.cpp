@@ -25,6 +25,5 @@ int updateMotionCuda(FusionModel&, const FramePose&, const FusionSettings&, cons
   throw Error("this build of TissueMosaic has no CUDA backend");
 }
 
-void compactCuda(FusionModel&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
 
 }  // namespace tissuemosaic::fusion

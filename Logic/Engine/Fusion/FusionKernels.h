@@ -76,14 +76,22 @@ struct alignas(16) Float4 {
 TM_HOST_DEVICE TM_FORCE_INLINE Float3 xyz(Float4 a) { return {a.x, a.y, a.z}; }
 /// A model point still in the model (its positionWeight's weight is positive).
 TM_HOST_DEVICE TM_FORCE_INLINE bool isLive(Float4 positionWeight) { return positionWeight.w > 0; }
+/// The normal's w of a point that left the model by motion evidence (AgreementKernels.h): it stays in the store as a
+/// marker of moving tissue, not live (weight 0), so that key frames do not fuse that tissue again (MergeModelPoints).
+/// Live points keep their motion evidence there, in [0, 1].
+constexpr float kMovedTissueMarker = 2.0f;
+TM_HOST_DEVICE TM_FORCE_INLINE bool isMovedTissueMarker(Float4 positionWeight, Float4 normal) {
+  return !isLive(positionWeight) && normal.w == kMovedTissueMarker;
+}
 
 /// The model on the device, structure of arrays indexed by point.
 struct ModelArrays {
   /// world position (mm); w = TSDF weight (merged observations, capped, less what motion took: Fusion/
-  /// AgreementKernels.h). A point whose weight reached 0 has left the model: every step skips it until the store is
-  /// compacted.
+  /// AgreementKernels.h). A point whose weight reached 0 has left the model: only the fusion's marker rule reads it
+  /// (kMovedTissueMarker).
   Float4* positionWeight;
-  Float4* normal;          ///< world unit normal; w = motion evidence (AgreementKernels.h), 0 for a new point
+  Float4* normal;          ///< world unit normal; w = motion evidence (AgreementKernels.h), 0 for a new point,
+                           ///< kMovedTissueMarker once it left the model
   Float4* colourWeight;    ///< RGB 0..255 (running average); w = accumulated colour weight (capped)
 };
 
@@ -129,6 +137,8 @@ struct FusionSettings {
   /// A measurement this far or more in front of a model point (along the point's viewing ray) is something passing
   /// in front of the tissue (an instrument, smoke): its pixel counts as covered, so it adds no point. 0: off.
   float occluderMarginMm;
+  /// A measurement within this distance (along the ray) of a moved-tissue marker is not fused. 0: off.
+  float movedTissueRadiusMm;
 };
 
 constexpr uint64_t kEmptyDepthKey = ~uint64_t(0);
@@ -191,7 +201,9 @@ TM_HOST_DEVICE TM_FORCE_INLINE bool inFrontOf(Float3 q, Float3 pc, float marginM
 /// agrees with it counts as covered (so a revisit from nearer or farther adds no second layer); its own pixel also
 /// counts as covered when it disagrees but the point is well observed (conflictMinWeight); when its own pixel
 /// agrees, the point merges: TSDF running average of its position along its viewing ray, of its normal, and of its
-/// colour weighted by the centre-to-edge colour weight; weights capped at maxWeight.
+/// colour weighted by the centre-to-edge colour weight; weights capped at maxWeight. A moved-tissue marker covers
+/// the pixels of its neighbourhood whose measurement lies within movedTissueRadiusMm of it: tissue that moved there
+/// before is not fused again (it would leave again, and smear the model meanwhile).
 struct MergeModelPoints {
   ModelArrays model;
   MeasurementView measurement;
@@ -202,13 +214,18 @@ struct MergeModelPoints {
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const Float4 positionWeight = model.positionWeight[index];
-    if (!isLive(positionWeight)) return;
+    const bool live = isLive(positionWeight);
+    if (!live && !(settings.movedTissueRadiusMm > 0 && isMovedTissueMarker(positionWeight, model.normal[index]))) return;
     const Float3 p = xyz(positionWeight);
     const Float3 pc = pose.worldToCamera(p);
     int px, py;
     if (!settings.camera.project(pc, px, py)) return;
-    const Float3 nc = pose.worldToCamera.rotate(xyz(model.normal[index]));
     const int r = settings.coverageRadiusPx, width = settings.camera.width, height = settings.camera.height;
+    if (!live) {
+      coverNearMarker(pc, px, py, r);
+      return;
+    }
+    const Float3 nc = pose.worldToCamera.rotate(xyz(model.normal[index]));
     float ownRayScale = 1.0f;
     bool ownAgrees = false;
     for (int y = py - r; y <= py + r; ++y) {
@@ -262,6 +279,21 @@ struct MergeModelPoints {
     model.colourWeight[index] = {(colour.w * colour.x + w * bgr[2]) / total, (colour.w * colour.y + w * bgr[1]) / total,
                                  (colour.w * colour.z + w * bgr[0]) / total, fminf(total, settings.maxWeight)};
     atomicAddInt(mergedCount, 1);
+  }
+
+  TM_HOST_DEVICE void coverNearMarker(Float3 pc, int px, int py, int r) const {
+    const int width = settings.camera.width, height = settings.camera.height;
+    const float rayPerDepth = length(pc) / pc.z;
+    for (int y = py - r; y <= py + r; ++y) {
+      if (y < 0 || y >= height) continue;
+      for (int x = px - r; x <= px + r; ++x) {
+        if (x < 0 || x >= width) continue;
+        const Float3 q = measurement.pointsMm.at(x, y);
+        if (isFinite(q) && fabsf(q.z - pc.z) * rayPerDepth <= settings.movedTissueRadiusMm) {
+          setFlag(covered + static_cast<int64_t>(y) * width + x);
+        }
+      }
+    }
   }
 };
 
@@ -320,27 +352,6 @@ struct CopyModelPoints {
     to.positionWeight[index] = from.positionWeight[index];
     to.normal[index] = from.normal[index];
     to.colourWeight[index] = from.colourWeight[index];
-  }
-};
-
-/// Per model point: 1 where it is live (the prefix sum of these flags places it in a compacted store).
-struct FlagLivePoints {
-  const Float4* positionWeight;
-  int* flags;
-  TM_HOST_DEVICE void operator()(int64_t index) const { flags[index] = isLive(positionWeight[index]) ? 1 : 0; }
-};
-
-/// Per model point: a live point moves to its prefix-sum place in the other store (order kept).
-struct CompactLivePoints {
-  ModelArrays from, to;
-  const int* flags;
-  const int* offsets;
-  TM_HOST_DEVICE void operator()(int64_t index) const {
-    if (!flags[index]) return;
-    const int64_t target = offsets[index];
-    to.positionWeight[target] = from.positionWeight[index];
-    to.normal[target] = from.normal[index];
-    to.colourWeight[target] = from.colourWeight[index];
   }
 };
 

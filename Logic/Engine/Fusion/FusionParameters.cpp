@@ -39,6 +39,7 @@ void FusionParameters::validate() const {
   requireRange("motionMinThresholdMm", motionMinThresholdMm, 0.0, 1000.0);
   requireRange("motionNoiseFactor", motionNoiseFactor, 0.0, 1000.0);
   requireRange("occlusionMarginMm", occlusionMarginMm, 0.0, 1000.0);
+  requireRange("movedTissueRadiusMm", movedTissueRadiusMm, 0.0, 1000.0);
   requireRange("motionMinAgreementShare", motionMinAgreementShare, 0.0, 1.0);
 }
 
@@ -51,7 +52,8 @@ void FusionParameters::write(cv::FileStorage& storage) const {
   storage << "minDepthMm" << minDepthMm << "maxDepthMm" << maxDepthMm;
   storage << "normalRadiusPx" << normalRadiusPx << "maxDepthJumpMm" << maxDepthJumpMm;
   storage << "motionPenalty" << motionPenalty << "motionMinThresholdMm" << motionMinThresholdMm;
-  storage << "motionNoiseFactor" << motionNoiseFactor << "occlusionMarginMm" << occlusionMarginMm;
+  storage << "motionNoiseFactor" << motionNoiseFactor << "occlusionMarginMm" << occlusionMarginMm
+          << "movedTissueRadiusMm" << movedTissueRadiusMm;
   storage << "motionMinAgreementShare" << motionMinAgreementShare;
   storage << "}";
 }
@@ -77,6 +79,7 @@ FusionParameters FusionParameters::read(const cv::FileNode& node) {
   readKey(node, "motionMinThresholdMm", p.motionMinThresholdMm);
   readKey(node, "motionNoiseFactor", p.motionNoiseFactor);
   readKey(node, "occlusionMarginMm", p.occlusionMarginMm);
+  readKey(node, "movedTissueRadiusMm", p.movedTissueRadiusMm);
   readKey(node, "motionMinAgreementShare", p.motionMinAgreementShare);
   p.validate();
   return p;

@@ -46,6 +46,10 @@ struct FusionParameters {
   /// evidence that the point moved; while motionPenalty > 0, a key frame does not fuse such a measurement either
   /// (instruments in front of fused tissue leave no points).
   double occlusionMarginMm = 3.0;
+  /// A point that left the model by motion evidence stays as a marker: a later key frame's measurement within this
+  /// distance of it (along its viewing ray) is not fused. Breathing tissue at rest would otherwise be fused again at
+  /// every key frame, and leave again, blurring the model between. 0: markers block nothing.
+  double movedTissueRadiusMm = 3.0;
   /// Frames whose share of depths within 1 mm of the model is below this give no motion evidence (the pose or the
   /// whole view may be off).
   double motionMinAgreementShare = 0.5;

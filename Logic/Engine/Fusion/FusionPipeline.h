@@ -31,8 +31,8 @@ struct FusionModel {
 
   Device device;
   int width, height;
-  std::size_t count = 0;       ///< model points in use (the dead ones included until compaction)
-  std::size_t dead = 0;        ///< of them, points that left the model (weight 0) since the last compaction
+  std::size_t count = 0;       ///< entries in use: live points and moved-tissue markers
+  std::size_t markers = 0;     ///< of them, points that left the model by motion evidence (kMovedTissueMarker)
   bool budgetReached = false;  ///< new points were refused for the budget
   ModelStore store;            ///< grows by doubling up to the budget (allocated at the first integrate)
 
@@ -45,7 +45,6 @@ struct FusionModel {
   Buffer<int> counters;             ///< [0] merged points
   Buffer<uint8_t> scanScratch;      ///< CUDA prefix-sum scratch
   Buffer<Float4> samplePositions, sampleNormals;  ///< sampleVisible's output
-  Buffer<int> pointFlags, pointOffsets;  ///< per model point: compaction of the live points
   Buffer<int> agreementCounters;         ///< kAgreementCounters (AgreementKernels.h)
   Image<float> disparity;                ///< a frame's disparity uploaded for the agreement (when it is on the host)
 
@@ -79,10 +78,6 @@ int updateMotionCpu(FusionModel& model, const FramePose& pose, const FusionSetti
                     const MeasuredDepth& measured, float thresholdMm, float occlusionMarginMm, float penalty);
 int updateMotionCuda(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
                      const MeasuredDepth& measured, float thresholdMm, float occlusionMarginMm, float penalty);
-
-/// Drops the dead points from the store, keeping the live ones' order.
-void compactCpu(FusionModel& model);
-void compactCuda(FusionModel& model);
 
 /// Backend prefix sums: offsets[i] = flags[0] + ... + flags[i - 1]; returns the total of all count flags.
 int exclusiveScanCpu(const int* flags, int* offsets, int count);

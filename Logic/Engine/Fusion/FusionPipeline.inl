@@ -33,25 +33,7 @@ void reserve(FusionModel& model, std::size_t needed, int maxPoints) {
 }  // namespace
 
 template <class Backend>
-void compactOn(FusionModel& model) {
-  if (model.count == 0 || model.dead == 0) return;
-  const int64_t n = static_cast<int64_t>(model.count);
-  reserveBuffer(model.pointFlags, model.device, model.count);
-  reserveBuffer(model.pointOffsets, model.device, model.count);
-  parallelFor<Backend>(n, FlagLivePoints{model.store.positionWeight.data(), model.pointFlags.data()});
-  const int live = exclusiveScan<Backend>(model, model.pointFlags.data(), model.pointOffsets.data(), static_cast<int>(n));
-  ModelStore compacted(model.device, model.store.capacity());
-  parallelFor<Backend>(n, CompactLivePoints{model.store.arrays(), compacted.arrays(), model.pointFlags.data(),
-                                            model.pointOffsets.data()});
-  model.store = std::move(compacted);
-  model.count = static_cast<std::size_t>(live);
-  model.dead = 0;
-}
-
-template <class Backend>
 IntegrateCounts integrateOn(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxPoints) {
-  // Points that left the model are dropped once they are a sixteenth of the store (every pass skips them meanwhile).
-  if (model.dead > 0 && model.dead * 16 >= model.count) compactOn<Backend>(model);
   const int64_t pixels = static_cast<int64_t>(model.width) * model.height;
   const MeasurementView measurement = model.measurement();
   model.covered.setZero();
@@ -142,7 +124,7 @@ int updateMotionOn(FusionModel& model, const FramePose& pose, const FusionSettin
                                             occlusionMarginMm, penalty, model.agreementCounters.data()});
   int head[kHistogramStart] = {};
   model.agreementCounters.downloadPart(head, kHistogramStart);
-  model.dead += static_cast<std::size_t>(head[kRemovedPoints]);
+  model.markers += static_cast<std::size_t>(head[kRemovedPoints]);
   return head[kRemovedPoints];
 }
 

@@ -71,6 +71,7 @@ fusion::FusionSettings fusionSettings(const RectifiedGeometry& geometry, const F
   s.conflictMinWeight = static_cast<float>(p.conflictMinWeight);
   // Part of the scene-motion handling (motionPenalty > 0): what passes in front of the model is not fused.
   s.occluderMarginMm = p.motionPenalty > 0 ? static_cast<float>(p.occlusionMarginMm) : 0.0f;
+  s.movedTissueRadiusMm = p.motionPenalty > 0 ? static_cast<float>(p.movedTissueRadiusMm) : 0.0f;
   return s;
 }
 
@@ -162,7 +163,7 @@ FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const 
   return stats;
 }
 
-std::size_t PointFusion::pointCount() const { return model_->count - model_->dead; }
+std::size_t PointFusion::pointCount() const { return model_->count - model_->markers; }
 
 bool PointFusion::budgetReached() const { return model_->budgetReached; }
 
@@ -173,13 +174,13 @@ ModelPoints PointFusion::download() const {
   downloadPrefix(model_->store.normal, n, normals.data());
   downloadPrefix(model_->store.colourWeight, n, colours.data());
   ModelPoints model;
-  const std::size_t live = n - model_->dead;
+  const std::size_t live = n - model_->markers;
   model.cloud.pointsMm.reserve(live);
   model.cloud.normals.reserve(live);
   model.cloud.colorsRgb.reserve(live);
   model.weights.reserve(live);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!fusion::isLive(positions[i])) continue;  // left the model (motion evidence)
+    if (!fusion::isLive(positions[i])) continue;  // a moved-tissue marker
     model.cloud.pointsMm.emplace_back(positions[i].x, positions[i].y, positions[i].z);
     model.cloud.normals.emplace_back(normals[i].x, normals[i].y, normals[i].z);
     model.cloud.colorsRgb.emplace_back(cv::saturate_cast<uchar>(colours[i].x), cv::saturate_cast<uchar>(colours[i].y),

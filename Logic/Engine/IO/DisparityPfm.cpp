@@ -1,5 +1,6 @@
 #include "DisparityPfm.h"
 
+#include "AtomicFile.h"
 #include "ByteOrder.h"
 #include "Core/Error.h"
 
@@ -26,14 +27,12 @@ void swapBytes(float* values, std::size_t count) {
 void writePfm(const std::string& path, const cv::Mat& image) {
   require(!image.empty() && image.type() == CV_32FC1,
           "cannot write PFM '" + path + "': the image must be a non-empty CV_32FC1 map");
-  std::ofstream file(path, std::ios::binary);
-  require(file.good(), "cannot write PFM '" + path + "': the folder does not exist or is not writable");
-  const bool little = hostIsLittleEndian();
-  file << "Pf\n" << image.cols << " " << image.rows << "\n" << (little ? "-1.0" : "1.0") << "\n";
-  for (int y = image.rows - 1; y >= 0; --y)  // PFM stores the bottom row first
-    file.write(reinterpret_cast<const char*>(image.ptr<float>(y)), static_cast<std::streamsize>(image.cols * sizeof(float)));
-  file.close();
-  require(!file.fail(), "cannot write PFM '" + path + "': writing failed (disk full?)");
+  writeStreamAtomically(path, "PFM", [&](std::ostream& file) {
+    const bool little = hostIsLittleEndian();
+    file << "Pf\n" << image.cols << " " << image.rows << "\n" << (little ? "-1.0" : "1.0") << "\n";
+    for (int y = image.rows - 1; y >= 0; --y)  // PFM stores the bottom row first
+      file.write(reinterpret_cast<const char*>(image.ptr<float>(y)), static_cast<std::streamsize>(image.cols * sizeof(float)));
+  });
 }
 
 cv::Mat readPfm(const std::string& path) {

@@ -1,5 +1,7 @@
 #include "IO/MeshPly.h"
 
+#include "IO/AtomicFile.h"
+
 #include "Core/Error.h"
 
 #include <cstdint>
@@ -60,23 +62,21 @@ void writeMeshPly(const std::string& path, const TriangleMesh& mesh, const std::
       }
     }
   }
-  std::ofstream file(path, std::ios::binary);
-  require(file.good(), "cannot write mesh '" + path + "'");
-  file << "ply\nformat binary_little_endian 1.0\n";
-  std::istringstream lines(comment);
-  for (std::string line; std::getline(lines, line);) file << "comment " << line << "\n";
-  file << "element vertex " << vertexCount << "\nproperty float x\nproperty float y\nproperty float z\n"
-       << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-  static_assert(sizeof(cv::Point3f) == 12, "packed float triplets");
-  file.write(reinterpret_cast<const char*>(mesh.verticesMm.data()), static_cast<std::streamsize>(12 * vertexCount));
-  std::vector<char> faces(13 * mesh.triangles.size());
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    faces[13 * i] = 3;
-    std::memcpy(&faces[13 * i + 1], &mesh.triangles[i][0], 12);  // x86/ARM hosts are little-endian
-  }
-  file.write(faces.data(), static_cast<std::streamsize>(faces.size()));
-  file.flush();
-  require(file.good(), "cannot write mesh '" + path + "' (disk full?)");
+  writeStreamAtomically(path, "mesh", [&](std::ostream& file) {
+    file << "ply\nformat binary_little_endian 1.0\n";
+    std::istringstream lines(comment);
+    for (std::string line; std::getline(lines, line);) file << "comment " << line << "\n";
+    file << "element vertex " << vertexCount << "\nproperty float x\nproperty float y\nproperty float z\n"
+         << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    static_assert(sizeof(cv::Point3f) == 12, "packed float triplets");
+    file.write(reinterpret_cast<const char*>(mesh.verticesMm.data()), static_cast<std::streamsize>(12 * vertexCount));
+    std::vector<char> faces(13 * mesh.triangles.size());
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      faces[13 * i] = 3;
+      std::memcpy(&faces[13 * i + 1], &mesh.triangles[i][0], 12);  // x86/ARM hosts are little-endian
+    }
+    file.write(faces.data(), static_cast<std::streamsize>(faces.size()));
+  });
 }
 
 TriangleMesh readMeshPly(const std::string& path) {

@@ -1,5 +1,6 @@
 #include "PointCloudPly.h"
 
+#include "AtomicFile.h"
 #include "ByteOrder.h"
 #include "Core/Error.h"
 
@@ -171,13 +172,11 @@ void writePly(const std::string& path, const ColoredPointCloud& cloud, const std
       appendLittleEndian(body, cloud.normals[i].z);
     }
   }
-  std::ofstream file(path, std::ios::binary);
-  require(file.good(), context + "the folder does not exist or is not writable");
   const std::string headerText = header.str();
-  file.write(headerText.data(), static_cast<std::streamsize>(headerText.size()));
-  file.write(body.data(), static_cast<std::streamsize>(body.size()));
-  file.close();
-  require(!file.fail(), context + "writing failed (disk full?)");
+  writeStreamAtomically(path, "PLY", [&](std::ostream& file) {
+    file.write(headerText.data(), static_cast<std::streamsize>(headerText.size()));
+    file.write(body.data(), static_cast<std::streamsize>(body.size()));
+  });
 }
 
 namespace {

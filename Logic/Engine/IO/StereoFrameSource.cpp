@@ -5,10 +5,13 @@
 #include "IO/ImageFile.h"
 #include "IO/LiveVideoCapture.h"
 
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <opencv2/videoio/registry.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <vector>
@@ -70,7 +73,20 @@ private:
 
 cv::VideoCapture openVideo(const std::string& path) {
   require(std::filesystem::is_regular_file(path), "cannot open video '" + path + "': file does not exist");
-  cv::VideoCapture capture(path);
+  require(std::filesystem::file_size(path) > 0, "cannot open video '" + path + "': the file is empty");
+  // OpenCV tries every backend and logs each one's failure (assertion text, FFmpeg's and GStreamer's complaints):
+  // the error below says it once. Files go to FFmpeg alone where OpenCV has it; FFmpeg's own log is quietened
+  // unless the user set OPENCV_FFMPEG_LOGLEVEL (read once, at the first open).
+  static const bool quietFfmpeg = [] { return ::setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0) == 0; }();
+  (void)quietFfmpeg;
+  const cv::utils::logging::LogLevel level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  cv::VideoCapture capture;
+  try {
+    capture.open(path, cv::videoio_registry::hasBackend(cv::CAP_FFMPEG) ? cv::CAP_FFMPEG : cv::CAP_ANY);
+  } catch (const cv::Exception&) {
+    capture.release();
+  }
+  cv::utils::logging::setLogLevel(level);
   require(capture.isOpened(), "cannot open video '" + path + "': not a readable video (corrupt or unsupported codec)");
   return capture;
 }
@@ -83,6 +99,16 @@ double frameTimeS(cv::VideoCapture& capture, int index) {
   return index / (fps > 0 ? fps : 30.0);
 }
 
+/// At the end of a video: its header's frame count must have been read (a truncated or corrupt file ends early), and
+/// both videos of a pair must end together.
+void requireNotCutShort(const std::string& description, int framesRead, int framesDeclared, bool oneEndedFirst) {
+  require(!oneEndedFirst, description + ": one video ended after " + std::to_string(framesRead) +
+                              " frames but the other goes on (truncated or corrupt)");
+  require(framesDeclared <= 0 || framesRead >= framesDeclared,
+          description + ": frame " + std::to_string(framesRead) + " of the " + std::to_string(framesDeclared) +
+              " its header declares cannot be read (the file is truncated or corrupt)");
+}
+
 class VideoPairSource : public StereoFrameSource {
 public:
   VideoPairSource(const std::string& leftVideo, const std::string& rightVideo)
@@ -92,12 +118,22 @@ public:
     const cv::Size r(static_cast<int>(right_.get(cv::CAP_PROP_FRAME_WIDTH)), static_cast<int>(right_.get(cv::CAP_PROP_FRAME_HEIGHT)));
     require(l == r, "the left video is " + sizeText(l) + " but the right one is " + sizeText(r));
     size_ = l;
-    const int frames = static_cast<int>(std::min(left_.get(cv::CAP_PROP_FRAME_COUNT), right_.get(cv::CAP_PROP_FRAME_COUNT)));
-    frames_ = frames > 0 ? frames : -1;
+    // Unequal lengths are refused, as unequal frame folders are: the pairs would not be the same moments.
+    const int leftFrames = static_cast<int>(left_.get(cv::CAP_PROP_FRAME_COUNT));
+    const int rightFrames = static_cast<int>(right_.get(cv::CAP_PROP_FRAME_COUNT));
+    require(leftFrames <= 0 || rightFrames <= 0 || leftFrames == rightFrames,
+            "the left video '" + leftVideo + "' has " + std::to_string(leftFrames) + " frames but the right video '" +
+                rightVideo + "' has " + std::to_string(rightFrames));
+    frames_ = leftFrames > 0 ? leftFrames : -1;
   }
   bool next(StereoFrame& frame) override {
     cv::Mat left, right;
-    if (!left_.read(left) || !right_.read(right) || left.empty() || right.empty()) return false;
+    const bool leftRead = left_.read(left) && !left.empty();
+    const bool rightRead = right_.read(right) && !right.empty();
+    if (!leftRead || !rightRead) {
+      requireNotCutShort(description_, index_, frames_, leftRead != rightRead);
+      return false;
+    }
     require(left.size() == size_ && right.size() == size_,
             "video frame " + std::to_string(index_) + " has an unexpected size (" + sizeText(left.size()) + ", " +
                 sizeText(right.size()) + ")");
@@ -139,7 +175,10 @@ public:
   }
   bool next(StereoFrame& frame) override {
     cv::Mat packed;
-    if (!capture_.read(packed) || packed.empty()) return false;
+    if (!capture_.read(packed) || packed.empty()) {
+      requireNotCutShort(description_, index_, frames_, false);
+      return false;
+    }
     require(packed.size() == packedSize_,
             "video frame " + std::to_string(index_) + " has an unexpected size " + sizeText(packed.size()));
     frame.index = index_;

@@ -1,10 +1,10 @@
 #include "Reconstruction/QualityLog.h"
 
 #include "Core/Error.h"
+#include "IO/AtomicFile.h"
 
 #include <opencv2/core.hpp>
 
-#include <fstream>
 
 namespace tissuemosaic {
 
@@ -43,8 +43,8 @@ std::string QualityLog::relocalisationsJson() const {
 }
 
 void QualityLog::writeJson(const std::string& path) const {
-  std::ofstream out(path);
-  require(out.good(), "cannot write '" + path + "'");
+  // Atomic: a failed write leaves an existing file as it was (docs/RELIABILITY.md).
+  writeStreamAtomically(path, "quality JSON", [this](std::ostream& out) {
   out << "[";
   for (std::size_t i = 0; i < records_.size(); ++i) {
     const Record& r = records_[i];
@@ -57,7 +57,7 @@ void QualityLog::writeJson(const std::string& path) const {
                       measured ? cv::format("%.4f", r.agreement.shareWithin1mm).c_str() : "null", r.inliers);
   }
   out << "\n]\n";
-  require(out.good(), "cannot write '" + path + "' (disk full?)");
+  });
 }
 
 std::string QualityLog::progressText(const FrameResult& frame) {

@@ -1,6 +1,7 @@
 #include "Reconstruction/ReconstructionParameters.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterFileKeys.h"
 
 #include <opencv2/core/persistence.hpp>
 
@@ -9,7 +10,29 @@
 namespace tissuemosaic {
 namespace {
 
+void writeAll(const ReconstructionParameters& p, cv::FileStorage& storage) {
+  storage << "pipeline" << "{" << "extractor"
+          << (p.extractor == FeatureExtractor::OpenCvOrb ? "opencv" : "tissuemosaic") << "}";
+  p.stereo.write(storage);
+  p.features.write(storage);
+  p.tracking.write(storage);
+  p.refinement.write(storage);
+  p.fusion.write(storage);
+  p.agreement.write(storage);
+}
+
+/// Every node and key a parameters file may hold: the defaults as writeFile() writes them.
+const cv::FileStorage& knownLayout() {
+  static const cv::FileStorage known = [] {
+    cv::FileStorage out(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+    writeAll(ReconstructionParameters{}, out);
+    return cv::FileStorage(out.releaseAndGetString(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  }();
+  return known;
+}
+
 ReconstructionParameters readStorage(const cv::FileStorage& storage) {
+  parameters::requireKnownKeys(storage.root(), knownLayout().root(), "", true);
   ReconstructionParameters p;
   p.stereo = StereoParameters::read(storage["stereo"]);
   p.features = FeatureParameters::read(storage["features"]);
@@ -40,15 +63,7 @@ void ReconstructionParameters::validate() const {
 }
 
 ReconstructionParameters ReconstructionParameters::readFile(const std::string& path) {
-  require(std::filesystem::is_regular_file(path), "cannot open parameters file '" + path + "': file does not exist");
-  cv::FileStorage storage;
-  try {
-    storage.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception& error) {
-    // error.err, not what(): OpenCV's source file and line mean nothing to a user.
-    throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file (" + error.err + ")");
-  }
-  require(storage.isOpened(), "cannot read parameters file '" + path + "': not a valid YAML/XML file");
+  const cv::FileStorage storage = parameters::openParameterFile(path);
   try {
     return readStorage(storage);
   } catch (const Error& error) {
@@ -68,6 +83,8 @@ ReconstructionParameters ReconstructionParameters::parse(const std::string& yaml
   require(storage.isOpened(), "cannot parse parameters");
   try {
     return readStorage(storage);
+  } catch (const Error& error) {
+    throw Error(std::string("cannot parse parameters: ") + error.what());
   } catch (const cv::Exception& error) {
     throw Error("cannot parse parameters: a value has the wrong type (" + error.err + ")");
   }
@@ -81,14 +98,7 @@ void ReconstructionParameters::writeFile(const std::string& path) const {
     throw Error("cannot write parameters file '" + path + "': " + error.err);
   }
   require(storage.isOpened(), "cannot write parameters file '" + path + "'");
-  storage << "pipeline" << "{" << "extractor"
-          << (extractor == FeatureExtractor::OpenCvOrb ? "opencv" : "tissuemosaic") << "}";
-  stereo.write(storage);
-  features.write(storage);
-  tracking.write(storage);
-  refinement.write(storage);
-  fusion.write(storage);
-  agreement.write(storage);
+  writeAll(*this, storage);
 }
 
 }  // namespace tissuemosaic

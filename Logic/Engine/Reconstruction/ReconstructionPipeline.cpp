@@ -158,8 +158,10 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
 
   // Stereo runs beside the tracking: matching and the pose need only the reference frame's depth, and the tracker
   // asks for this frame's disparity at its end, to lift the features for the frames after it.
+  // The tracker and fusion take the disparity without the pixels near a highlight (a highlight slides over the
+  // tissue as the camera moves: features and points on it would mislead both); the frame's result keeps all of it.
   struct TimedDisparity {
-    cv::Mat disparityPx;
+    cv::Mat disparityPx, awayFromHighlightsPx;
     double milliseconds = 0;
     StereoTimingsMs parts;
   };
@@ -167,18 +169,22 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     const auto stereoStart = Clock::now();
     TimedDisparity computed;
     computed.disparityPx = s.matcher.computeDisparity(result.leftRectified, result.rightRectified, &computed.parts);
+    computed.awayFromHighlightsPx =
+        withoutHighlightNeighbourhood(computed.disparityPx, s.matcher.lastHighlightNeighbourhood());
     synchronize(s.device);  // nothing of this thread's left in flight when another thread takes over
     computed.milliseconds = millisecondsSince(stereoStart);
     return computed;
   });
+  cv::Mat trackingDisparityPx;
   const auto takeDisparity = [&]() -> cv::Mat {
     if (stereo.pending()) {
       TimedDisparity computed = stereo.get();
       result.disparityPx = computed.disparityPx;
+      trackingDisparityPx = computed.awayFromHighlightsPx;
       result.timesMs.stereo = computed.milliseconds;
       result.stereoPartsMs = computed.parts;
     }
-    return result.disparityPx;
+    return trackingDisparityPx;
   };
   // The model agreement at every pose the tracker solves (the frame's stereo, where it was computed, against the
   // model seen from the pose): the check that refuses a pose the model contradicts wholesale, and the quality signal.
@@ -278,7 +284,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
       SurfaceAndIcp prepared;
       const auto surfaceStart = Clock::now();
       prepared.measurement =
-          measureSurface(result.disparityPx, result.leftRectified, s.geometry, s.device,
+          measureSurface(trackingDisparityPx, result.leftRectified, s.geometry, s.device,
                          s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
                          SurfaceMapResidence::DeviceOnly,  // refinement and fusion run on the same device
                          workingDisparityRange(s.geometry, s.parameters.fusion));

@@ -335,7 +335,8 @@ TM_HOST_DEVICE inline int32_t pathCostStep(int32_t cost, int32_t lower, int32_t 
 }
 
 /// Left winners (lowest disparity on ties) with the parabola's sub-pixel offset through the neighbouring costs,
-/// and right-view winners along the volume's diagonal (x = xr + d inside the image).
+/// and right-view winners along the volume's diagonal (x = xr + d inside the image). A pixel whose costs are all
+/// equal (a uniform patch: black, saturated, featureless) has no winner: kNoDisparity, dropped at the end.
 struct AdCensusWinners {
   VolumeGeometry g;
   const int32_t* pathCost;
@@ -348,9 +349,13 @@ struct AdCensusWinners {
     const int D = g.disparityCount;
     const int32_t* costs = pathCost + pixel * D;
     int best = 0;
-    for (int i = 1; i < D; ++i) best = costs[i] < costs[best] ? i : best;
+    int32_t worst = costs[0];
+    for (int i = 1; i < D; ++i) {
+      best = costs[i] < costs[best] ? i : best;
+      worst = costs[i] > worst ? costs[i] : worst;
+    }
     const int d = g.minDisparity + best;
-    leftDisparity[pixel] = static_cast<int16_t>(d);
+    leftDisparity[pixel] = costs[best] == worst ? kNoDisparity : static_cast<int16_t>(d);
     float value = static_cast<float>(d);
     if (best > 0 && best + 1 < D) {
       const int64_t below = costs[best - 1], centre = costs[best], above = costs[best + 1];

@@ -634,7 +634,10 @@ void ReselectDiscreteRows::consumeRow(int64_t firstIndex, const int64_t* boxSums
       }
     }
     for (int c = 0; c < n; ++c) {
-      if (best[c] >= 0) r.discrete[firstIndex + g0 + c] = static_cast<int16_t>(best[c] + r.minDisparity);
+      const int64_t index = firstIndex + g0 + c;
+      if (best[c] >= 0 && !r.keepsFilledValue(x0 + g0 + c, y, r.discrete[index])) {
+        r.discrete[index] = static_cast<int16_t>(best[c] + r.minDisparity);
+      }
     }
   }
 }
@@ -658,8 +661,14 @@ void computeZnccVolumeCpu(const ZnccVolumeInputs& inputs) {
   parallelFor<CpuBackend>((inputs.left.height + kBandRows - 1) / kBandRows, ZnccVolumeBand{inputs}, 1);
 }
 
-void runStereoPipelineCpu(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings) {
-  runStereoPipeline<CpuBackend>(workspace, parameters, timings, {computeZnccVolumeCpu, computeScanlinePathsCpu});
+void detectHighlightSeedsCpu(const DetectHighlightSeeds& seeds) {
+  parallelFor<CpuBackend>(seeds.left.pixelCount(), seeds);
+}
+
+void runStereoPipelineCpu(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings,
+                          StereoExplanation* explanation) {
+  runStereoPipeline<CpuBackend>(workspace, parameters, timings,
+                                {computeZnccVolumeCpu, computeScanlinePathsCpu, detectHighlightSeedsCpu}, explanation);
 }
 
 }  // namespace tissuemosaic::stereo

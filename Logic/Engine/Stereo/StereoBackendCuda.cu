@@ -189,8 +189,14 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs) {
                            UnpackRightWinners{inputs.rightWinnerKeys, inputs.minDisparity, inputs.rightBestDisparity});
 }
 
-void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings) {
-  runStereoPipeline<CudaBackend>(workspace, parameters, timings, {computeZnccVolumeCuda, computeScanlinePathsCuda});
+void detectHighlightSeedsCuda(const DetectHighlightSeeds& seeds) {
+  parallelFor<CudaBackend>(seeds.left.pixelCount(), seeds);
+}
+
+void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings,
+                           StereoExplanation* explanation) {
+  runStereoPipeline<CudaBackend>(workspace, parameters, timings,
+                                 {computeZnccVolumeCuda, computeScanlinePathsCuda, detectHighlightSeedsCuda}, explanation);
 }
 
 }  // namespace tissuemosaic::stereo

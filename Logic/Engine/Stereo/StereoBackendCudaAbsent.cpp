@@ -8,7 +8,9 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs&) { throw Error("this build of
 
 void computeScanlinePathsCuda(const ScanlineInputs&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
 
-void runStereoPipelineCuda(StereoWorkspace&, const StereoParameters&, StereoTimingsMs&) {
+void detectHighlightSeedsCuda(const DetectHighlightSeeds&) { throw Error("this build of TissueMosaic has no CUDA backend"); }
+
+void runStereoPipelineCuda(StereoWorkspace&, const StereoParameters&, StereoTimingsMs&, StereoExplanation*) {
   throw Error("this build of TissueMosaic has no CUDA backend");
 }
 

@@ -584,59 +584,14 @@ struct FloatValue {
   }
 };
 
-/// Box-sum inputs: 1 where the grey level is at or above minGrey (a specular highlight), else 0; always valid.
-struct BrightValue {
-  ImageView<const float> grey;
-  float minGrey;
-  static constexpr double kScale = 1.0;
-  using TileSum = int32_t;
-  TM_HOST_DEVICE bool operator()(int x, int y, int64_t& value) const {
-    value = grey.at(x, y) >= minGrey ? 1 : 0;
-    return true;
-  }
-};
-
-/// A box-sum consumer of BrightValue: mask = 1 where at least minPixels highlight pixels lie within the box (a
-/// highlight is a blob; a few bright texture pixels are not one).
-struct MarkNearBright {
-  ImageView<uint8_t> mask;
-  int minPixels;
-  TM_HOST_DEVICE void operator()(int64_t index, int64_t boxSum, int) const { mask[index] = boxSum >= minPixels ? 1 : 0; }
-};
-
-/// Not in the paper: a specular highlight sits at a different surface point in each eye, so ZNCC matches it
-/// consistently but wrongly (a blob of false depth that outlier removal keeps). A disparity is dropped where the
-/// left pixel is near a left highlight or its match x - d is near a right one.
-TM_HOST_DEVICE TM_FORCE_INLINE bool nearSpecular(ImageView<const uint8_t> leftMask, ImageView<const uint8_t> rightMask,
-                                                 int x, int y, int disparity) {
-  if (leftMask.at(x, y)) return true;
-  const int xr = x - disparity;
-  return xr >= 0 && xr < rightMask.width && rightMask.at(xr, y);
+/// True where left pixel (x, y) or its match x - d lies near a highlight of its eye (near: HighlightKernels.h's
+/// MarkNearHighlight maps, kNoDisparity where none).
+TM_HOST_DEVICE TM_FORCE_INLINE bool nearHighlight(ImageView<const int16_t> leftNear, ImageView<const int16_t> rightNear,
+                                                  int x, int y, int d) {
+  if (leftNear.at(x, y) != kNoDisparity) return true;
+  const int xr = x - d;
+  return xr >= 0 && xr < rightNear.width && rightNear.at(xr, y) != kNoDisparity;
 }
-
-struct DropSpecularDiscrete {
-  ImageView<const uint8_t> leftMask, rightMask;
-  ImageView<int16_t> disparity;
-  TM_HOST_DEVICE void operator()(int64_t index) const {
-    const int16_t d = disparity[index];
-    if (d == kNoDisparity) return;
-    int x, y;
-    pixelCoordinates(index, disparity.width, x, y);
-    if (nearSpecular(leftMask, rightMask, x, y, d)) disparity[index] = kNoDisparity;
-  }
-};
-
-struct DropSpecularFloat {
-  ImageView<const uint8_t> leftMask, rightMask;
-  ImageView<float> disparity;
-  TM_HOST_DEVICE void operator()(int64_t index) const {
-    const float d = disparity[index];
-    if (!isFiniteValue(d)) return;
-    int x, y;
-    pixelCoordinates(index, disparity.width, x, y);
-    if (nearSpecular(leftMask, rightMask, x, y, static_cast<int>(floorf(d + 0.5f)))) disparity[index] = NAN;
-  }
-};
 
 /// A left pixel whose ZNCC window around its match x - d would leave the right image cannot have been measured:
 /// its value came from filling or smoothing across the image border, or from a winner among the few candidates
@@ -763,7 +718,13 @@ struct ReselectDiscrete {
   float eta;
   ImageView<float> current;
   ImageView<int16_t> discrete;
+  /// The near-highlight maps (null data: none). Where the pixel or its match x - o_i lies near a highlight, the cost
+  /// volume holds the highlights' false matches: o_i keeps the value it has, the tissue's (d_i is still smoothed).
+  ImageView<const int16_t> leftHighlights{}, rightHighlights{};
 
+  TM_HOST_DEVICE bool keepsFilledValue(int x, int y, int16_t o) const {
+    return leftHighlights.data != nullptr && nearHighlight(leftHighlights, rightHighlights, x, y, o);
+  }
   /// Pixels with an estimate and corrections around them take part.
   TM_HOST_DEVICE static bool takesPart(int16_t discreteDisparity, int boxCount) {
     return (discreteDisparity != kNoDisparity) & (boxCount != 0);
@@ -778,7 +739,7 @@ struct ReselectDiscrete {
     pixelCoordinates(index, current.width, x, y);
     const float d = correctedDisparity(current[index], boxSum, boxCount);
     current[index] = d;
-    if (!isFiniteValue(d)) return;
+    if (!isFiniteValue(d) || keepsFilledValue(x, y, discrete[index])) return;
     const int centre = centreIndex(d);
     float bestCost = INFINITY;
     int best = -1;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace tissuemosaic {
 
@@ -35,7 +36,9 @@ StereoWorkspace::StereoWorkspace(Device device_, StereoMethod method_, int width
       discrete(device, width, height), discreteScratch(device, paperWidth(), height),
       filledDisparity(device, width, height),
       smoothed(device, width, height), smoothedPrevious(device, paperWidth(), height), correction(device, width, height),
-      leftSpecularMask(device, width, height), rightSpecularMask(device, width, height),
+      leftHighlightSeeds(device, width, height), rightHighlightSeeds(device, width, height),
+      leftNearHighlight(device, width, height), rightNearHighlight(device, width, height),
+      highlightNeighbourhood(device, width, height),
       radialHitDistance(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       radialHitValue(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       rayPasses(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
@@ -98,7 +101,7 @@ DisparityRange StereoMatcher::disparityRange() const {
 const StereoParameters& StereoMatcher::parameters() const { return impl_->parameters; }
 
 cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
-                                        StereoTimingsMs* timings) {
+                                        StereoTimingsMs* timings, StereoExplanation* explanation) {
   const StereoParameters& p = impl_->parameters;
   require(leftRectified.size() == rightRectified.size(),
           "the left and right images differ in size (" + std::to_string(leftRectified.cols) + "x" +
@@ -142,8 +145,8 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
   convertAndUpload(leftRectified, workspace->leftGrey, workspace->leftGreyStaging, "the left image");
   convertAndUpload(rightRectified, workspace->rightGrey, workspace->rightGreyStaging, "the right image");
 
-  if (cuda) stereo::runStereoPipelineCuda(*workspace, p, t);
-  else stereo::runStereoPipelineCpu(*workspace, p, t);
+  if (cuda) stereo::runStereoPipelineCuda(*workspace, p, t, explanation);
+  else stereo::runStereoPipelineCpu(*workspace, p, t, explanation);
 
   const auto start = std::chrono::steady_clock::now();
   cv::Mat disparity(leftRectified.rows, leftRectified.cols, CV_32F);
@@ -165,6 +168,23 @@ ImageView<const float> StereoMatcher::lastDisparity() const {
 cv::Mat StereoMatcher::lastFilledDisparity() const {
   require(impl_->workspace != nullptr, "no disparity has been computed yet");
   return downloadDiscrete(impl_->workspace->filledDisparity);
+}
+
+cv::Mat StereoMatcher::lastHighlightNeighbourhood() const {
+  require(impl_->workspace != nullptr, "no disparity has been computed yet");
+  const Image<uint8_t>& mask = impl_->workspace->highlightNeighbourhood;
+  cv::Mat result(mask.height(), mask.width(), CV_8U);
+  mask.buffer().download(result.ptr<uint8_t>());
+  return result;
+}
+
+cv::Mat withoutHighlightNeighbourhood(const cv::Mat& disparityPx, const cv::Mat& highlightNeighbourhood) {
+  require(disparityPx.type() == CV_32F && highlightNeighbourhood.type() == CV_8U &&
+              disparityPx.size() == highlightNeighbourhood.size(),
+          "internal: a highlight neighbourhood needs a CV_32F disparity and a CV_8U mask of one size");
+  cv::Mat kept = disparityPx.clone();
+  kept.setTo(cv::Scalar(std::nan("")), highlightNeighbourhood);
+  return kept;
 }
 
 }  // namespace tissuemosaic

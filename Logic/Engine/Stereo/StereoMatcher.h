@@ -5,6 +5,7 @@
 #include "Core/Device.h"
 #include "Core/Image.h"
 #include "Stereo/DisparityRange.h"
+#include "StereoExplanation.h"
 #include "StereoParameters.h"
 
 #include <opencv2/core.hpp>
@@ -35,9 +36,11 @@ public:
   StereoMatcher& operator=(const StereoMatcher&) = delete;
 
   /// Left-view disparity (CV_32F, NaN where there is no estimate; left x matches right x - d) of a rectified
-  /// pair of equal size, 8-bit grey or BGR. Throws Error on empty or mismatched images.
+  /// pair of equal size, 8-bit grey or BGR. Throws Error on empty or mismatched images. explanation (optional):
+  /// filled with how many pixels each step removed and filling gave back; counting downloads intermediate maps, so
+  /// the stage timings of such a call include those waits.
   cv::Mat computeDisparity(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
-                           StereoTimingsMs* timings = nullptr);
+                           StereoTimingsMs* timings = nullptr, StereoExplanation* explanation = nullptr);
 
   /// Intermediate results of the last call, for tests and the GUI: integer ZNCC winners (NaN where none),
   /// and the discrete disparities after outlier removal and hole filling.
@@ -48,6 +51,12 @@ public:
   /// A thread other than the one that computed it may read it once that call has returned (it synchronises).
   /// Throws Error before the first call.
   ImageView<const float> lastDisparity() const;
+
+  /// CV_8U of the last call: 1 within trackingHighlightMarginPx (a square) of a left-image highlight seed
+  /// (HighlightKernels.h), 0 elsewhere and everywhere with highlight removal off. The disparity there is the
+  /// surrounding tissue's, but a highlight slides over the tissue as the camera moves: tracking and fusion leave
+  /// these pixels out (withoutHighlightNeighbourhood).
+  cv::Mat lastHighlightNeighbourhood() const;
 
   /// Matches later pairs over this range (between frames: never while computeDisparity runs). Throws Error for a
   /// range StereoParameters refuses. A range of the same count keeps the workspace (the cost volumes); another count
@@ -62,5 +71,9 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// A copy of disparityPx (CV_32F) with NaN where highlightNeighbourhood (CV_8U, same size) is non-zero: the
+/// disparity that tracking lifts its features with and that fusion takes its points from.
+cv::Mat withoutHighlightNeighbourhood(const cv::Mat& disparityPx, const cv::Mat& highlightNeighbourhood);
 
 }  // namespace tissuemosaic

@@ -2,6 +2,7 @@
 
 #include "Core/Error.h"
 #include "Core/ParameterChecks.h"
+#include "Core/ParameterFileKeys.h"
 
 #include <opencv2/core.hpp>
 
@@ -67,7 +68,10 @@ void StereoParameters::validate() const {
   requireRange("holeMaxEdgeDifferencePx", holeMaxEdgeDifferencePx, -1.0f, 1000.0f);
   requireRange("specularMinGrey", specularMinGrey, 1.0f, 256.0f);
   requireRange("specularMarginPx", specularMarginPx, 0, 20);
-  requireRange("specularMinPixels", specularMinPixels, 1, 1681);
+  requireRange("specularMaxRadiusPx", specularMaxRadiusPx, 1, 100);
+  requireRange("specularMinContrastGrey", specularMinContrastGrey, 0.0f, 255.0f);
+  requireRange("specularViewToleranceGrey", specularViewToleranceGrey, 0.0f, 255.0f);
+  requireRange("trackingHighlightMarginPx", trackingHighlightMarginPx, 0, 50);
   requireRange("outlierIterations", outlierIterations, 0, 10);
   requireRange("outlierRadiusStartPx", outlierRadiusStartPx, 1, 200);
   requireRange("outlierRadiusStepPx", outlierRadiusStepPx, 0, 200);
@@ -110,7 +114,9 @@ void StereoParameters::write(cv::FileStorage& storage) const {
   storage << "leftRightMaxDifferencePx" << leftRightMaxDifferencePx << "refineMaxDeviationPx" << refineMaxDeviationPx;
   storage << "holeMaxEdgeDifferencePx" << holeMaxEdgeDifferencePx;
   storage << "specularMinGrey" << specularMinGrey << "specularMarginPx" << specularMarginPx;
-  storage << "specularMinPixels" << specularMinPixels;
+  storage << "specularMaxRadiusPx" << specularMaxRadiusPx << "specularMinContrastGrey" << specularMinContrastGrey;
+  storage << "specularViewToleranceGrey" << specularViewToleranceGrey;
+  storage << "trackingHighlightMarginPx" << trackingHighlightMarginPx;
   storage << "outlierIterations" << outlierIterations << "outlierRadiusStartPx" << outlierRadiusStartPx;
   storage << "outlierRadiusStepPx" << outlierRadiusStepPx << "outlierSmoothnessPx" << outlierSmoothnessPx;
   storage << "holeRadialRadiusPx" << holeRadialRadiusPx << "holeRadialMinLines" << holeRadialMinLines;
@@ -152,7 +158,10 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
   readKey(node, "holeMaxEdgeDifferencePx", p.holeMaxEdgeDifferencePx);
   readKey(node, "specularMinGrey", p.specularMinGrey);
   readKey(node, "specularMarginPx", p.specularMarginPx);
-  readKey(node, "specularMinPixels", p.specularMinPixels);
+  readKey(node, "specularMaxRadiusPx", p.specularMaxRadiusPx);
+  readKey(node, "specularMinContrastGrey", p.specularMinContrastGrey);
+  readKey(node, "specularViewToleranceGrey", p.specularViewToleranceGrey);
+  readKey(node, "trackingHighlightMarginPx", p.trackingHighlightMarginPx);
   readKey(node, "outlierIterations", p.outlierIterations);
   readKey(node, "outlierRadiusStartPx", p.outlierRadiusStartPx);
   readKey(node, "outlierRadiusStepPx", p.outlierRadiusStepPx);
@@ -183,15 +192,16 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
 }
 
 StereoParameters StereoParameters::readFile(const std::string& path) {
-  cv::FileStorage storage;
+  const cv::FileStorage storage = parameters::openParameterFile(path);
   try {
-    storage.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception& error) {
-    throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file (" + error.err + ")");
-  }
-  if (!storage.isOpened()) throw Error("cannot read parameters file '" + path + "': not a valid YAML/XML file");
-  try {
+    // The stereo node's keys are checked here; a whole pipeline's file is checked by ReconstructionParameters.
+    cv::FileStorage known(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+    StereoParameters{}.write(known);
+    const cv::FileStorage knownRead(known.releaseAndGetString(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    parameters::requireKnownKeys(storage["stereo"], knownRead["stereo"], "stereo", false);
     return read(storage["stereo"]);
+  } catch (const Error& error) {
+    throw Error("parameters file '" + path + "': " + error.what());
   } catch (const cv::Exception& error) {
     throw Error("parameters file '" + path + "': a value has the wrong type (" + error.err + ")");
   }

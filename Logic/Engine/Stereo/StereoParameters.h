@@ -55,11 +55,18 @@ struct StereoParameters {
   int leftRightMaxDifferencePx = 1;   ///< ZNCC winners failing the left-right check by more are dropped
   float refineMaxDeviationPx = 2.0f;  ///< output o_i instead of d_i where they differ by more than this
   float holeMaxEdgeDifferencePx = 2.5f;  ///< radial filling skips lines whose ends differ by more (depth edges)
-  /// Specular highlights differ between the eyes and give consistent but false matches: no estimate within
-  /// specularMarginPx of at least specularMinPixels grey levels >= specularMinGrey in either eye (256: off).
-  float specularMinGrey = 240.0f;
-  int specularMarginPx = 14;
-  int specularMinPixels = 16;
+  // Specular highlights sit on a different surface point in each eye and match consistently but falsely. A
+  // highlight seed is near saturation, brighter than its surroundings, and view-dependent (HighlightKernels.h);
+  // estimates within specularMarginPx of a seed (left pixel, or its match in the right eye) are removed, and hole
+  // filling gives them the surrounding tissue's disparity.
+  float specularMinGrey = 240.0f;          ///< seeds are at least this bright (256: highlight removal off)
+  int specularMarginPx = 3;                ///< margin around the seeds, following their outline
+  int specularMaxRadiusPx = 48;            ///< a saturated core this far on both sides of a pixel is tissue
+  float specularMinContrastGrey = 40.0f;   ///< a seed is brighter than the mean of its surroundings by this much
+  float specularViewToleranceGrey = 30.0f; ///< a seed is brighter than the other eye at its surroundings' match
+  /// Tracking and fusion leave out the pixels within this (a square) of a left seed: the disparity there is the
+  /// tissue's, but a highlight slides over the tissue as the camera moves, so features on it mislead tracking.
+  int trackingHighlightMarginPx = 14;
 
   // Iterative outlier removal and hole filling (II.B).
   int outlierIterations = 3;          ///< removal + filling rounds

@@ -8,6 +8,7 @@
 #include "Core/Image.h"
 #include "Core/PinnedHostBuffer.h"
 #include "AdCensusKernels.h"
+#include "HighlightKernels.h"
 #include "StereoKernels.h"
 #include "StereoMatcher.h"
 #include "StereoParameters.h"
@@ -57,7 +58,13 @@ struct StereoWorkspace {
   Image<int16_t> discrete, discreteScratch;        ///< o_i and a ping-pong partner
   Image<int16_t> filledDisparity;                  ///< o_i after outlier removal and hole filling
   Image<float> smoothed, smoothedPrevious, correction;
-  Image<uint8_t> leftSpecularMask, rightSpecularMask;  ///< 1 near a specular highlight (see DropSpecularDiscrete)
+  /// Highlights (HighlightKernels.h), kNoDisparity elsewhere: the seeds' surroundings disparity, and its mean within
+  /// specularMarginPx of them.
+  Image<int16_t> leftHighlightSeeds, rightHighlightSeeds;
+  Image<int16_t> leftNearHighlight, rightNearHighlight;
+  /// 1 within trackingHighlightMarginPx of a left seed, else 0 (all 0 with highlight removal off): what tracking
+  /// and fusion leave out (MarkHighlightNeighbourhood).
+  Image<uint8_t> highlightNeighbourhood;
   Buffer<int16_t> radialHitDistance, radialHitValue;  ///< CPU radial filling: nearest estimate per ray [8][pixels]
   Buffer<uint8_t> rayPasses;  ///< CPU outlier test: 1 where a pixel's ray of direction k passes [8][pixels]
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)
@@ -65,10 +72,13 @@ struct StereoWorkspace {
   std::unique_ptr<AdCensusWorkspace> adCensus;  ///< AD-Census only
 };
 
-/// Runs the whole of section II on workspace.left/right; the result is workspace.smoothed (NaN = none).
-void runStereoPipelineCpu(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings);
+/// Runs the whole of section II on workspace.left/right; the result is workspace.smoothed (NaN = none). explanation
+/// (optional): filled with the frame's counts (StereoExplanation.h), at the cost of downloads between the steps.
+void runStereoPipelineCpu(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings,
+                          StereoExplanation* explanation = nullptr);
 /// The same on the GPU; throws Error in a build without CUDA.
-void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings);
+void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& parameters, StereoTimingsMs& timings,
+                           StereoExplanation* explanation = nullptr);
 
 /// Columns per task of the CPU's box filters (BoxColumnSums), and so the longest row segment a consumeRow gets.
 constexpr int kCpuBoxColumnBlock = 64;
@@ -88,6 +98,9 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs);
 /// Backend-specific launchers of AD-Census's scanline optimisation (ScanlineInputs): the same pathCost, bit for bit.
 void computeScanlinePathsCpu(const ScanlineInputs& inputs);
 void computeScanlinePathsCuda(const ScanlineInputs& inputs);
+/// Backend launchers of the highlight seeds of both eyes (HighlightKernels.h): the same per-pixel rule, bit for bit.
+void detectHighlightSeedsCpu(const DetectHighlightSeeds& seeds);
+void detectHighlightSeedsCuda(const DetectHighlightSeeds& seeds);
 /// The CPU launcher of the window statistics (banded and vectorised; the same sums as WindowColumnSums +
 /// WindowStatistics, which the GPU runs).
 void computeWindowStatisticsCpu(ImageView<const float> image, ImageView<float> sum, ImageView<float> inverseNorm,

@@ -4,6 +4,7 @@
 #include "Core/ParallelFor.h"
 #include "Core/StageClock.h"
 #include "AdCensusKernels.h"
+#include "HighlightKernels.h"
 #include "StereoPipeline.h"
 #if defined(__CUDACC__)
 #include "BoxFilterCuda.cuh"
@@ -21,6 +22,7 @@ namespace tissuemosaic::stereo {
 struct BackendLaunchers {
   void (*znccVolume)(const ZnccVolumeInputs&);
   void (*scanlinePaths)(const ScanlineInputs&);
+  void (*highlightSeeds)(const DetectHighlightSeeds&);
 };
 
 namespace {
@@ -52,12 +54,47 @@ PathPenalties makePathPenalties(const StereoParameters& p) {
 /// 960x540, stay in cache for the windows that read them).
 constexpr int kCpuAggregationColumnBlock = 16;
 
+/// Estimates in a discrete or float map, counted on the host (explanations only: it downloads the map).
+long countEstimates(const Image<int16_t>& map) {
+  const std::vector<int16_t> values = map.buffer().toHost();
+  return static_cast<long>(std::count_if(values.begin(), values.end(), [](int16_t d) { return d != kNoDisparity; }));
+}
+long countEstimates(const Image<float>& map) {
+  const std::vector<float> values = map.buffer().toHost();
+  return static_cast<long>(std::count_if(values.begin(), values.end(), [](float d) { return std::isfinite(d); }));
+}
+
 template <class Backend>
 struct PipelineSteps {
   StereoWorkspace& w;
   const StereoParameters& p;
   const BackendLaunchers& launch;
+  StereoExplanation* explain;  ///< null: count nothing (the normal path)
   int64_t pixels() const { return static_cast<int64_t>(w.width) * w.height; }
+
+  /// Explanation of the matching step: pixels without a winner (no candidate match inside the right image, or
+  /// textureless windows; AD-Census has a winner everywhere) and winners the left-right check removed.
+  void explainWinners() {
+    const std::vector<int16_t> winners = w.znccDisparity.buffer().toHost();
+    const std::vector<float> inverseNorm = w.paper() ? w.inverseNormLeft.buffer().toHost() : std::vector<float>();
+    long outside = 0, textureless = 0, withWinner = 0;
+    for (int64_t i = 0; i < pixels(); ++i) {
+      if (winners[i] != kNoDisparity) {
+        ++withWinner;
+        continue;
+      }
+      const int x = static_cast<int>(i % w.width);
+      // Candidates x - d, d in [min, max]: none inside [0, width) when x - min < 0 or x - max > width - 1.
+      const bool noCandidateInside = x - p.minDisparityPx < 0 || x - p.maxDisparityPx > w.width - 1;
+      const bool leftTextureless = !inverseNorm.empty() && inverseNorm[i] == 0.0f;
+      if (noCandidateInside && !leftTextureless) ++outside;
+      else ++textureless;
+    }
+    explain->pixels = pixels();
+    explain->outsideRightImage = outside;
+    explain->texturelessWindow = textureless;
+    explain->leftRightCheck = withWinner - countEstimates(w.discrete);
+  }
 
   void windowStatistics(Image<float>& image, Image<float>& sum, Image<float>& inverseNorm) {
     if constexpr (std::is_same_v<Backend, CpuBackend>) {
@@ -111,19 +148,40 @@ struct PipelineSteps {
 
   bool specularMasking() const { return p.specularMinGrey <= 255.0f; }
 
-  /// The highlight masks of both eyes (pixels with at least specularMinPixels grey levels >= specularMinGrey within
-  /// specularMarginPx).
+  /// The highlight masks of both eyes: the seeds (HighlightKernels.h), tested at the disparity of each view's own
+  /// winners (w.discrete, the left winners after the left-right check, and the right-view winners), grown by
+  /// specularMarginPx.
   void specularMasks() {
-    boxSums(BrightValue{w.left.view(), p.specularMinGrey}, p.specularMarginPx, MarkNearBright{w.leftSpecularMask.view(), p.specularMinPixels});
-    boxSums(BrightValue{w.right.view(), p.specularMinGrey}, p.specularMarginPx, MarkNearBright{w.rightSpecularMask.view(), p.specularMinPixels});
+    // The ring lies just beyond the matching windows that see the spot.
+    const int windowRadius = w.paper() ? p.znccRadiusPx() : std::max(p.censusWidthPx, p.censusHeightPx) / 2;
+    const HighlightRule rule{p.specularMinGrey, p.specularMaxRadiusPx, windowRadius + 1, p.specularMinContrastGrey,
+                             p.specularViewToleranceGrey};
+    launch.highlightSeeds(DetectHighlightSeeds{w.left.view(), w.right.view(), w.discrete.view(),
+                                               w.rightZnccDisparity.view(), w.leftHighlightSeeds.view(),
+                                               w.rightHighlightSeeds.view(), rule});
+    boxSums(DiscreteDisparityValue{w.leftHighlightSeeds.view()}, p.specularMarginPx,
+            MarkNearHighlight{w.leftNearHighlight.view()});
+    boxSums(DiscreteDisparityValue{w.rightHighlightSeeds.view()}, p.specularMarginPx,
+            MarkNearHighlight{w.rightNearHighlight.view()});
+    boxSums(DiscreteDisparityValue{w.leftHighlightSeeds.view()}, p.trackingHighlightMarginPx,
+            MarkHighlightNeighbourhood{w.highlightNeighbourhood.view()});
   }
 
   void outliersAndHoles() {
     winnersAfterLeftRightCheck();
+    if (explain) explainWinners();
+    long estimates = explain ? countEstimates(w.discrete) : 0;
+    /// With an explanation: the change in the number of estimates since the last call.
+    const auto estimatesChange = [&]() {
+      const long now = countEstimates(w.discrete), change = now - estimates;
+      estimates = now;
+      return change;
+    };
     if (specularMasking()) {
       specularMasks();
-      parallelFor<Backend>(pixels(), DropSpecularDiscrete{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
-                                                          w.discrete.view()});
+      parallelFor<Backend>(pixels(), DropHighlightDiscrete{w.leftNearHighlight.view(), w.rightNearHighlight.view(),
+                                                           w.discrete.view()});
+      if (explain) explain->highlight = -estimatesChange();
     }
     for (int iteration = 0; iteration < p.outlierIterations; ++iteration) {
       const int radius = p.outlierRadiusStartPx + iteration * p.outlierRadiusStepPx;
@@ -133,6 +191,7 @@ struct PipelineSteps {
       } else {
         discreteStep(RemoveOutliers{w.discrete.view(), w.discreteScratch.view(), radius, p.outlierSmoothnessPx});
       }
+      if (explain) explain->outlierSweeps -= estimatesChange();
       const float gate = p.holeMaxEdgeDifferencePx < 0 ? 1e9f : p.holeMaxEdgeDifferencePx;
       if (p.holeRadialRadiusPx > 0) {
         if constexpr (std::is_same_v<Backend, CpuBackend>) {
@@ -150,7 +209,9 @@ struct PipelineSteps {
                               p.holeDiscMinValidFraction});
         std::swap(w.discrete, w.discreteScratch);
       }
+      if (explain) explain->filledBack += estimatesChange();
     }
+    if (explain) explain->notFilled = pixels() - estimates;
   }
 
   void refinement() {
@@ -160,8 +221,12 @@ struct PipelineSteps {
       boxSums(DiscreteDisparityValue{w.discrete.view()}, p.refineRadiusPx,
               LaplacianStep{w.discrete.view(), w.smoothedPrevious.view(), w.smoothed.view(), w.correction.view(),
                             p.refineAlpha});
-      const ReselectDiscrete reselect{w.volume.data(), w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
-                                      p.refineSearchPx, p.refineEta, w.smoothed.view(), w.discrete.view()};
+      ReselectDiscrete reselect{w.volume.data(), w.volumeLayout(), p.minDisparityPx, p.disparityCount(),
+                                p.refineSearchPx, p.refineEta, w.smoothed.view(), w.discrete.view()};
+      if (specularMasking()) {
+        reselect.leftHighlights = w.leftNearHighlight.view();
+        reselect.rightHighlights = w.rightNearHighlight.view();
+      }
       if constexpr (std::is_same_v<Backend, CpuBackend>) {
         boxSums(FloatValue{w.correction.view()}, p.refineRadiusPx, ReselectDiscreteRows{reselect});
       } else {
@@ -171,11 +236,11 @@ struct PipelineSteps {
     if (p.refineMaxDeviationPx >= 0) {
       parallelFor<Backend>(pixels(), FinalDisparity{w.discrete.view(), w.smoothed.view(), p.refineMaxDeviationPx});
     }
+    const long beforeBorderCheck = explain ? countEstimates(w.smoothed) : 0;
     parallelFor<Backend>(pixels(), DropOutsideRightView{w.smoothed.view(), p.znccRadiusPx()});
-    // Filling and smoothing reach into the highlights from their rims: the output has no estimate there.
-    if (specularMasking()) {
-      parallelFor<Backend>(pixels(), DropSpecularFloat{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
-                                                       w.smoothed.view()});
+    if (explain) {
+      explain->estimated = countEstimates(w.smoothed);
+      explain->outsideRightImage += beforeBorderCheck - explain->estimated;
     }
   }
 
@@ -244,13 +309,19 @@ struct PipelineSteps {
   void adCensusFinish() {
     parallelFor<Backend>(pixels(), Median3x3{w.correction.view(), w.smoothed.view()});
     winnersAfterLeftRightCheck();
-    if (p.leftRightMaxDifferencePx >= 0) {
-      parallelFor<Backend>(pixels(), DropWhereNoDiscrete{w.discrete.view(), w.smoothed.view()});
-    }
+    if (explain) explainWinners();
+    // Always: pixels without a winner (uniform costs) are dropped even where the left-right check is off.
+    parallelFor<Backend>(pixels(), DropWhereNoDiscrete{w.discrete.view(), w.smoothed.view()});
+    const long beforeHighlights = explain ? countEstimates(w.smoothed) : 0;
     if (specularMasking()) {
       specularMasks();
-      parallelFor<Backend>(pixels(), DropSpecularFloat{w.leftSpecularMask.view(), w.rightSpecularMask.view(),
-                                                       w.smoothed.view()});
+      parallelFor<Backend>(pixels(), DropHighlightFloat{w.leftNearHighlight.view(), w.rightNearHighlight.view(),
+                                                        w.smoothed.view()});
+    }
+    if (explain) {
+      explain->estimated = countEstimates(w.smoothed);
+      explain->highlight = beforeHighlights - explain->estimated;
+      explain->notFilled = pixels() - explain->estimated;
     }
   }
 };
@@ -259,13 +330,15 @@ struct PipelineSteps {
 
 template <class Backend>
 void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimingsMs& timings,
-                       const BackendLaunchers& launch) {
+                       const BackendLaunchers& launch, StereoExplanation* explanation) {
   require(w.method == p.method && w.disparityCount == p.disparityCount(),
           "internal: the stereo workspace was made for other parameters");
-  PipelineSteps<Backend> steps{w, p, launch};
+  if (explanation) *explanation = StereoExplanation{};
+  PipelineSteps<Backend> steps{w, p, launch, explanation};
   StageClock clock(w.device);
 
   parallelFor<Backend>(steps.pixels(), GreyToFloat{w.leftGrey.view(), w.rightGrey.view(), w.left.view(), w.right.view()});
+  if (!steps.specularMasking()) w.highlightNeighbourhood.buffer().setZero();  // no seeds: nothing to leave out
 
   if (p.method == StereoMethod::AdCensus) {
     // The same three timed stages: cost and aggregation; scanline optimisation and winners; median, checks.

@@ -1,0 +1,56 @@
+#include "Core/ParameterFileKeys.h"
+
+#include "Core/EditDistance.h"
+#include "Core/Error.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+namespace tissuemosaic::parameters {
+
+void requireKnownKeys(const cv::FileNode& given, const cv::FileNode& known, const std::string& nodeName, bool recurse) {
+  if (!given.isMap()) return;  // the structs' read() say what a node must be
+  const std::vector<std::string> knownKeys = known.isMap() ? known.keys() : std::vector<std::string>{};
+  for (const std::string& key : given.keys()) {
+    const cv::FileNode knownEntry = known.isMap() ? known[key] : cv::FileNode();
+    if (knownEntry.empty()) {
+      // Near enough to be a slip: a third of the name, at least 3 edits ("znccWindw" for "znccWindowPx").
+      const std::string nearest = nearestName(key, knownKeys, std::max<std::size_t>(3, key.size() / 3));
+      std::string message = nodeName.empty() ? "unknown node '" + key + "'"
+                                             : "unknown key '" + key + "' in node '" + nodeName + "'";
+      if (!nearest.empty()) {
+        message += " (did you mean '" + nearest + "'?)";
+      } else {
+        std::string list;
+        for (const std::string& name : knownKeys) list += (list.empty() ? "" : ", ") + name;
+        message += " (known " + std::string(nodeName.empty() ? "nodes" : "keys") + ": " + list + ")";
+      }
+      throw Error(message);
+    }
+    if (recurse && knownEntry.isMap()) requireKnownKeys(given[key], knownEntry, key, false);
+  }
+}
+
+cv::FileStorage openParameterFile(const std::string& path) {
+  const std::string context = "cannot read parameters file '" + path + "': ";
+  require(std::filesystem::is_regular_file(path), "cannot open parameters file '" + path + "': file does not exist");
+  std::ifstream file(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  require(text.find_first_not_of(" \t\r\n") != std::string::npos,
+          context + "the file is empty (it should hold nodes such as 'stereo:' or 'tracking:', see Resources/Presets)");
+  cv::FileStorage storage;
+  try {
+    storage.open(path, cv::FileStorage::READ);
+  } catch (const cv::Exception& error) {
+    // error.err, not what(): OpenCV's source file and line mean nothing to a user.
+    throw Error(context + "not a valid YAML/XML file (" + error.err + ")");
+  }
+  require(storage.isOpened(), context + "not a valid YAML/XML file");
+  require(storage.root().isMap() && storage.root().size() > 0,
+          context + "the file holds no parameter node (such as 'stereo:' or 'tracking:', see Resources/Presets)");
+  return storage;
+}
+
+}  // namespace tissuemosaic::parameters

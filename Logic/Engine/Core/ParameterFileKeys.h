@@ -1,0 +1,21 @@
+#pragma once
+/// @file ParameterFileKeys.h
+/// @brief Parameter files are strict: a misspelt node or key is an error naming it and the nearest known name, never
+/// silently ignored. The known names come from the parameter structs' own write() (one source of truth).
+#include <opencv2/core.hpp>
+
+#include <string>
+
+namespace tissuemosaic::parameters {
+
+/// Throws Error unless every key of the map `given` is a key of `known`:
+/// "unknown key 'znccWindw' in node 'stereo' (did you mean 'znccWindowPx'?)", or for the file's top level (nodeName
+/// empty) "unknown node 'fusoin' (did you mean 'fusion'?)". With `recurse`, the keys of each known sub-map are
+/// checked too.
+void requireKnownKeys(const cv::FileNode& given, const cv::FileNode& known, const std::string& nodeName, bool recurse);
+
+/// Opens a parameters file (OpenCV YAML/XML) for reading; an empty, missing or malformed file is an Error that says so
+/// (never OpenCV's assertion text).
+cv::FileStorage openParameterFile(const std::string& path);
+
+}  // namespace tissuemosaic::parameters

@@ -1,0 +1,60 @@
+// Parameters files are strict (issue 32): a misspelt node or key is an error naming it and the nearest known name;
+// an empty file says so. Every key the structs write is accepted back.
+#include "Core/Error.h"
+#include "ErrorText.h"
+#include "Reconstruction/ReconstructionParameters.h"
+#include "Stereo/StereoParameters.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+namespace tissuemosaic {
+namespace {
+
+std::string writeFile(const std::string& name, const std::string& text) {
+  const std::string folder = std::string(TM_TEST_OUTPUT_DIR) + "/ParameterFiles";
+  std::filesystem::create_directories(folder);
+  std::ofstream(folder + "/" + name) << text;
+  return folder + "/" + name;
+}
+
+TEST(ParameterFiles, MisspeltKeysAndNodesAreNamedWithTheNearestKnownName) {
+  const std::string header = "%YAML:1.0\n---\n";
+  EXPECT_EQ(errorOf([&] { ReconstructionParameters::parse(header + "stereo:\n   znccWindw: 9\n"); }),
+            "cannot parse parameters: unknown key 'znccWindw' in node 'stereo' (did you mean 'znccWindowPx'?)");
+  EXPECT_EQ(errorOf([&] { ReconstructionParameters::parse(header + "fusoin:\n   maxPoints: 5\n"); }),
+            "cannot parse parameters: unknown node 'fusoin' (did you mean 'fusion'?)");
+  const std::string far = errorOf([&] { ReconstructionParameters::parse(header + "colour:\n   red: 1\n"); });
+  EXPECT_NE(far.find("unknown node 'colour' (known nodes: "), std::string::npos) << far;
+  EXPECT_NE(far.find("stereo"), std::string::npos) << far;
+  // The file readers say which file.
+  const std::string typo = writeFile("typo.yml", header + "tracking:\n   minInliers: 10\nstereo:\n   maxDisparityPxx: 9\n");
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(typo); })
+                .find("parameters file '" + typo + "': unknown key 'maxDisparityPxx' in node 'stereo' (did you mean "
+                      "'maxDisparityPx'?)"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { StereoParameters::readFile(typo); }).find("unknown key 'maxDisparityPxx'"), std::string::npos);
+}
+
+TEST(ParameterFiles, EveryWrittenKeyReadsBackAndEmptyFilesAreNamed) {
+  const std::string path = std::string(TM_TEST_OUTPUT_DIR) + "/ParameterFiles-all.yml";
+  ReconstructionParameters written;
+  written.stereo.znccWindowPx = 9;
+  written.writeFile(path);
+  EXPECT_EQ(ReconstructionParameters::readFile(path).stereo.znccWindowPx, 9);
+  EXPECT_EQ(StereoParameters::readFile(path).znccWindowPx, 9);
+  const std::string empty = writeFile("empty.yml", "");
+  EXPECT_EQ(errorOf([&] { ReconstructionParameters::readFile(empty); }),
+            "cannot read parameters file '" + empty +
+                "': the file is empty (it should hold nodes such as 'stereo:' or 'tracking:', see Resources/Presets)");
+  EXPECT_NE(errorOf([&] { StereoParameters::readFile(empty); }).find("the file is empty"), std::string::npos);
+  const std::string blank = writeFile("blank.yml", "%YAML:1.0\n---\n# nothing\n");
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(blank); }).find("holds no parameter node"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace tissuemosaic
