@@ -120,9 +120,22 @@ TEST(ModelAgreement, PointsThatKeepMovingLeaveTheModelAndStillOnesStay) {
   EXPECT_EQ(pointsWithXBelow(model, split - 0.5), 0u) << "moved points left the model";
   EXPECT_EQ(fusion.pointCount(), model.size());
   for (float w : model.weights) ASSERT_EQ(w, 5.0f) << "still points keep their weight";
-  // The next key frame compacts the store and adds the risen tissue where the model no longer has points.
-  fusion.integrate(measureSurface(risen, uniformImage(g), g, Device::Cpu), identity);
-  EXPECT_GT(pointsWithXBelow(fusion.download(), split - 0.5), 0u);
+  // The points that left stay as markers of moving tissue: the next key frame, seeing the risen tissue within
+  // movedTissueRadiusMm of them, does not fuse it again; the still part merges as usual.
+  const SurfaceMeasurement risenSurface = measureSurface(risen, uniformImage(g), g, Device::Cpu);
+  const FusionStats refused = fusion.integrate(risenSurface, identity);
+  EXPECT_EQ(pointsWithXBelow(fusion.download(), split - 0.5), 0u) << "moved tissue fused again";
+  EXPECT_EQ(refused.added, 0);
+  EXPECT_GE(refused.merged, static_cast<int>(model.size()) - 10);
+
+  // With the markers off (radius 0), the same key frame adds the risen tissue where the model has no points.
+  FusionParameters noMarkers;
+  noMarkers.movedTissueRadiusMm = 0;
+  PointFusion unmarked = fusedPlane(g, 5, noMarkers);
+  for (int frame = 0; frame < 6; ++frame) unmarked.updateMotion(risen, identity, unmarked.measureAgreement(risen, identity, kStride));
+  ASSERT_EQ(pointsWithXBelow(unmarked.download(), split - 0.5), 0u);
+  unmarked.integrate(risenSurface, identity);
+  EXPECT_GE(pointsWithXBelow(unmarked.download(), split - 0.5), movingBefore / 2);
 }
 
 TEST(ModelAgreement, WhatPassesInFrontIsNoEvidenceAndWithoutPenaltyNothingLeaves) {
