@@ -35,7 +35,8 @@ QString stageLabel(const std::string& key) {
   static const std::map<std::string, const char*> labels = {
       {"video_reading", "video reading"},   {"stereo", "stereo matching"},
       {"orb_voting", "ORB + voting"},       {"dynamic_r1ppnp", "DynamicR1PPnP"},
-      {"refinement", "refinement"},         {"tsdf", "TSDF"},
+      {"model_agreement", "model agreement"}, {"refinement", "refinement"},
+      {"tsdf", "TSDF"},
       {"total", "total"}};
   const auto label = labels.find(key);
   return label != labels.end() ? QObject::tr(label->second) : QString::fromStdString(key);
@@ -69,6 +70,7 @@ public:
   QTableWidget* timing = nullptr;
   QLabel* inputLabel = nullptr;
   QLabel* stateLabel = nullptr;
+  QLabel* agreementLabel = nullptr;  ///< the quality signal: green / amber / red with the numbers
   qTissueMosaicMessageLine* startProblemLabel = nullptr;  ///< why Start is disabled
   qTissueMosaicMessageLine* inputMessage = nullptr;
   qTissueMosaicMessageLine* scanMessage = nullptr;
@@ -165,18 +167,25 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
   stateLabel->setObjectName("stateLabel");
   stateLabel->setWordWrap(true);
   scanLayout->addWidget(stateLabel, 1, 0, 1, 4);
+  agreementLabel = new QLabel(q);
+  agreementLabel->setObjectName("modelAgreementLabel");
+  agreementLabel->setToolTip(QObject::tr(
+      "How well the model, seen from the tracked pose, agrees with this frame's stereo depth: the share of depths "
+      "within 1 mm of the model and the median difference. Green: trust the model here; amber: part of the view "
+      "moved or is covered; red: do not trust it. Thresholds: the agreement parameters."));
+  scanLayout->addWidget(agreementLabel, 2, 0, 1, 4);
   disparityRangeLabel = new QLabel(q);
   disparityRangeLabel->setObjectName("disparityRangeLabel");
   disparityRangeLabel->setWordWrap(true);
   disparityRangeLabel->setToolTip(QObject::tr("The stereo matcher's disparity range and how it was chosen (the "
                                               "parameters' Disparity range)"));
-  scanLayout->addWidget(disparityRangeLabel, 2, 0, 1, 4);
+  scanLayout->addWidget(disparityRangeLabel, 3, 0, 1, 4);
   startProblemLabel = new qTissueMosaicMessageLine(q);
   startProblemLabel->setObjectName("startProblemLabel");
-  scanLayout->addWidget(startProblemLabel, 3, 0, 1, 4);
+  scanLayout->addWidget(startProblemLabel, 4, 0, 1, 4);
   scanMessage = new qTissueMosaicMessageLine(q);
   scanMessage->setObjectName("scanMessage");
-  scanLayout->addWidget(scanMessage, 4, 0, 1, 4);
+  scanLayout->addWidget(scanMessage, 5, 0, 1, 4);
   layout->addWidget(scanBox);
 
   auto* exportBox = new QGroupBox(QObject::tr("Export"), q);
@@ -356,7 +365,16 @@ void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
            : sizeMismatch           ? QObject::tr("; the calibration is for another frame size")
                                     : QObject::tr("; calibrated");
   inputLabel->setText(input);
+  const auto& status = logic->GetStatus();
   stateLabel->setText(QString::fromStdString(logic->GetTrackingStateText()));
+  const bool lost = status.framesProcessed > 0 && !status.tracked && status.state != Logic::StateIdle;
+  stateLabel->setStyleSheet(lost ? "QLabel { color: #c62828; font-weight: bold; }" : QString());
+  agreementLabel->setText(QString::fromStdString(logic->GetAgreementText()));
+  // The traffic light: tissuemosaic::AgreementLevel (none, good, fair, poor).
+  static const char* const colours[] = {"#9e9e9e", "#2e7d32", "#f9a825", "#c62828"};
+  const int level = lost ? 0 : std::clamp(status.agreementLevel, 0, 3);
+  agreementLabel->setStyleSheet(QString("QLabel { background-color: %1; color: white; padding: 2px 6px; }").arg(colours[level]));
+  agreementLabel->setProperty("agreementLevel", level);
   disparityRangeLabel->setText(
       QObject::tr("Disparities: %1").arg(QString::fromStdString(logic->GetDisparityRangeText())));
   tissuemosaic::RectifiedGeometry geometry;

@@ -66,7 +66,7 @@ double encodedGrey(const cv::Vec3d& linear, const std::vector<float>& gamma, int
 
 cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCamera, const TissueSurface& surface,
                    const TissueTexture& texture, const ShadingParameters& shading, uint32_t seed,
-                   uint32_t noiseStream, cv::Mat* highlightMask) {
+                   uint32_t noiseStream, cv::Mat* highlightMask, const RayOccluder* occluder) {
   const int width = camera.imageSize.width, height = camera.imageSize.height;
   const int n = std::max(1, shading.supersampling);
   cv::Mat image(camera.imageSize, CV_8UC3);
@@ -96,13 +96,21 @@ cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCam
             const double guess = beforeLast[sy] > 0 ? 2 * last[sy] - beforeLast[sy] : last[sy];
             // 1 um along the ray is far below a texel: plenty for shading.
             const double t = surface.intersect(camera.centreWorldMm, ray, guess, &gradient, 1e-3);
-            if (!std::isfinite(t)) continue;  // looking away from the tissue: black
-            beforeLast[sy] = last[sy];
-            last[sy] = t;
-            const SurfaceRadiance radiance = shade(camera.centreWorldMm, ray, t, gradient, texture, shading);
-            const cv::Vec3d specular(radiance.specular, radiance.specular, radiance.specular);
-            sum += radiance.diffuse + specular;
-            diffuseSum += radiance.diffuse;
+            if (std::isfinite(t)) {
+              beforeLast[sy] = last[sy];
+              last[sy] = t;
+            }
+            cv::Vec3d occluded;
+            if (occluder && occluder->shade(camera.centreWorldMm, ray, std::isfinite(t) ? t : HUGE_VAL, shading, occluded)) {
+              // An instrument in front of the tissue: its glints are not the tissue's highlights (the mask's subject).
+              sum += occluded;
+              diffuseSum += occluded;
+            } else if (std::isfinite(t)) {  // else looking away from the tissue: black
+              const SurfaceRadiance radiance = shade(camera.centreWorldMm, ray, t, gradient, texture, shading);
+              const cv::Vec3d specular(radiance.specular, radiance.specular, radiance.specular);
+              sum += radiance.diffuse + specular;
+              diffuseSum += radiance.diffuse;
+            }
           }
         }
         const double vignette = vignettingFactor(lensCamera, centreRay, shading.vignetting);

@@ -4,6 +4,7 @@
 /// Blinn-Phong highlights lit from the scope tip (so each eye sees its own highlights), inverse-square light
 /// fall-off, vignetting of the physical lens, gamma, and sensor noise. Also computes ground-truth depth and
 /// disparity for a rectified pair.
+#include "RayOccluder.h"
 #include "SyntheticCamera.h"
 #include "SyntheticLighting.h"
 #include "TissueSurface.h"
@@ -32,9 +33,10 @@ struct ShadingParameters {
 /// eye: its vignetting is applied, so a rectified render matches the raw render after rectification. The noise
 /// is a function of (seed, noiseStream, pixel) only, so the result does not depend on threading. highlightMask
 /// (optional): CV_8U, 255 where the specular reflection raises the grey level by kHighlightMinGrey or more.
+/// occluder (optional): drawn wherever it is nearer than the tissue (the instruments), with the same camera response.
 cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCamera, const TissueSurface& surface,
                    const TissueTexture& texture, const ShadingParameters& shading, uint32_t seed, uint32_t noiseStream,
-                   cv::Mat* highlightMask = nullptr);
+                   cv::Mat* highlightMask = nullptr, const RayOccluder* occluder = nullptr);
 
 /// Ground truth for a rectified pair (rectified cameras: no distortion, same orientation, right of left along x):
 /// per left pixel centre, depth in mm along the left optical axis and left-view disparity (x_left - x_right);

@@ -3,7 +3,11 @@
 #include "Core/Error.h"
 #include "Core/ParallelFor.h"
 #include "Core/ParameterChecks.h"
+#include "SyntheticBreathing.h"
 #include "SyntheticCamera.h"
+#include "SyntheticCameraOut.h"
+#include "SyntheticHaze.h"
+#include "SyntheticInstruments.h"
 #include "SyntheticRandom.h"
 #include "SyntheticRenderer.h"
 #include "SyntheticStereoScene.h"
@@ -11,10 +15,12 @@
 #include "TissueTexture.h"
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/utility.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 
 namespace tissuemosaic::synthetic {
@@ -23,6 +29,10 @@ namespace {
 
 constexpr double pi = 3.141592653589793;
 constexpr double degree = pi / 180.0;
+/// Smoke (--smoke): the most a pixel moves toward the smoke's colour where the haze is densest.
+constexpr double kSmokeStrength = 0.45;
+/// The breathing part of the surface: full amplitude within the inner radius, none beyond the outer (SurfaceSwell).
+constexpr double kBreathingInnerRadiusMm = 10.0, kBreathingOuterRadiusMm = 18.0;
 
 void requireRange(double value, double low, double high, const std::string& name) {
   parameters::requireRange("synthetic scan", name.c_str(), value, low, high);
@@ -157,6 +167,7 @@ void SyntheticScanOptions::validate() const {
   requireRange(rectifiedDisparityOffsetPx, -width, width, "rectified disparity offset (px)");
   requireRange(noiseStdGrey, 0, 50, "noise (grey levels)");
   requireRange(supersampling, 1, 4, "supersampling");
+  hardMode.validate(frames);
 }
 
 struct SyntheticScan::Impl {
@@ -169,6 +180,42 @@ struct SyntheticScan::Impl {
   std::unique_ptr<TissueTexture> texture;
   std::unique_ptr<RealisticLighting> realisticLighting;  ///< with SyntheticLighting::Realistic only
   cv::Rect2d domainMm;
+  // The hard mode (SyntheticHardMode.h).
+  SyntheticCameraOut cameraOut;
+  cv::Matx33d R_path_return = cv::Matx33d::eye();  ///< after the camera-out: T_world_camera = T_path * T_path_return
+  cv::Vec3d t_path_return{0, 0, 0};
+  SyntheticBreathing breathing;
+  std::unique_ptr<TissueSurface> highestSurface;  ///< the tissue at the breathing's peak: the instruments' clearance
+  SyntheticInstruments instruments;
+
+  /// The left rectified camera at frame index: the path's, offset after a camera-out; a camera-out frame's is the
+  /// scope withdrawn 40 mm from where it left (no tissue is rendered for it).
+  void pose(int index, cv::Matx33d& R_world_leftRect, cv::Vec3d& leftCentre) const {
+    const int at = cameraOut.contains(index) ? cameraOut.start() - 1 : index;
+    path->pose(options, *surface, at / options.fps, R_world_leftRect, leftCentre);
+    if (cameraOut.contains(index)) {
+      leftCentre -= 40.0 * R_world_leftRect * cv::Vec3d(0, 0, 1);
+    } else if (cameraOut.active() && index >= cameraOut.end()) {
+      leftCentre += R_world_leftRect * t_path_return;
+      R_world_leftRect = R_world_leftRect * R_path_return;
+    }
+  }
+
+  /// The tissue at time t (breathing applied), or the surface itself without breathing.
+  std::unique_ptr<TissueSurface> surfaceAt(double timeS) const {
+    return std::make_unique<TissueSurface>(breathing.active() ? surface->swollen(breathing.swellAt(timeS)) : *surface);
+  }
+
+  /// The tissue point at the centre of the left view at frame index (false for a camera-out frame).
+  bool viewCentreMm(int index, cv::Vec3d& pointMm) const {
+    if (cameraOut.contains(index)) return false;
+    const Cameras c = cameras(index);
+    const cv::Vec3d ray = c.leftRect.rayWorld(c.leftRect.K(0, 2), c.leftRect.K(1, 2));
+    const double t = surface->intersect(c.leftRect.centreWorldMm, ray);
+    if (!std::isfinite(t)) return false;
+    pointMm = c.leftRect.centreWorldMm + t * ray;
+    return true;
+  }
 
   struct Cameras {
     SyntheticCamera leftRaw, rightRaw, leftRect, rightRect;
@@ -178,7 +225,7 @@ struct SyntheticScan::Impl {
   Cameras cameras(int index) const {
     cv::Matx33d R_world_leftRect;
     cv::Vec3d leftCentre;
-    path->pose(options, *surface, index / options.fps, R_world_leftRect, leftCentre);
+    pose(index, R_world_leftRect, leftCentre);
     const cv::Matx33d R = matx33(calibration.R);
     const cv::Vec3d T(calibration.T.ptr<double>());
     // X_rect = R1 X_raw; X_right = R X_left + T: the right eye's centre in the raw left frame is -R^T T.
@@ -230,9 +277,29 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
       std::max(70.0, 0.5 * std::max(options.rasterWidthMm, options.rasterHeightMm) + footprintMm + 10.0);
   s.surface = std::make_unique<TissueSurface>(surfaceParameters, options.seed);
 
+  // After a camera-out the camera is back near where it left, then follows its path offset in its own frame:
+  // T_path(t) T_path_return with T_path(end) T_path_return = T(start - 1) returnMotion.
+  const SyntheticHardModeOptions& hard = options.hardMode;
+  if (hard.cameraOut()) {
+    s.cameraOut = SyntheticCameraOut(hard.cameraOutStart, hard.cameraOutEnd, options.seed);
+    cv::Matx33d R_left, R_back;
+    cv::Vec3d c_left, c_back;
+    s.path->pose(options, *s.surface, (hard.cameraOutStart - 1) / options.fps, R_left, c_left);
+    s.path->pose(options, *s.surface, hard.cameraOutEnd / options.fps, R_back, c_back);
+    const Eigen::Matrix4d motion = s.cameraOut.returnMotion();
+    cv::Matx33d R_motion;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R_motion(r, c) = motion(r, c);
+    const cv::Matx33d R_world_returned = R_left * R_motion;
+    const cv::Vec3d c_returned = c_left + R_left * cv::Vec3d(motion(0, 3), motion(1, 3), motion(2, 3));
+    s.R_path_return = R_back.t() * R_world_returned;
+    s.t_path_return = R_back.t() * (c_returned - c_back);
+  }
+
   // What the frames see: border rays of every rectified view cast onto the surface.
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300, nearestMm = 1e300, maxTangent = 0;
   for (int index = 0; index < options.frames; ++index) {
+    if (s.cameraOut.contains(index)) continue;
     const Impl::Cameras c = s.cameras(index);
     for (const SyntheticCamera* camera : {&c.leftRect, &c.rightRect}) {
       const int w = camera->imageSize.width, h = camera->imageSize.height;
@@ -270,6 +337,26 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
   if (options.lighting == SyntheticLighting::Realistic) {
     s.realisticLighting = std::make_unique<RealisticLighting>(*s.texture, options.seed);
   }
+
+  if (hard.breathing()) {
+    // The breathing part: around where the scope looks a little before the middle of the scan.
+    int at = static_cast<int>(std::lround(0.45 * (options.frames - 1)));
+    if (s.cameraOut.contains(at)) at = s.cameraOut.start() - 1;
+    cv::Vec3d centre;
+    require(s.viewCentreMm(at, centre), "synthetic scan: no tissue at the centre of the view for the breathing");
+    s.breathing = SyntheticBreathing(hard.breathingAmplitudeMm, hard.breathingPeriodS, {centre[0], centre[1]},
+                                     kBreathingInnerRadiusMm, kBreathingOuterRadiusMm);
+    require(s.surface->swollen(s.breathing.peakSwell()).maxSlope(s.domainMm) * maxTangent < 0.98,
+            "synthetic scan: the breathing makes the surface too steep for these views; lower --breathing-mm");
+  }
+  if (hard.instruments > 0) {
+    const TissueSurface highest =
+        s.breathing.active() ? s.surface->swollen(s.breathing.peakSwell()) : *s.surface;
+    s.highestSurface = std::make_unique<TissueSurface>(highest);
+    s.instruments = SyntheticInstruments(
+        hard.instruments, options.frames, options.fps, options.seed,
+        [&s](int index, cv::Vec3d& point) { return s.viewCentreMm(index, point); }, *s.highestSurface);
+  }
 }
 
 SyntheticScan::~SyntheticScan() = default;
@@ -287,7 +374,7 @@ Eigen::Matrix4d SyntheticScan::T_world_camera(int index) const {
                                                   std::to_string(frameCount()) + ")");
   cv::Matx33d R;
   cv::Vec3d centre;
-  impl_->path->pose(impl_->options, *impl_->surface, timeS(index), R, centre);
+  impl_->pose(index, R, centre);
   Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) T(r, c) = R(r, c);
@@ -302,7 +389,20 @@ SyntheticScanFrame SyntheticScan::renderFrame(int index) const {
   frame.timeS = timeS(index);
   frame.T_world_camera = T_world_camera(index);
   const Impl& s = *impl_;
+  const cv::Size size = s.calibration.imageSize;
+  if (s.cameraOut.contains(index)) {
+    frame.tissueInView = false;
+    s.cameraOut.render(index, size, s.options.fps, s.options.noiseStdGrey, frame.leftRectified, frame.rightRectified);
+    frame.disparityPx = cv::Mat(size, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+    frame.depthMm = frame.disparityPx.clone();
+    if (s.instruments.count() > 0) frame.instrumentMask = cv::Mat::zeros(size, CV_8U);
+    frame.highlightMaskLeft = cv::Mat::zeros(size, CV_8U);
+    return frame;
+  }
   const Impl::Cameras c = s.cameras(index);
+  const std::unique_ptr<TissueSurface> surface = s.surfaceAt(frame.timeS);
+  const InstrumentOccluder instruments(s.instruments.posesAt(index));
+  const RayOccluder* occluder = instruments.empty() ? nullptr : &instruments;
   ShadingParameters shading;
   shading.lightWorldMm = c.lightMm;
   shading.lightReferenceMm = s.options.autoExposure
@@ -313,12 +413,51 @@ SyntheticScanFrame SyntheticScan::renderFrame(int index) const {
   shading.realistic = s.realisticLighting.get();
   // Each frame and eye has its own noise stream.
   const auto stream = static_cast<uint32_t>(2 * index);
-  frame.leftRectified = renderView(c.leftRect, c.leftRaw, *s.surface, *s.texture, shading, s.options.seed, stream + 1,
-                                   &frame.highlightMaskLeft);
-  frame.rightRectified = renderView(c.rightRect, c.rightRaw, *s.surface, *s.texture, shading, s.options.seed, stream + 2);
-  renderRectifiedGroundTruth(c.leftRect, c.rightRect, *s.surface, frame.disparityPx, frame.depthMm);
+  frame.leftRectified =
+      renderView(c.leftRect, c.leftRaw, *surface, *s.texture, shading, s.options.seed, stream + 1,
+                 &frame.highlightMaskLeft, occluder);
+  frame.rightRectified =
+      renderView(c.rightRect, c.rightRaw, *surface, *s.texture, shading, s.options.seed, stream + 2,
+                 nullptr, occluder);
+  renderRectifiedGroundTruth(c.leftRect, c.rightRect, *surface, frame.disparityPx, frame.depthMm);
+  if (s.instruments.count() > 0) {
+    frame.instrumentMask = cv::Mat::zeros(size, CV_8U);
+    if (occluder) {
+      cv::parallel_for_(cv::Range(0, size.height), [&](const cv::Range& rows) {
+        for (int y = rows.start; y < rows.end; ++y) {
+          for (int x = 0; x < size.width; ++x) {
+            if (instruments.hits(c.leftRect.centreWorldMm, c.leftRect.rayWorld(x, y))) frame.instrumentMask.at<uint8_t>(y, x) = 255;
+          }
+        }
+      });
+    }
+  }
+  if (s.options.hardMode.smoke) {
+    // Thin smoke over the tissue, drifting; the same density in both eyes (it has no texture to match).
+    const cv::Mat density = hazeDensity(size, frame.timeS, s.options.seed);
+    for (cv::Mat* image : {&frame.leftRectified, &frame.rightRectified}) {
+      applyHaze(*image, density, kSmokeStrength, cv::Vec3d(185, 190, 200));
+    }
+  }
   return frame;
 }
+
+bool SyntheticScan::tissueInView(int index) const {
+  require(index >= 0 && index < frameCount(), "synthetic scan: frame " + std::to_string(index) + " is outside [0, " +
+                                                  std::to_string(frameCount()) + ")");
+  return !impl_->cameraOut.contains(index);
+}
+
+std::vector<int> SyntheticScan::tissueFrames() const {
+  std::vector<int> frames;
+  for (int index = 0; index < frameCount(); ++index) {
+    if (!impl_->cameraOut.contains(index)) frames.push_back(index);
+  }
+  return frames;
+}
+
+const SyntheticBreathing& SyntheticScan::breathing() const { return impl_->breathing; }
+const SyntheticInstruments& SyntheticScan::instruments() const { return impl_->instruments; }
 
 TriangleMesh SyntheticScan::surfaceMesh(double spacingMm) const {
   require(spacingMm > 0, "synthetic scan: mesh spacing must be positive");
@@ -353,8 +492,9 @@ TriangleMesh SyntheticScan::seenSurfaceMesh(double spacingMm, int frameStep) con
   const auto triangleCount = static_cast<int64_t>(grid.triangles.size());
   std::vector<uint8_t> visible(grid.verticesMm.size()), seen(grid.triangles.size(), 0);
   std::vector<int> frames;
-  for (int index = 0; index < frameCount(); index += frameStep) frames.push_back(index);
-  if (frames.back() != frameCount() - 1) frames.push_back(frameCount() - 1);
+  const std::vector<int> tissue = tissueFrames();
+  for (std::size_t k = 0; k < tissue.size(); k += static_cast<std::size_t>(frameStep)) frames.push_back(tissue[k]);
+  if (frames.back() != tissue.back()) frames.push_back(tissue.back());
   for (int index : frames) {
     const Impl::Cameras c = impl_->cameras(index);
     parallelFor<CpuBackend>(vertexCount, [&](int64_t v) {
@@ -386,5 +526,34 @@ TriangleMesh SyntheticScan::seenSurfaceMesh(double spacingMm, int frameStep) con
   require(!mesh.triangles.empty(), "synthetic scan: no triangle of the surface is seen by both eyes");
   return mesh;
 }
+
+TriangleMesh SyntheticScan::staticSurfaceMesh(double spacingMm, int frameStep) const {
+  const TriangleMesh seen = seenSurfaceMesh(spacingMm, frameStep);
+  if (!impl_->breathing.active()) return seen;
+  TriangleMesh mesh;
+  std::vector<int> newIndex(seen.verticesMm.size(), -1);
+  for (const cv::Vec3i& triangle : seen.triangles) {
+    bool still = true;
+    for (int k = 0; k < 3 && still; ++k) {
+      const cv::Point3f& p = seen.verticesMm[static_cast<std::size_t>(triangle[k])];
+      still = impl_->breathing.isStatic(p.x, p.y);
+    }
+    if (!still) continue;
+    cv::Vec3i kept;
+    for (int k = 0; k < 3; ++k) {
+      int& index = newIndex[static_cast<std::size_t>(triangle[k])];
+      if (index < 0) {
+        index = static_cast<int>(mesh.verticesMm.size());
+        mesh.verticesMm.push_back(seen.verticesMm[static_cast<std::size_t>(triangle[k])]);
+      }
+      kept[k] = index;
+    }
+    mesh.triangles.push_back(kept);
+  }
+  require(!mesh.triangles.empty(), "synthetic scan: the breathing moves every triangle the scan saw");
+  return mesh;
+}
+
+TriangleMesh SyntheticScan::instrumentSurfaceMesh() const { return impl_->instruments.surfaceMesh(tissueFrames()); }
 
 }  // namespace tissuemosaic::synthetic

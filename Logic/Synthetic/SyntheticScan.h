@@ -10,6 +10,7 @@
 /// T_world_camera of the LEFT RECTIFIED camera (x right, y down, z forward).
 #include "Core/StereoRig.h"
 #include "IO/MeshPly.h"
+#include "SyntheticHardMode.h"
 #include "SyntheticLighting.h"
 
 #include <Eigen/Core>
@@ -23,6 +24,8 @@
 namespace tissuemosaic::synthetic {
 
 class TissueSurface;
+class SyntheticBreathing;
+class SyntheticInstruments;
 
 /// How the scope's working distance changes over a scan.
 enum class WorkingDistanceProfile {
@@ -54,6 +57,7 @@ struct SyntheticScanOptions {
   double rectifiedDisparityOffsetPx = 0;
   double noiseStdGrey = 1.5;
   int supersampling = 2;
+  SyntheticHardModeOptions hardMode;  ///< breathing, instruments, camera-out, smoke (all off by default)
   SyntheticLighting lighting = SyntheticLighting::Standard;  ///< the look (SyntheticLighting.h)
 
   /// Throws Error naming the first option out of range.
@@ -68,6 +72,12 @@ struct SyntheticScanFrame {
   cv::Mat depthMm;                        ///< CV_32F along the left rectified optical axis, NaN as above
   cv::Mat highlightMaskLeft;              ///< CV_8U, left rectified view: 255 on specular highlights
   Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();  ///< left rectified camera
+  /// False for a camera-out frame (SyntheticCameraOut.h): no tissue, NaN truth, and T_world_camera is not ground
+  /// truth (the withdrawn scope).
+  bool tissueInView = true;
+  /// With instruments: CV_8U, 255 where an instrument covers the left pixel's centre (depthMm and disparityPx are
+  /// the tissue's, behind it). Empty without instruments.
+  cv::Mat instrumentMask;
 };
 
 class SyntheticScan {
@@ -89,6 +99,13 @@ public:
   double timeS(int index) const;
   /// Renders frame index: both rectified views and ground-truth disparity and depth.
   SyntheticScanFrame renderFrame(int index) const;
+  /// False for the camera-out frames (options().hardMode), whose pose is not ground truth.
+  bool tissueInView(int index) const;
+  /// The frames that show tissue, in order.
+  std::vector<int> tissueFrames() const;
+  /// The breathing and the instruments (inactive / none without the hard-mode options).
+  const SyntheticBreathing& breathing() const;
+  const SyntheticInstruments& instruments() const;
 
   const TissueSurface& surface() const;
   /// World XY rectangle seen by some frame (with a margin): where the texture and the surface mesh are defined.
@@ -104,6 +121,11 @@ public:
   /// it could occur. Tests every frameStep-th frame and the last one (1: all); runs in parallel, about 0.1 s per
   /// 100 frames at 960x540. Throws Error when no triangle is seen.
   TriangleMesh seenSurfaceMesh(double spacingMm = 0.5, int frameStep = 1) const;
+  /// seenSurfaceMesh without the triangles that breathing moves (SyntheticBreathing::isStatic at every vertex): the
+  /// part of the surface that never moves, the reference of a scan with breathing.
+  TriangleMesh staticSurfaceMesh(double spacingMm = 0.5, int frameStep = 1) const;
+  /// The instruments' surfaces over every frame with tissue (SyntheticInstruments::surfaceMesh); empty without.
+  TriangleMesh instrumentSurfaceMesh() const;
 
 private:
   struct Impl;
@@ -111,10 +133,13 @@ private:
 };
 
 /// Writes DIR/left/000000.png.., DIR/right/.. (rectified), DIR/rig.yml (raw rig calibration), and
-/// DIR/groundtruth/trajectory.txt (TUM, T_world_camera of the left rectified camera, mm), surface.ply (world frame
-/// triangle mesh: seenSurfaceMesh(0.5), the surface the scan saw with both eyes, so that a reconstruction's coverage
-/// of it is a fair score), depth_000000.pfm.. (mm, left rectified view) and highlight_mask_left_000000.png.. (255 on
-/// specular highlights, left rectified view). progress (optional) is called after each frame.
+/// DIR/groundtruth/trajectory.txt (TUM, T_world_camera of the left rectified camera, mm; no line for a camera-out
+/// frame), surface.ply (world frame triangle mesh: seenSurfaceMesh(0.5), the surface the scan saw with both eyes, so
+/// that a reconstruction's coverage of it is a fair score), depth_000000.pfm.. (mm, left rectified view, the tissue
+/// at that frame) and highlight_mask_left_000000.png.. (255 on specular highlights, left rectified view). With the
+/// hard-mode options also: static_surface.ply (breathing: staticSurfaceMesh(0.5)), instrument_mask_000000.png.. and
+/// instruments.ply (instruments: instrumentSurfaceMesh()), and scene.yml (what breathes, when each instrument is in,
+/// the camera-out span). progress (optional) is called after each frame.
 /// Returns the number of files written. Throws Error when a file cannot be written.
 int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory,
                        void (*progress)(int frame, int frames) = nullptr);

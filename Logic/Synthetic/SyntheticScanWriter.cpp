@@ -2,16 +2,70 @@
 // OpenCV's image codecs.
 #include "SyntheticScan.h"
 
+#include "SyntheticBreathing.h"
+#include "SyntheticInstruments.h"
+
 #include "Core/Error.h"
 #include "IO/DisparityPfm.h"
 #include "IO/MeshPly.h"
 #include "IO/TrajectoryTum.h"
 
+#include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include <filesystem>
 
 namespace tissuemosaic::synthetic {
+
+namespace {
+
+/// static_surface.ply, instruments.ply and scene.yml of the hard-mode options (SyntheticHardMode.h) that are on.
+int writeHardModeGroundTruth(const SyntheticScan& scan, const std::filesystem::path& folder) {
+  const SyntheticHardModeOptions& hard = scan.options().hardMode;
+  if (!hard.breathing() && hard.instruments == 0 && !hard.cameraOut() && !hard.smoke) return 0;
+  int written = 0;
+  const std::string frame = "frame: world (tissue Z = h(X, Y), +Z into the tissue), millimetres";
+  if (hard.breathing()) {
+    writeMeshPly((folder / "static_surface.ply").string(), scan.staticSurfaceMesh(0.5),
+                 "TissueMosaic synthetic scan: the part of surface.ply that never moves (breathing moves it at most " +
+                     std::to_string(SyntheticBreathing::kStaticToleranceMm) + " mm)\n" + frame);
+    ++written;
+  }
+  if (hard.instruments > 0) {
+    writeMeshPly((folder / "instruments.ply").string(), scan.instrumentSurfaceMesh(),
+                 "TissueMosaic synthetic scan: the instruments' surfaces at every frame with tissue, one mesh (shafts "
+                 "meshed " + std::to_string(static_cast<int>(SyntheticInstruments::kMeshedShaftLengthMm)) +
+                     " mm from the tip)\n" + frame);
+    ++written;
+  }
+  const std::string path = (folder / "scene.yml").string();
+  cv::FileStorage scene(path, cv::FileStorage::WRITE);
+  require(scene.isOpened(), "cannot write '" + path + "'");
+  scene.writeComment("TissueMosaic synthetic scan: what moves besides the camera (world frame, mm, s, frames)");
+  if (hard.breathing()) {
+    const SurfaceSwell& shape = scan.breathing().shape();
+    scene << "breathing" << "{" << "amplitudeMm" << hard.breathingAmplitudeMm << "periodS" << hard.breathingPeriodS
+          << "centreXMm" << shape.centreXMm << "centreYMm" << shape.centreYMm << "innerRadiusMm" << shape.innerRadiusMm
+          << "outerRadiusMm" << shape.outerRadiusMm << "staticToleranceMm" << SyntheticBreathing::kStaticToleranceMm
+          << "}";
+  }
+  if (hard.instruments > 0) {
+    scene << "instruments" << "[";
+    for (int i = 0; i < scan.instruments().count(); ++i) {
+      const auto [enter, leave] = scan.instruments().span(i);
+      scene << "{" << "firstFrame" << enter << "lastFrame" << leave << "}";
+    }
+    scene << "]";
+  }
+  if (hard.cameraOut()) {
+    scene << "cameraOut" << "{" << "firstFrame" << hard.cameraOutStart << "endFrame" << hard.cameraOutEnd << "}";
+  }
+  scene << "smoke" << static_cast<int>(hard.smoke);
+  scene.release();
+  return written + 1;
+}
+
+}  // namespace
 
 int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory, void (*progress)(int, int)) {
   const std::filesystem::path root(directory);
@@ -41,11 +95,14 @@ int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory, 
     image(root / "right" / (name + ".png"), frame.rightRectified);
     writePfm((root / "groundtruth" / ("depth_" + name + ".pfm")).string(), frame.depthMm);
     ++written;
+    if (!frame.instrumentMask.empty()) image(root / "groundtruth" / ("instrument_mask_" + name + ".png"), frame.instrumentMask);
     image(root / "groundtruth" / ("highlight_mask_left_" + name + ".png"), frame.highlightMaskLeft);
-    TimedPose pose;
-    pose.timeS = frame.timeS;
-    pose.T_world_camera = frame.T_world_camera;
-    trajectory.push_back(pose);
+    if (frame.tissueInView) {  // else the scope is out: no ground-truth pose
+      TimedPose pose;
+      pose.timeS = frame.timeS;
+      pose.T_world_camera = frame.T_world_camera;
+      trajectory.push_back(pose);
+    }
     if (progress) progress(index + 1, scan.frameCount());
   }
   writeTumTrajectory((root / "groundtruth" / "trajectory.txt").string(), trajectory,
@@ -57,6 +114,7 @@ int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory, 
                "TissueMosaic synthetic scan: true tissue surface seen by both eyes in at least one frame\n"
                "frame: world (tissue Z = h(X, Y), +Z into the tissue), millimetres");
   ++written;
+  written += writeHardModeGroundTruth(scan, root / "groundtruth");
   return written;
 }
 

@@ -96,9 +96,22 @@ double TissueSurface::heightMm(double x, double y, double* dhdx, double* dhdy) c
     gx += slope * dx;
     gy += slope * dy;
   }
+  if (swell_.amplitudeMm != 0) {
+    double wx = 0, wy = 0;
+    h += swell_.amplitudeMm * swell_.weight(x, y, &wx, &wy);
+    gx += swell_.amplitudeMm * wx;
+    gy += swell_.amplitudeMm * wy;
+  }
   if (dhdx) *dhdx = gx;
   if (dhdy) *dhdy = gy;
   return h;
+}
+
+TissueSurface TissueSurface::swollen(const SurfaceSwell& swell) const {
+  TissueSurface copy = *this;
+  copy.minHeightMm_ = minHeightMm_ - std::abs(swell_.amplitudeMm) - std::abs(swell.amplitudeMm);
+  copy.swell_ = swell;
+  return copy;
 }
 
 cv::Vec3d TissueSurface::normal(double x, double y) const {

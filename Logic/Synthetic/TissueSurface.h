@@ -5,6 +5,8 @@
 /// bumps are compactly supported polynomials (1 - r^2/s^2)^3: smooth, and cheap to evaluate millions of times. The world Z axis
 /// points into the tissue (away from the scope), so a camera looking "down" at the tissue looks along +Z.
 /// Every term is analytic, so heights, normals and ray intersections are exact (to the Newton tolerance).
+#include "SurfaceSwell.h"
+
 #include <opencv2/core.hpp>
 
 #include <cstdint>
@@ -41,6 +43,8 @@ public:
   double maxSlope(const cv::Rect2d& domainMm) const;
   /// Lower bound of h over the whole plane.
   double minHeightMm() const { return minHeightMm_; }
+  /// This surface with `swell` added to its height (the breathing at one instant, SyntheticBreathing.h).
+  TissueSurface swollen(const SurfaceSwell& swell) const;
 
   /// Ray parameter t > 0 where origin + t * direction meets the surface (direction need not be unit, but must
   /// point into the tissue: direction[2] > 0). warmStart: a nearby ray's t (0: none). Returns NaN if none.
@@ -58,6 +62,7 @@ private:
   int gridCells_ = 0;
   std::vector<std::vector<Bump>> grid_;
   double minHeightMm_ = 0;
+  SurfaceSwell swell_;  ///< amplitude 0: none
 };
 
 }  // namespace tissuemosaic::synthetic

@@ -122,8 +122,8 @@ SurfaceCoverage surfaceCoverage(const TargetSurface& surface, const std::vector<
 }
 
 void EvaluationOptions::validate() const {
-  require(std::isfinite(coverageRadiusMm) && coverageRadiusMm > 0,
-          "the coverage radius must be a positive number of mm");
+  require(std::isfinite(coverageRadiusMm) && coverageRadiusMm >= 0,
+          "the coverage radius must be a non-negative number of mm (0: no coverage)");
   require(std::isfinite(timeToleranceS) && timeToleranceS >= 0,
           "the time-stamp tolerance must be a non-negative number of s");
   require(maxAlignmentRotationSdDeg > 0, "the largest alignment uncertainty must be a positive number of degrees");
@@ -171,7 +171,7 @@ ModelEvaluation evaluateModel(const std::vector<Eigen::Vector3d>& modelPoints, c
   }
   const std::vector<Eigen::Vector3d> placed = transformedPoints(modelPoints, evaluation.T_reference_model);
   evaluation.distances = distanceStatistics(distancesToSurface(reference, placed));
-  evaluation.coverage = surfaceCoverage(reference, placed, options.coverageRadiusMm);
+  if (options.coverageRadiusMm > 0) evaluation.coverage = surfaceCoverage(reference, placed, options.coverageRadiusMm);
   return evaluation;
 }
 

@@ -40,6 +40,7 @@ struct EvaluationTrajectories {
 };
 
 struct EvaluationOptions {
+  /// 0: no coverage (e.g. against a reference of what must not be in the model, whose area would take long to cover).
   double coverageRadiusMm = 1.0;
   double timeToleranceS = 0.02;  ///< largest time-stamp difference of associated poses
   /// Largest accepted TrajectoryErrors::alignmentRotationSdDeg: beyond it the trajectory alignment cannot place the
@@ -64,7 +65,7 @@ struct ModelEvaluation {
   std::optional<TrajectoryErrors> trajectory;  ///< given trajectories: ATE after their rigid alignment, RPE
   std::optional<IcpResult> icp;                ///< with options.icp
   DistanceStatistics distances;                ///< every model point's distance to the reference surface
-  SurfaceCoverage coverage;                    ///< of the reference surface by the placed model
+  SurfaceCoverage coverage;                    ///< of the reference surface by the placed model (radius 0: none)
 };
 
 /// Places the model (trajectories given: the rigid alignment of the model trajectory's positions onto the

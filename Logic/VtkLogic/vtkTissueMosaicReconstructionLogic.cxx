@@ -28,6 +28,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -172,7 +173,8 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           std::optional<ModelPoints> model;
           std::optional<tissuemosaic::ModelArrays> modelArrays;
           std::optional<std::vector<KeyFramePose>> keyFrames;
-          if (result.keyFrame) {  // the model only changes at key frames
+          // The model changes at key frames (fusion) and where motion evidence removed points (any tracked frame).
+          if (result.keyFrame || result.pointsRemoved > 0) {
             model = pipeline->modelSnapshot();
             // Double buffering: the owner swaps these in without touching the model's memory.
             modelArrays = tissuemosaic::makeModelArrays(model->cloud);
@@ -215,6 +217,13 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           status.lostFrames += result.tracked ? 0 : 1;
           status.inliers = result.inliers;
           status.trackingMessage = result.trackingMessage;
+          status.frameStatus = static_cast<int>(result.status);
+          if (result.status == tissuemosaic::FrameStatus::Relocalised) {
+            ++status.relocalisations;
+            status.lastRelocalisedFrame = result.frameIndex;
+          }
+          status.agreement = result.agreement;
+          status.agreementLevel = static_cast<int>(result.agreementLevel);
           status.elapsedS = busyS;
           status.disparityRange = result.disparityRange;
           status.disparityRangeText = pipeline->disparityRangeDescription();
@@ -738,9 +747,26 @@ std::string vtkTissueMosaicReconstructionLogic::GetTrackingStateText() const {
     default: break;
   }
   if (status.framesProcessed == 0) return status.state == StateRunning ? "Starting" : GetScanStateAsString(status.state);
-  std::string text = status.tracked ? "Tracking" : "Lost";
-  if (!status.tracked && !status.trackingMessage.empty()) text += " (" + status.trackingMessage + ")";
+  std::string text;
+  if (!status.tracked) {
+    text = "Lost: move the camera back over the scanned tissue";
+    if (!status.trackingMessage.empty()) text += " (" + status.trackingMessage + ")";
+  } else if (status.lastRelocalisedFrame >= 0 &&
+             status.lastFrameIndex - status.lastRelocalisedFrame < RelocalisedNoticeFrames) {
+    text = "Relocalised";
+  } else {
+    text = "Tracking";
+  }
   if (status.state != StateRunning) text += std::string(", ") + GetScanStateAsString(status.state);
+  return text;
+}
+
+std::string vtkTissueMosaicReconstructionLogic::GetAgreementText() const {
+  const tissuemosaic::ModelAgreement& a = this->Status.agreement;
+  if (this->Status.framesProcessed == 0 || !this->Status.tracked || !a.measured) return "model agreement: not measured";
+  char text[128];
+  std::snprintf(text, sizeof text, "model agreement: %.0f%% within 1 mm, median %.2f mm", 100 * a.shareWithin1mm,
+                a.medianDepthDifferenceMm);
   return text;
 }
 

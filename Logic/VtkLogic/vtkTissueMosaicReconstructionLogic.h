@@ -205,6 +205,14 @@ public:
     int lostFrames = 0;           ///< frames where tracking was lost so far
     int inliers = 0;              ///< DynamicR1PPnP inliers of the last frame
     std::string trackingMessage;  ///< why the last frame was lost (empty when tracked)
+    /// tissuemosaic::FrameStatus of the last frame: tracked, lost, or relocalised (tracking resumed after lost frames).
+    int frameStatus = 0;
+    int relocalisations = 0;      ///< times tracking resumed after lost frames so far
+    int lastRelocalisedFrame = -1;  ///< the frame where it last resumed (-1: never)
+    /// The last frame's model agreement (the quality signal, Fusion/ModelAgreement.h) and its traffic light
+    /// (tissuemosaic::AgreementLevel as int, by the parameters' thresholds).
+    tissuemosaic::ModelAgreement agreement;
+    int agreementLevel = 0;
     double framesPerSecond = 0;   ///< over the last frames (wall clock); once ended, the scan's average
     double elapsedS = 0;          ///< since the scan started, pauses excluded
     tissuemosaic::DisparityRange disparityRange;  ///< the last frame's
@@ -214,8 +222,14 @@ public:
   };
   /// As of the last UpdateOutputs().
   const ScanStatus& GetStatus() const { return this->Status; }
-  /// One line for a status bar, e.g. "Tracking: 12 fps, 5 key frames, 1.2 M points".
+  /// One line for a status bar: "Tracking", "Lost: move the camera back over the scanned tissue (why)", and for a
+  /// second after tracking resumed "Relocalised", with the scan's state when it is not running.
   std::string GetTrackingStateText() const;
+  /// The last frame's model agreement for the user, e.g. "model agreement: 96% within 1 mm, median 0.21 mm"
+  /// ("not measured" where there is none: lost, or no model in view yet).
+  std::string GetAgreementText() const;
+  /// Frames (at 30 fps, a second) that the state text keeps saying "Relocalised" after tracking resumed.
+  static constexpr int RelocalisedNoticeFrames = 30;
   /// The stereo disparity range: as chosen in the scan so far ("auto: 64..95 px (from 412 left-right feature
   /// matches)"), or before the first frame what the parameters ask for ("auto: from the first frame's feature
   /// matches", "fixed: -20..80 px", "working distance 30..150 mm: 28..143 px").

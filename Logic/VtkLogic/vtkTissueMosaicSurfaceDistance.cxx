@@ -131,13 +131,16 @@ DistanceStatistics distanceStatistics(const std::vector<double>& distancesMm) {
   DistanceStatistics statistics;
   statistics.count = distancesMm.size();
   double sum = 0, sumSquares = 0;
+  std::size_t within1mm = 0;
   for (double d : distancesMm) {
     require(std::isfinite(d), "a distance is not finite");
     sum += d;
     sumSquares += d * d;
     statistics.maxMm = std::max(statistics.maxMm, d);
+    within1mm += d <= 1.0;
   }
   const auto n = static_cast<double>(distancesMm.size());
+  statistics.shareWithin1mm = within1mm / n;
   statistics.meanMm = sum / n;
   statistics.rmseMm = std::sqrt(sumSquares / n);
   statistics.medianMm = percentile(distancesMm, 50);

@@ -53,6 +53,9 @@ struct DistanceStatistics {
   double medianMm = 0;
   double p95Mm = 0;  ///< 95th percentile
   double maxMm = 0;
+  /// Share of the distances at most 1 mm: against a reference of what must NOT be in a model (the instruments of a
+  /// synthetic scan, groundtruth/instruments.ply), the share of the model that is such an artefact.
+  double shareWithin1mm = 0;
 };
 
 /// The statistics of unsigned distances. Percentiles interpolate linearly between order statistics (as NumPy's

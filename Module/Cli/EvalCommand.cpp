@@ -39,7 +39,9 @@ Placement (every file's coordinates are taken as stored, in mm; no LPS/RAS flip)
   - --align icp then refines the placement by point-to-plane ICP (trimmed, Tukey; as `tissuemosaic register`)
 Measures:
   rmse_mm mean_mm p95_mm   distance of every placed model point to the reference surface (closest point on a
-                           triangle): RMS, mean, 95th percentile (also median_mm, max_mm)
+                           triangle): RMS, mean, 95th percentile (also median_mm, max_mm, and share_within_1mm:
+                           against a synthetic scan's groundtruth/instruments.ply, the share of the model's points
+                           within 1 mm of an instrument's surface)
   coverage                 share of the reference surface's AREA lying within --coverage-radius-mm of some model
                            point (0..1)
   ate_mm                   absolute trajectory error: RMS of the aligned position differences (null without
@@ -127,11 +129,12 @@ Report report(const ModelEvaluation& evaluation, const EvaluationOptions& option
       {"rmse_mm", evaluation.distances.rmseMm},
       {"mean_mm", evaluation.distances.meanMm},
       {"p95_mm", evaluation.distances.p95Mm},
-      {"coverage", evaluation.coverage.share()},
+      {"coverage", evaluation.coverage.radiusMm > 0 ? nlohmann::json(evaluation.coverage.share()) : nlohmann::json(nullptr)},
       {"ate_mm", trajectory ? nlohmann::json(trajectory->ateRmseMm) : nlohmann::json(nullptr)},
       {"rpe_mm", trajectory ? nlohmann::json(trajectory->rpeRmseMm) : nlohmann::json(nullptr)},
       {"median_mm", evaluation.distances.medianMm},
       {"max_mm", evaluation.distances.maxMm},
+      {"share_within_1mm", evaluation.distances.shareWithin1mm},
       {"points", evaluation.distances.count},
       {"coverage_radius_mm", evaluation.coverage.radiusMm},
       {"reference_area_mm2", evaluation.coverage.surfaceAreaMm2},
@@ -176,9 +179,9 @@ void printTable(const ModelEvaluation& e, const std::string& model, const std::s
   }
   std::cout << "\n\ndistance to the reference surface (mm)\n"
             << cv::format("  rmse      %8.4f\n  mean      %8.4f\n  median    %8.4f\n  p95       %8.4f\n"
-                          "  max       %8.4f\n",
+                          "  max       %8.4f\n  within 1 mm: %.4f %% of the points\n",
                           e.distances.rmseMm, e.distances.meanMm, e.distances.medianMm, e.distances.p95Mm,
-                          e.distances.maxMm)
+                          e.distances.maxMm, 100 * e.distances.shareWithin1mm)
             << cv::format("coverage    %7.2f %% of the reference area within %.2f mm of a model point\n",
                           100 * e.coverage.share(), e.coverage.radiusMm);
   if (e.trajectory) {
@@ -260,7 +263,7 @@ void setupEval(CLI::App& tool) {
                                                                         "step", heading::options)->capture_default_str();
   add("--icp-max-distance", evaluation.icpParameters.maxDistanceMm, "correspondences farther (mm) never used "
                                                                     "(default: no limit)", heading::options);
-  add("--coverage-radius-mm", evaluation.coverageRadiusMm, "coverage radius", heading::options)->capture_default_str();
+  add("--coverage-radius-mm", evaluation.coverageRadiusMm, "coverage radius (0: no coverage, null in the JSON: for a reference such as groundtruth/instruments.ply, whose large area would take long to cover)", heading::options)->capture_default_str();
   command->callback([options] { runEval(*options); });
 }
 

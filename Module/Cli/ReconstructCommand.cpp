@@ -15,6 +15,7 @@
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
 #include "IO/TrajectoryTum.h"
+#include "Reconstruction/QualityLog.h"
 #include "Reconstruction/ReconstructionPipeline.h"
 #include "Reconstruction/TimingTable.h"
 #include "Stereo/DisparityRangeEstimator.h"
@@ -25,7 +26,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <utility>
 #include <iostream>
 #include <sstream>
 
@@ -47,7 +50,7 @@ struct ReconstructOptions {
   InputOptions input;
   GeometryOptions geometry;
   std::string out;
-  std::optional<std::string> trajectory, framesTrajectory, timingJson, snapshot, startTum, params;
+  std::optional<std::string> trajectory, framesTrajectory, timingJson, qualityJson, snapshot, startTum, params;
   std::optional<int> maxFrames;
   DisparityRangeOptions range;
   DeviceOption device;
@@ -66,6 +69,7 @@ void runReconstruct(const ReconstructOptions& options) {
   // Every output is checked before any work: a bad secondary path found after the scan would waste it.
   if (options.trajectory) requireWritableOutput(*options.trajectory, "trajectory (--trajectory)");
   if (options.framesTrajectory) requireWritableOutput(*options.framesTrajectory, "trajectory (--frames-trajectory)");
+  if (options.qualityJson) requireWritableOutput(*options.qualityJson, "quality JSON (--quality-json)");
   if (options.timingJson) requireWritableOutput(*options.timingJson, "timing JSON (--timing-json)");
   if (options.snapshot) {
     checkSnapshotAvailable();
@@ -107,6 +111,7 @@ void runReconstruct(const ReconstructOptions& options) {
   Trajectory framePoses;
   std::string framesLog;
   int lost = 0;
+  QualityLog quality;
   bool budgetWarned = false;
   StereoFrame frame;
   double lastTimeS = 0;
@@ -124,6 +129,7 @@ void runReconstruct(const ReconstructOptions& options) {
     result.timesMs.videoReading += readMs;
     result.timesMs.total += readMs;
     timing.add(result);
+    quality.add(result);
     if (result.tracked) {
       TimedPose pose;
       pose.timeS = frame.timeS;
@@ -144,8 +150,8 @@ void runReconstruct(const ReconstructOptions& options) {
       progress.message("the model reached its point budget (" + std::to_string(parameters.fusion.maxPoints) +
                        " points, fusion parameter maxPoints): new surface is no longer added");
     }
-    progress.update(index + 1, cv::format("%d key frames, %zu points%s", static_cast<int>(pipeline->keyFrames().size()),
-                                          result.modelPoints, result.tracked ? "" : ", LOST"));
+    progress.update(index + 1, cv::format("%d key frames, %zu points, %s", static_cast<int>(pipeline->keyFrames().size()),
+                                          result.modelPoints, QualityLog::progressText(result).c_str()));
   }
   progress.finish();
   const int frames = pipeline->frameCount();
@@ -203,6 +209,7 @@ void runReconstruct(const ReconstructOptions& options) {
     std::cout << "stopped by a signal after " << frames << " frames\n";
   }
   if (igtl) std::cout << igtl->summary() << "\n";
+  if (options.qualityJson) quality.writeJson(*options.qualityJson);
   if (options.timingJson) {
     std::ostringstream json;
     json << "{\"device\": \"" << deviceDescription(device) << "\", \"width\": " << frameSize.width
@@ -212,7 +219,8 @@ void runReconstruct(const ReconstructOptions& options) {
          << source->droppedFrames() << ", \"stopped_by_signal\": " << (stop.requested() ? "true" : "false")
          << ", \"peak_host_mib\": " << cv::format("%.1f", hostMb) << ", \"peak_device_mib\": "
          << cv::format("%.1f", deviceMb) << ", \"disparity_range\": "
-         << disparityRangeJson(pipeline->disparityRangeHistory()) << ", \"timing\": " << timing.toJson() << "}\n";
+         << disparityRangeJson(pipeline->disparityRangeHistory()) << ", \"lost_spans\": " << quality.lostSpansJson()
+         << ", \"relocalisations\": " << quality.relocalisationsJson() << ", \"timing\": " << timing.toJson() << "}\n";
     writeStreamAtomically(*options.timingJson, "timing JSON", [&](std::ostream& out) { out << json.str(); });
   }
   outputs.commit();
@@ -238,8 +246,16 @@ void setupReconstruct(CLI::App& tool) {
                                                                         "frames as comments)")
       ->type_name("T.txt")
       ->group(heading::output);
-  command->add_option("--timing-json", options->timingJson, "the timing table and memory figures as JSON")
+  command->add_option("--timing-json", options->timingJson,
+                      "the timing table and memory figures as JSON, with \"lost_spans\" ([[first, last], ...]: frames "
+                      "reported lost) and \"relocalisations\" ([frame, ...]: the first frame tracked again after each)")
       ->type_name("t.json")
+      ->group(heading::output);
+  command->add_option("--quality-json", options->qualityJson,
+                      "the model agreement of every frame (docs/SCENE_MOTION.md): a JSON array of {\"frame\", \"status\" "
+                      "(tracked | lost | relocalised), \"median_depth_difference_mm\", \"share_within_1mm\" (null where "
+                      "not measured), \"inliers\"}")
+      ->type_name("q.json")
       ->group(heading::output);
   command->add_option("--snapshot", options->snapshot, "an offscreen rendering of the model and the key-frame frusta "
                                                        "(needs VTK)")

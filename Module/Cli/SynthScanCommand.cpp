@@ -6,6 +6,7 @@
 #include "Core/Error.h"
 
 #include <chrono>
+#include <cstdio>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -34,12 +35,21 @@ The world frame has the tissue at Z = h(X, Y), +Z into the tissue. --path approa
 --max-distance to --min-distance over the scan instead of up and down between them (add --auto-exposure, or the
 nearest frames get several times the light of the farthest); --focal-px, --baseline-mm and --doffs-px choose the
 scope and so the disparities (f B / Z - doffs). With --doffs-px the frames are not what rig.yml's rectification
-gives: use the printed geometry options instead of --calib rig.yml --rectified.)";
+gives: use the printed geometry options instead of --calib rig.yml --rectified.
+Hard mode (real surgery, each with its ground truth; deterministic from the seed): --breathing-mm makes part of the
+tissue (a disc of 18 mm radius, flat over its inner 10 mm) rise toward the scope and fall back once per breath
+(depth_NNNNNN.pfm follows it; groundtruth/static_surface.ply is the part of surface.ply that never moves);
+--instruments adds rigid instruments (groundtruth/instrument_mask_NNNNNN.png: 255 where one covers the left pixel;
+groundtruth/instruments.ply: their surfaces at every frame, for `tissuemosaic eval --reference ... --coverage-radius-mm
+0`, whose share_within_1mm is the share of a model's points within 1 mm of an instrument); --camera-out S:E shows no
+tissue in frames S to E-1 (no line in trajectory.txt), and the camera is back at frame E about 10 mm and 10 degrees
+from where it left. groundtruth/scene.yml says what breathes, when each instrument is in and the camera-out span.)";
 
 struct SynthScanOptions {
   std::string out;
   synthetic::SyntheticScanOptions scan;
   int seed = static_cast<int>(synthetic::SyntheticScanOptions{}.seed);
+  std::string cameraOut;  ///< "S:E", empty: none
   std::string lighting = "standard";
 };
 
@@ -52,6 +62,15 @@ void runSynthScan(const SynthScanOptions& given) {
   require(given.seed >= 0, "--seed must be a non-negative integer");
   synthetic::SyntheticScanOptions options = given.scan;
   options.seed = static_cast<uint32_t>(given.seed);
+  if (!given.cameraOut.empty()) {
+    int first = -1, back = -1;
+    char colon = 0, extra = 0;
+    require(std::sscanf(given.cameraOut.c_str(), "%d%c%d%c", &first, &colon, &back, &extra) == 3 && colon == ':',
+            "--camera-out must be S:E (first frame without tissue, first frame back), got '" + given.cameraOut + "'");
+    require(first >= 1, "--camera-out S:E needs S >= 1, got '" + given.cameraOut + "'");
+    options.hardMode.cameraOutStart = first;
+    options.hardMode.cameraOutEnd = back;
+  }
   options.lighting = synthetic::parseSyntheticLighting(given.lighting);
   const std::string& out = given.out;
   const auto start = std::chrono::steady_clock::now();
@@ -111,6 +130,21 @@ void setupSynthScan(CLI::App& synth) {
   command->add_flag("--auto-exposure", scan.autoExposure,
                     "the exposure follows the working distance (as a scope's automatic exposure)")
       ->group(heading::options);
+  const std::string hardMode = "Hard mode (real surgery, with ground truth)";
+  synthetic::SyntheticHardModeOptions& hard = scan.hardMode;
+  command->add_option("--breathing-mm", hard.breathingAmplitudeMm,
+                      "part of the tissue rises toward the scope by up to this and falls back once per breath (0: none)")
+      ->capture_default_str()->type_name("MM")->group(hardMode);
+  command->add_option("--breathing-period-s", hard.breathingPeriodS, "one breath, s")
+      ->capture_default_str()->type_name("S")->group(hardMode);
+  command->add_option("--instruments", hard.instruments,
+                      "rigid instruments (steel shaft, serrated jaws) that enter, move over the tissue and leave")
+      ->capture_default_str()->type_name("N")->group(hardMode);
+  command->add_option("--camera-out", options->cameraOut,
+                      "frames S to E-1 show no tissue (the scope withdrawn); at E it is back about 10 mm and 10 degrees "
+                      "from where it left")
+      ->type_name("S:E")->group(hardMode);
+  command->add_flag("--smoke", hard.smoke, "a drifting haze over the tissue in every frame")->group(hardMode);
   add("--lighting", options->lighting, "the light's look: standard or realistic");
   command->get_option("--lighting")->type_name("standard|realistic");
   command->callback([options] { runSynthScan(*options); });

@@ -258,6 +258,10 @@ TEST(DisparityRangeEstimator, FollowsWithHysteresis) {
   EXPECT_EQ(estimator.followingRange(start, flat), estimator.wantedRange(flat));
   // A frame without matches (smoke, blur) keeps the range.
   EXPECT_EQ(estimator.followingRange(start, DisparitySample{}), start);
+  // Nor does a view without tissue, whose random matches spread over any disparity (the scope withdrawn; at 960x540
+  // such a frame once asked for -456..569 px and stopped the scan), nor a span far wider than the range.
+  EXPECT_EQ(estimator.followingRange(start, evenSample(-456, 569, 200)), start);
+  EXPECT_EQ(estimator.followingRange(start, evenSample(-100, 150, 200)), start);
 }
 
 TEST(DisparityRangeFollower, RangeChangesOnlyBetweenFrames) {

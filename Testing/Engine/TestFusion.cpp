@@ -285,6 +285,9 @@ ModelPoints fuseRevisitsWithOutliers(int conflictMinWeight, int visits, std::siz
   patch.halfYMm = 18;
   FusionParameters parameters;
   parameters.conflictMinWeight = conflictMinWeight;
+  // The outliers lie in front of the plane, which the scene-motion handling's occluder rule refuses as well: off, so
+  // that the test shows the conflict guard alone.
+  parameters.motionPenalty = 0;
   PointFusion fusion(g, parameters, Device::Cpu);
   cv::RNG rng(11);
   for (int visit = 0; visit < visits; ++visit) {
@@ -444,13 +447,24 @@ TEST(PointFusion, StopsAtThePointBudget) {
 
 TEST(PointFusion, SampleVisibleKeepsTheNearestCameraFacingPoints) {
   const RectifiedGeometry g = fusionGeometry();
-  PointFusion fusion(g, FusionParameters{}, Device::Cpu);
+  // A surface appearing 20 mm in front of fused tissue is what the scene-motion handling refuses to fuse (an
+  // instrument; FusionParameters::occlusionMarginMm): with it on, the front patch adds nothing.
   PlanePatch front, back;
   front.offsetMm = 100;
   front.halfXMm = 15;
   front.halfYMm = 15;
   back.offsetMm = 120;
   const Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  {
+    PointFusion refusing(g, FusionParameters{}, Device::Cpu);
+    refusing.integrate(test::patchMeasurement(g, back, T), T);
+    const std::size_t background = refusing.pointCount();
+    EXPECT_EQ(refusing.integrate(test::patchMeasurement(g, front, T), T).added, 0);
+    EXPECT_EQ(refusing.pointCount(), background);
+  }
+  FusionParameters withoutMotionHandling;
+  withoutMotionHandling.motionPenalty = 0;
+  PointFusion fusion(g, withoutMotionHandling, Device::Cpu);
   fusion.integrate(test::patchMeasurement(g, back, T), T);  // the whole background first
   // Then the front patch alone, 20 mm nearer: far beyond the truncation, so its points are new and the background
   // behind it stays in the model.

@@ -362,13 +362,15 @@ TEST_F(ReconstructionLogicScan, OutputsAreThePipelinesAndMatchTheGroundTruth) {
             << "median " << medianErrorMm << " mm, p90 " << errorsMm[errorsMm.size() * 9 / 10] << " mm\n";
   EXPECT_LT(medianErrorMm, 1.5) << "model far from the true surface: wrong frame";
 
-  // Timing table: the paper's stages; stereo ran on every frame.
+  // Timing table: the paper's stages and the model agreement; stereo ran on every frame.
   const auto table = logic->GetTimingTable();
-  ASSERT_EQ(table.size(), 7u);
+  ASSERT_EQ(table.size(), 8u);
   EXPECT_EQ(table[1].stage, "stereo");
+  EXPECT_EQ(table[4].stage, "model_agreement");
+  EXPECT_EQ(table[7].stage, "total");
   EXPECT_GT(table[1].keyFrameMedianMs, 0);
   EXPECT_GT(table[1].otherFrameMedianMs, 0);
-  EXPECT_GT(table[6].keyFrameMeanMs, table[1].keyFrameMeanMs);
+  EXPECT_GT(table[7].keyFrameMeanMs, table[1].keyFrameMeanMs);
 }
 
 TEST_F(ReconstructionLogicScan, ExportsModelAndTrajectory) {
@@ -518,6 +520,69 @@ private:
 };
 
 }  // namespace
+
+namespace {
+
+/// The first `frames` frames of a scan only (a scan that ends while the camera is out).
+class FirstFrames : public tissuemosaic::StereoFrameSource {
+public:
+  FirstFrames(std::shared_ptr<const tissuemosaic::synthetic::SyntheticScan> scan, int frames)
+      : inner_(std::move(scan)), frames_(frames) {}
+  bool next(tissuemosaic::StereoFrame& frame) override { return given_++ < frames_ && inner_.next(frame); }
+  int frameCount() const override { return frames_; }
+  cv::Size frameSize() const override { return inner_.frameSize(); }
+  std::string description() const override { return "first frames"; }
+
+private:
+  SyntheticScanFrameSource inner_;
+  int frames_, given_ = 0;
+};
+
+}  // namespace
+
+// The scope taken out for frames 8-13 and put back: while it is out the user reads "Lost: move the camera back over
+// the scanned tissue" and no agreement; once it is back, "Relocalised" and the model agreement with its numbers.
+TEST_F(ReconstructionLogicScan, SaysLostAndRelocalisedAndShowsTheAgreement) {
+  tissuemosaic::synthetic::SyntheticScanOptions options = tissuemosaic::testing::shortScanOptions(20);
+  options.hardMode.cameraOutStart = 8;
+  options.hardMode.cameraOutEnd = 14;
+  const auto scan = std::make_shared<const tissuemosaic::synthetic::SyntheticScan>(options);
+  const auto run = [&](int frames, vtkTissueMosaicReconstructionLogic* logic) {
+    ASSERT_TRUE(logic->SetParameters(parameters())) << logic->GetLastErrorText();
+    logic->SetDeviceChoice(vtkTissueMosaicReconstructionLogic::DeviceCpu);
+    ASSERT_TRUE(logic->SetFrameSourceFactory([scan, frames] { return std::make_unique<FirstFrames>(scan, frames); }));
+    logic->SetRectifiedGeometry(scan->geometry());
+    ASSERT_TRUE(logic->Start()) << logic->GetLastErrorText();
+    ASSERT_TRUE(logic->WaitForScanEnd(120.0));
+    logic->UpdateOutputs();
+  };
+
+  vtkNew<vtkTissueMosaicReconstructionLogic> out;
+  run(12, out);  // ends with the camera out
+  const auto& lost = out->GetStatus();
+  std::cout << "[ measured ] camera out at the end: \"" << out->GetTrackingStateText() << "\", \""
+            << out->GetAgreementText() << "\"\n";
+  EXPECT_FALSE(lost.tracked);
+  EXPECT_EQ(lost.lostFrames, 4);
+  EXPECT_EQ(lost.frameStatus, static_cast<int>(tissuemosaic::FrameStatus::Lost));
+  EXPECT_EQ(out->GetTrackingStateText().rfind("Lost: move the camera back over the scanned tissue", 0), 0u);
+  EXPECT_EQ(out->GetAgreementText(), "model agreement: not measured");
+
+  vtkNew<vtkTissueMosaicReconstructionLogic> back;
+  run(20, back);
+  const auto& status = back->GetStatus();
+  std::cout << "[ measured ] back from frame 14: relocalised at " << status.lastRelocalisedFrame << ", \""
+            << back->GetTrackingStateText() << "\", \"" << back->GetAgreementText() << "\"\n";
+  EXPECT_TRUE(status.tracked);
+  EXPECT_EQ(status.lostFrames, 6);
+  EXPECT_EQ(status.relocalisations, 1);
+  EXPECT_GE(status.lastRelocalisedFrame, 14);
+  EXPECT_LE(status.lastRelocalisedFrame, 18);
+  EXPECT_EQ(back->GetTrackingStateText(), "Relocalised, finished");
+  EXPECT_TRUE(status.agreement.measured);
+  EXPECT_NE(status.agreementLevel, static_cast<int>(tissuemosaic::AgreementLevel::None));
+  EXPECT_NE(back->GetAgreementText().find("% within 1 mm, median "), std::string::npos) << back->GetAgreementText();
+}
 
 // A reset while running returns at once; the old worker finishes its frame in the background. Checked by events, not
 // by the clock: the worker is held inside a frame read, and Reset must return while it still is.

@@ -13,8 +13,26 @@ struct Reprojection {
   double q[4][4];
 };
 
-/// Pixel -> 3D point in the left rectified camera frame: Q * [x y d 1], the same double operations as
-/// disparityToPointCloud (so the same floats); NaN where it skips the pixel (no disparity, at or behind the camera).
+/// Pixel (x, y) with disparity d -> 3D point in the left rectified camera frame: Q * [x y d 1], the same double
+/// operations as disparityToPointCloud (so the same floats); NaN where it skips the pixel (no disparity, a
+/// disparity outside [keptLowestPx, keptHighestPx], at or behind the camera). The one rule by which a measurement
+/// turns into points (measureSurface) and into depths (the model agreement, Fusion/AgreementKernels.h).
+TM_HOST_DEVICE TM_FORCE_INLINE Float3 reprojectPixel(const Reprojection& reprojection, int x, int y, float disparityPx,
+                                                    float keptLowestPx, float keptHighestPx) {
+  if (!(disparityPx >= keptLowestPx && disparityPx <= keptHighestPx)) return nanFloat3();
+  const double d = disparityPx;
+  if (!(fabs(d) <= 1.7976931348623157e308)) return nanFloat3();
+  const double(&q)[4][4] = reprojection.q;
+  double h[4];
+  for (int r = 0; r < 4; ++r) h[r] = q[r][0] * x + q[r][1] * y + q[r][2] * d + q[r][3];
+  if (!(h[3] != 0)) return nanFloat3();
+  const double px = h[0] / h[3], py = h[1] / h[3], pz = h[2] / h[3];
+  const double big = 1.7976931348623157e308;
+  if (!(pz > 0 && pz <= big && fabs(px) <= big && fabs(py) <= big)) return nanFloat3();
+  return {static_cast<float>(px), static_cast<float>(py), static_cast<float>(pz)};
+}
+
+/// Pixel -> 3D point in the left rectified camera frame (reprojectPixel) for every pixel.
 struct DisparityToPoints {
   ImageView<const float> disparityPx;
   ImageView<Float3> pointsMm;
@@ -24,19 +42,7 @@ struct DisparityToPoints {
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const int i = static_cast<int>(index);
     const int y = i / disparityPx.width, x = i - y * disparityPx.width;
-    const float kept = disparityPx[index];
-    pointsMm[index] = nanFloat3();
-    if (!(kept >= keptLowestPx && kept <= keptHighestPx)) return;
-    const double d = kept;
-    if (!(fabs(d) <= 1.7976931348623157e308)) return;
-    const double(&q)[4][4] = reprojection.q;
-    double h[4];
-    for (int r = 0; r < 4; ++r) h[r] = q[r][0] * x + q[r][1] * y + q[r][2] * d + q[r][3];
-    if (!(h[3] != 0)) return;
-    const double px = h[0] / h[3], py = h[1] / h[3], pz = h[2] / h[3];
-    const double big = 1.7976931348623157e308;
-    if (!(pz > 0 && pz <= big && fabs(px) <= big && fabs(py) <= big)) return;
-    pointsMm[index] = {static_cast<float>(px), static_cast<float>(py), static_cast<float>(pz)};
+    pointsMm[index] = reprojectPixel(reprojection, x, y, disparityPx[index], keptLowestPx, keptHighestPx);
   }
 };
 

@@ -23,6 +23,15 @@ void measureSurfaceCpu(ImageView<const float> disparityPx, ImageView<Float3> poi
 
 }  // namespace surface
 
+surface::Reprojection reprojectionOf(const RectifiedGeometry& geometry) {
+  require(geometry.Q.rows == 4 && geometry.Q.cols == 4 && geometry.Q.type() == CV_64F,
+          "the rectified geometry has no 4x4 CV_64F Q matrix");
+  surface::Reprojection reprojection{};
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) reprojection.q[r][c] = geometry.Q.at<double>(r, c);
+  return reprojection;
+}
+
 SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx,
                                   double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept) {
@@ -43,9 +52,7 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
   requireUsableDevice(device, "measureSurface on CUDA");
 
   const int width = disparityPx.cols, height = disparityPx.rows;
-  surface::Reprojection reprojection{};
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) reprojection.q[r][c] = geometry.Q.at<double>(r, c);
+  const surface::Reprojection reprojection = reprojectionOf(geometry);
 
   const cv::Mat disparity = disparityPx.isContinuous() ? disparityPx : disparityPx.clone();
   Image<float> disparityImage;

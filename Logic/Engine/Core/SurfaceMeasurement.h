@@ -67,6 +67,12 @@ struct DisparityRangePx {
   float highestPx = std::numeric_limits<float>::infinity();
 };
 
+namespace surface {
+struct Reprojection;
+}
+/// The geometry's Q as the per-pixel kernels take it (Core/SurfaceKernels.h). Throws Error without a 4x4 CV_64F Q.
+surface::Reprojection reprojectionOf(const RectifiedGeometry& geometry);
+
 /// Builds the measurement from a left-view disparity (CV_32F, NaN = none) and the rectified left image (8-bit grey,
 /// BGR or BGRA, same size): points as disparityToDepthMm / reconstructScene, normals from the cross product of the
 /// central differences of the neighbouring points `normalRadiusPx` away (NaN where a neighbour is missing or the

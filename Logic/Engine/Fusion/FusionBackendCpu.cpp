@@ -19,4 +19,15 @@ int sampleVisibleCpu(FusionModel& model, const FramePose& pose, const FusionSett
   return sampleVisibleOn<CpuBackend>(model, pose, settings, maxSamples);
 }
 
+std::vector<int> measureAgreementCpu(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                                     const MeasuredDepth& measured, const AgreementGrid& grid) {
+  return measureAgreementOn<CpuBackend>(model, pose, settings, measured, grid);
+}
+
+int updateMotionCpu(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                    const MeasuredDepth& measured, float thresholdMm, float occlusionMarginMm, float penalty) {
+  return updateMotionOn<CpuBackend>(model, pose, settings, measured, thresholdMm, occlusionMarginMm, penalty);
+}
+
+
 }  // namespace tissuemosaic::fusion

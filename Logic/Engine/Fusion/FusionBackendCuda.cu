@@ -28,4 +28,15 @@ int sampleVisibleCuda(FusionModel& model, const FramePose& pose, const FusionSet
   return sampleVisibleOn<CudaBackend>(model, pose, settings, maxSamples);
 }
 
+std::vector<int> measureAgreementCuda(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                                     const MeasuredDepth& measured, const AgreementGrid& grid) {
+  return measureAgreementOn<CudaBackend>(model, pose, settings, measured, grid);
+}
+
+int updateMotionCuda(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                    const MeasuredDepth& measured, float thresholdMm, float occlusionMarginMm, float penalty) {
+  return updateMotionOn<CudaBackend>(model, pose, settings, measured, thresholdMm, occlusionMarginMm, penalty);
+}
+
+
 }  // namespace tissuemosaic::fusion

@@ -16,4 +16,14 @@ int sampleVisibleCuda(FusionModel&, const FramePose&, const FusionSettings&, int
   throw Error("this build of TissueMosaic has no CUDA backend");
 }
 
+std::vector<int> measureAgreementCuda(FusionModel&, const FramePose&, const FusionSettings&, const MeasuredDepth&,
+                                      const AgreementGrid&) {
+  throw Error("this build of TissueMosaic has no CUDA backend");
+}
+
+int updateMotionCuda(FusionModel&, const FramePose&, const FusionSettings&, const MeasuredDepth&, float, float, float) {
+  throw Error("this build of TissueMosaic has no CUDA backend");
+}
+
+
 }  // namespace tissuemosaic::fusion

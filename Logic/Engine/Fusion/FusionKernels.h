@@ -56,6 +56,16 @@ TM_HOST_DEVICE TM_FORCE_INLINE uint32_t floatBits(float value) {
 #endif
 }
 
+TM_HOST_DEVICE TM_FORCE_INLINE float floatFromBits(uint32_t bits) {
+#if defined(__CUDA_ARCH__)
+  return __uint_as_float(bits);
+#else
+  float value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+#endif
+}
+
 // ---- data -----------------------------------------------------------------------------------------------------------
 
 /// Four floats, 16-byte aligned so a GPU thread loads one in a single transaction.
@@ -64,11 +74,24 @@ struct alignas(16) Float4 {
 };
 
 TM_HOST_DEVICE TM_FORCE_INLINE Float3 xyz(Float4 a) { return {a.x, a.y, a.z}; }
+/// A model point still in the model (its positionWeight's weight is positive).
+TM_HOST_DEVICE TM_FORCE_INLINE bool isLive(Float4 positionWeight) { return positionWeight.w > 0; }
+/// The normal's w of a point that left the model by motion evidence (AgreementKernels.h): it stays in the store as a
+/// marker of moving tissue, not live (weight 0), so that key frames do not fuse that tissue again (MergeModelPoints).
+/// Live points keep their motion evidence there, in [0, 1].
+constexpr float kMovedTissueMarker = 2.0f;
+TM_HOST_DEVICE TM_FORCE_INLINE bool isMovedTissueMarker(Float4 positionWeight, Float4 normal) {
+  return !isLive(positionWeight) && normal.w == kMovedTissueMarker;
+}
 
 /// The model on the device, structure of arrays indexed by point.
 struct ModelArrays {
-  Float4* positionWeight;  ///< world position (mm); w = TSDF weight (merged observations, capped)
-  Float4* normal;          ///< world unit normal; w unused (0)
+  /// world position (mm); w = TSDF weight (merged observations, capped, less what motion took: Fusion/
+  /// AgreementKernels.h). A point whose weight reached 0 has left the model: only the fusion's marker rule reads it
+  /// (kMovedTissueMarker).
+  Float4* positionWeight;
+  Float4* normal;          ///< world unit normal; w = motion evidence (AgreementKernels.h), 0 for a new point,
+                           ///< kMovedTissueMarker once it left the model
   Float4* colourWeight;    ///< RGB 0..255 (running average); w = accumulated colour weight (capped)
 };
 
@@ -111,6 +134,11 @@ struct FusionSettings {
   int newPointStepPx;
   float colourFullWeightFraction, colourMinWeight;
   float conflictMinWeight;        ///< FusionParameters::conflictMinWeight; 0: off
+  /// A measurement this far or more in front of a model point (along the point's viewing ray) is something passing
+  /// in front of the tissue (an instrument, smoke): its pixel counts as covered, so it adds no point. 0: off.
+  float occluderMarginMm;
+  /// A measurement within this distance (along the ray) of a moved-tissue marker is not fused. 0: off.
+  float movedTissueRadiusMm;
 };
 
 constexpr uint64_t kEmptyDepthKey = ~uint64_t(0);
@@ -160,13 +188,22 @@ TM_HOST_DEVICE TM_FORCE_INLINE bool measurementAgrees(const MeasurementView& m, 
   return fabsf(alongRayMm) <= s.truncationMm;
 }
 
+/// True when the measured point q (camera frame) lies at least marginMm nearer to the camera than the model point pc
+/// along pc's viewing ray (its depth below pc's by marginMm times the ray's length per unit depth).
+TM_HOST_DEVICE TM_FORCE_INLINE bool inFrontOf(Float3 q, Float3 pc, float marginMm) {
+  if (!isFinite(q) || !(pc.z > 0)) return false;
+  return (pc.z - q.z) * length(pc) / pc.z >= marginMm;
+}
+
 // ---- kernels ------------------------------------------------------------------------------------------------------
 
 /// Per model point: project it into the key frame; every pixel of its (2r+1)^2 neighbourhood whose measurement
 /// agrees with it counts as covered (so a revisit from nearer or farther adds no second layer); its own pixel also
 /// counts as covered when it disagrees but the point is well observed (conflictMinWeight); when its own pixel
 /// agrees, the point merges: TSDF running average of its position along its viewing ray, of its normal, and of its
-/// colour weighted by the centre-to-edge colour weight; weights capped at maxWeight.
+/// colour weighted by the centre-to-edge colour weight; weights capped at maxWeight. A moved-tissue marker covers
+/// the pixels of its neighbourhood whose measurement lies within movedTissueRadiusMm of it: tissue that moved there
+/// before is not fused again (it would leave again, and smear the model meanwhile).
 struct MergeModelPoints {
   ModelArrays model;
   MeasurementView measurement;
@@ -177,12 +214,18 @@ struct MergeModelPoints {
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const Float4 positionWeight = model.positionWeight[index];
+    const bool live = isLive(positionWeight);
+    if (!live && !(settings.movedTissueRadiusMm > 0 && isMovedTissueMarker(positionWeight, model.normal[index]))) return;
     const Float3 p = xyz(positionWeight);
     const Float3 pc = pose.worldToCamera(p);
     int px, py;
     if (!settings.camera.project(pc, px, py)) return;
-    const Float3 nc = pose.worldToCamera.rotate(xyz(model.normal[index]));
     const int r = settings.coverageRadiusPx, width = settings.camera.width, height = settings.camera.height;
+    if (!live) {
+      coverNearMarker(pc, px, py, r);
+      return;
+    }
+    const Float3 nc = pose.worldToCamera.rotate(xyz(model.normal[index]));
     float ownRayScale = 1.0f;
     bool ownAgrees = false;
     for (int y = py - r; y <= py + r; ++y) {
@@ -190,7 +233,12 @@ struct MergeModelPoints {
       for (int x = px - r; x <= px + r; ++x) {
         if (x < 0 || x >= width) continue;
         float rayScale;
-        if (!measurementAgrees(measurement, x, y, pc, nc, settings, rayScale)) continue;
+        if (!measurementAgrees(measurement, x, y, pc, nc, settings, rayScale)) {
+          if (settings.occluderMarginMm > 0 && inFrontOf(measurement.pointsMm.at(x, y), pc, settings.occluderMarginMm)) {
+            setFlag(covered + static_cast<int64_t>(y) * width + x);
+          }
+          continue;
+        }
         setFlag(covered + static_cast<int64_t>(y) * width + x);
         if (x == px && y == py) {
           ownAgrees = true;
@@ -220,7 +268,7 @@ struct MergeModelPoints {
       const float norm = length(sum);
       if (norm > 0) {
         const Float3 n = (1.0f / norm) * sum;
-        model.normal[index] = {n.x, n.y, n.z, 0.0f};
+        model.normal[index] = {n.x, n.y, n.z, model.normal[index].w};  // w: the motion evidence, kept
       }
     }
 
@@ -231,6 +279,21 @@ struct MergeModelPoints {
     model.colourWeight[index] = {(colour.w * colour.x + w * bgr[2]) / total, (colour.w * colour.y + w * bgr[1]) / total,
                                  (colour.w * colour.z + w * bgr[0]) / total, fminf(total, settings.maxWeight)};
     atomicAddInt(mergedCount, 1);
+  }
+
+  TM_HOST_DEVICE void coverNearMarker(Float3 pc, int px, int py, int r) const {
+    const int width = settings.camera.width, height = settings.camera.height;
+    const float rayPerDepth = length(pc) / pc.z;
+    for (int y = py - r; y <= py + r; ++y) {
+      if (y < 0 || y >= height) continue;
+      for (int x = px - r; x <= px + r; ++x) {
+        if (x < 0 || x >= width) continue;
+        const Float3 q = measurement.pointsMm.at(x, y);
+        if (isFinite(q) && fabsf(q.z - pc.z) * rayPerDepth <= settings.movedTissueRadiusMm) {
+          setFlag(covered + static_cast<int64_t>(y) * width + x);
+        }
+      }
+    }
   }
 };
 
@@ -308,7 +371,9 @@ struct ProjectToDepthKeys {
   uint64_t* keys;
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
-    const Float3 pc = pose.worldToCamera(xyz(positionWeight[index]));
+    const Float4 point = positionWeight[index];
+    if (!isLive(point)) return;
+    const Float3 pc = pose.worldToCamera(xyz(point));
     int x, y;
     if (!camera.project(pc, x, y)) return;
     if (dot(pose.worldToCamera.rotate(xyz(normal[index])), pc) >= 0) return;  // back-facing: hidden
@@ -332,12 +397,20 @@ struct SampleGrid {
   }
 };
 
-/// Per grid cell: 1 where its sample pixel holds a visible model point.
+/// Per grid cell: 1 where its sample pixel holds a visible model point that no recent frame contradicted.
+/// A point whose motion evidence (normal.w, AgreementKernels.h) is at least this is not sampled: a recent frame
+/// contradicted it, and the refinement's ICP term would pull the pose toward tissue that moved.
+constexpr float kMaxSampledMotionEvidence = 0.5f;
+
 struct FlagGridSamples {
   const uint64_t* keys;
+  const Float4* normal;
   SampleGrid grid;
   int* flags;
-  TM_HOST_DEVICE void operator()(int64_t cell) const { flags[cell] = keys[grid.pixelOf(cell)] != kEmptyDepthKey; }
+  TM_HOST_DEVICE void operator()(int64_t cell) const {
+    const uint64_t key = keys[grid.pixelOf(cell)];
+    flags[cell] = key != kEmptyDepthKey && normal[static_cast<uint32_t>(key & 0xffffffffu)].w < kMaxSampledMotionEvidence;
+  }
 };
 
 /// Per grid cell: writes the visible model point of a flagged cell at its prefix-sum offset.

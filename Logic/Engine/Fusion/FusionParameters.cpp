@@ -35,6 +35,12 @@ void FusionParameters::validate() const {
   requireRange("maxDepthMm", maxDepthMm, minDepthMm, 1e6);
   requireRange("normalRadiusPx", normalRadiusPx, 1, 32);
   requireRange("maxDepthJumpMm", maxDepthJumpMm, 1e-3, 1e6);
+  requireRange("motionPenalty", motionPenalty, 0.0, 1e6);
+  requireRange("motionMinThresholdMm", motionMinThresholdMm, 0.0, 1000.0);
+  requireRange("motionNoiseFactor", motionNoiseFactor, 0.0, 1000.0);
+  requireRange("occlusionMarginMm", occlusionMarginMm, 0.0, 1000.0);
+  requireRange("movedTissueRadiusMm", movedTissueRadiusMm, 0.0, 1000.0);
+  requireRange("motionMinAgreementShare", motionMinAgreementShare, 0.0, 1.0);
 }
 
 void FusionParameters::write(cv::FileStorage& storage) const {
@@ -45,6 +51,10 @@ void FusionParameters::write(cv::FileStorage& storage) const {
   storage << "maxPoints" << maxPoints << "newPointStepPx" << newPointStepPx << "conflictMinWeight" << conflictMinWeight;
   storage << "minDepthMm" << minDepthMm << "maxDepthMm" << maxDepthMm;
   storage << "normalRadiusPx" << normalRadiusPx << "maxDepthJumpMm" << maxDepthJumpMm;
+  storage << "motionPenalty" << motionPenalty << "motionMinThresholdMm" << motionMinThresholdMm;
+  storage << "motionNoiseFactor" << motionNoiseFactor << "occlusionMarginMm" << occlusionMarginMm
+          << "movedTissueRadiusMm" << movedTissueRadiusMm;
+  storage << "motionMinAgreementShare" << motionMinAgreementShare;
   storage << "}";
 }
 
@@ -65,6 +75,12 @@ FusionParameters FusionParameters::read(const cv::FileNode& node) {
   readKey(node, "maxDepthMm", p.maxDepthMm);
   readKey(node, "normalRadiusPx", p.normalRadiusPx);
   readKey(node, "maxDepthJumpMm", p.maxDepthJumpMm);
+  readKey(node, "motionPenalty", p.motionPenalty);
+  readKey(node, "motionMinThresholdMm", p.motionMinThresholdMm);
+  readKey(node, "motionNoiseFactor", p.motionNoiseFactor);
+  readKey(node, "occlusionMarginMm", p.occlusionMarginMm);
+  readKey(node, "movedTissueRadiusMm", p.movedTissueRadiusMm);
+  readKey(node, "motionMinAgreementShare", p.motionMinAgreementShare);
   p.validate();
   return p;
 }

@@ -31,6 +31,29 @@ struct FusionParameters {
   /// the synthetic scan). 0: off.
   int conflictMinWeight = 3;
 
+  // Motion (not in the paper): every tracked frame whose model agreement is good (ModelAgreement.h) takes weight
+  // from the model points it contradicts, so that tissue that keeps moving (breathing) and what passed in front of
+  // it (instruments fused where the model had nothing yet) leave the model, while still tissue keeps its weight.
+  /// Weight a model point loses per frame that contradicts it (its merges add 1 per key frame); at 0 it leaves the
+  /// model. 0: off.
+  double motionPenalty = 1.0;
+  /// A frame contradicts a point when its stereo depth at the point's pixel differs by more than
+  /// max(motionMinThresholdMm, motionNoiseFactor x the frame's median depth difference to the model): beyond the
+  /// frame's own noise and pose error.
+  double motionMinThresholdMm = 0.3;
+  double motionNoiseFactor = 4.0;
+  /// A measurement more than this in front of a point is something passing in front of it (an instrument), not
+  /// evidence that the point moved; while motionPenalty > 0, a key frame does not fuse such a measurement either
+  /// (instruments in front of fused tissue leave no points).
+  double occlusionMarginMm = 3.0;
+  /// A point that left the model by motion evidence stays as a marker: a later key frame's measurement within this
+  /// distance of it (along its viewing ray) is not fused. Breathing tissue at rest would otherwise be fused again at
+  /// every key frame, and leave again, blurring the model between. 0: markers block nothing.
+  double movedTissueRadiusMm = 3.0;
+  /// Frames whose share of depths within 1 mm of the model is below this give no motion evidence (the pose or the
+  /// whole view may be off).
+  double motionMinAgreementShare = 0.5;
+
   /// The scope's working range: measurements nearer or farther than this are not fused (and not used by the
   /// refinement's ICP term). Stereo errors where the eyes' views barely overlap can put points metres away.
   double minDepthMm = 5.0;

@@ -5,9 +5,11 @@
 /// only the prefix sum has a launcher per backend. FusionBackendCudaAbsent.cpp stands in without CUDA.
 #include "Core/Buffer.h"
 #include "Core/Image.h"
+#include "AgreementKernels.h"
 #include "FusionKernels.h"
 
 #include <cstddef>
+#include <vector>
 
 namespace tissuemosaic::fusion {
 
@@ -29,7 +31,8 @@ struct FusionModel {
 
   Device device;
   int width, height;
-  std::size_t count = 0;       ///< model points in use
+  std::size_t count = 0;       ///< entries in use: live points and moved-tissue markers
+  std::size_t markers = 0;     ///< of them, points that left the model by motion evidence (kMovedTissueMarker)
   bool budgetReached = false;  ///< new points were refused for the budget
   ModelStore store;            ///< grows by doubling up to the budget (allocated at the first integrate)
 
@@ -42,6 +45,8 @@ struct FusionModel {
   Buffer<int> counters;             ///< [0] merged points
   Buffer<uint8_t> scanScratch;      ///< CUDA prefix-sum scratch
   Buffer<Float4> samplePositions, sampleNormals;  ///< sampleVisible's output
+  Buffer<int> agreementCounters;         ///< kAgreementCounters (AgreementKernels.h)
+  Image<float> disparity;                ///< a frame's disparity uploaded for the agreement (when it is on the host)
 
   MeasurementView measurement() const {
     return {pointsMm.view(), normals.view(), colourBgr.data()};
@@ -60,6 +65,19 @@ IntegrateCounts integrateCuda(FusionModel& model, const FramePose& pose, const F
 /// returns how many.
 int sampleVisibleCpu(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxSamples);
 int sampleVisibleCuda(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxSamples);
+
+/// The model agreement of a frame (AgreementKernels.h): the model's z-buffer at the pose, then the sampled pixels.
+/// Returns the counters (kAgreementCounters) on the host.
+std::vector<int> measureAgreementCpu(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                                     const MeasuredDepth& measured, const AgreementGrid& grid);
+std::vector<int> measureAgreementCuda(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                                      const MeasuredDepth& measured, const AgreementGrid& grid);
+
+/// Takes weight from the model points the frame contradicts (UpdateMotionEvidence); returns how many left.
+int updateMotionCpu(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                    const MeasuredDepth& measured, float thresholdMm, float occlusionMarginMm, float penalty);
+int updateMotionCuda(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                     const MeasuredDepth& measured, float thresholdMm, float occlusionMarginMm, float penalty);
 
 /// Backend prefix sums: offsets[i] = flags[0] + ... + flags[i - 1]; returns the total of all count flags.
 int exclusiveScanCpu(const int* flags, int* offsets, int count);

@@ -69,7 +69,7 @@ int sampleVisibleOn(FusionModel& model, const FramePose& pose, const FusionSetti
                                                                              settings.camera, model.depthKeys.data()});
   // Visible pixels first, then the coarsest grid stride that keeps the samples within maxSamples.
   const auto flagGrid = [&](const SampleGrid& grid) {
-    parallelFor<Backend>(grid.cellCount(), FlagGridSamples{model.depthKeys.data(), grid, model.flags.data()});
+    parallelFor<Backend>(grid.cellCount(), FlagGridSamples{model.depthKeys.data(), arrays.normal, grid, model.flags.data()});
     return exclusiveScan<Backend>(model, model.flags.data(), model.offsets.data(), static_cast<int>(grid.cellCount()));
   };
   SampleGrid grid{model.width, model.height, 1};
@@ -92,6 +92,40 @@ int sampleVisibleOn(FusionModel& model, const FramePose& pose, const FusionSetti
                                          arrays.positionWeight, arrays.normal, model.samplePositions.data(),
                                          model.sampleNormals.data()});
   return samples;
+}
+
+template <class Backend>
+std::vector<int> measureAgreementOn(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                                    const MeasuredDepth& measured, const AgreementGrid& grid) {
+  const int64_t pixels = static_cast<int64_t>(model.width) * model.height;
+  if (model.agreementCounters.size() != static_cast<std::size_t>(kAgreementCounters)) {
+    model.agreementCounters = Buffer<int>(model.device, kAgreementCounters);
+  }
+  model.agreementCounters.setZero();
+  const ModelArrays arrays = model.store.arrays();
+  parallelFor<Backend>(pixels, ClearDepthKeys{model.depthKeys.data()});
+  parallelFor<Backend>(static_cast<int64_t>(model.count), ProjectToDepthKeys{arrays.positionWeight, arrays.normal, pose,
+                                                                             settings.camera, model.depthKeys.data()});
+  parallelFor<Backend>(grid.count(), CompareWithModel{measured, model.depthKeys.data(), grid,
+                                                      model.agreementCounters.data()});
+  return model.agreementCounters.toHost();
+}
+
+template <class Backend>
+int updateMotionOn(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
+                   const MeasuredDepth& measured, float thresholdMm, float occlusionMarginMm, float penalty) {
+  if (model.count == 0) return 0;
+  if (model.agreementCounters.size() != static_cast<std::size_t>(kAgreementCounters)) {
+    model.agreementCounters = Buffer<int>(model.device, kAgreementCounters);
+  }
+  model.agreementCounters.setZero();
+  parallelFor<Backend>(static_cast<int64_t>(model.count),
+                       UpdateMotionEvidence{model.store.arrays(), pose, settings.camera, measured, thresholdMm,
+                                            occlusionMarginMm, penalty, model.agreementCounters.data()});
+  int head[kHistogramStart] = {};
+  model.agreementCounters.downloadPart(head, kHistogramStart);
+  model.markers += static_cast<std::size_t>(head[kRemovedPoints]);
+  return head[kRemovedPoints];
 }
 
 }  // namespace tissuemosaic::fusion

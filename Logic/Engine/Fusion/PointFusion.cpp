@@ -2,11 +2,13 @@
 
 #include "Core/Error.h"
 #include "Core/RigidTransform.h"
+#include "Core/SurfaceKernels.h"
 #include "Core/Stopwatch.h"
 #include "FusionPipeline.h"
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -67,6 +69,9 @@ fusion::FusionSettings fusionSettings(const RectifiedGeometry& geometry, const F
   s.colourFullWeightFraction = static_cast<float>(p.colourFullWeightFraction);
   s.colourMinWeight = static_cast<float>(p.colourMinWeight);
   s.conflictMinWeight = static_cast<float>(p.conflictMinWeight);
+  // Part of the scene-motion handling (motionPenalty > 0): what passes in front of the model is not fused.
+  s.occluderMarginMm = p.motionPenalty > 0 ? static_cast<float>(p.occlusionMarginMm) : 0.0f;
+  s.movedTissueRadiusMm = p.motionPenalty > 0 ? static_cast<float>(p.movedTissueRadiusMm) : 0.0f;
   return s;
 }
 
@@ -80,7 +85,39 @@ void downloadPrefix(const Buffer<T>& buffer, std::size_t count, T* host) {
 
 cv::Mat continuous(const cv::Mat& image) { return image.isContinuous() ? image : image.clone(); }
 
+/// The agreement's figures from its counters: the median by interpolation within its histogram bin.
+ModelAgreement agreementFromCounters(const std::vector<int>& counters) {
+  using namespace fusion;
+  ModelAgreement a;
+  a.measuredSamples = counters[kMeasuredSamples];
+  a.overlapSamples = counters[kOverlapSamples];
+  if (a.overlapSamples == 0) return a;
+  a.measured = true;
+  const int withinBins = static_cast<int>(std::lround(ModelAgreement::kToleranceMm / kAgreementBinMm));
+  long long within = 0, below = 0;
+  for (int b = 0; b < withinBins; ++b) within += counters[kHistogramStart + b];
+  a.shareWithin1mm = static_cast<double>(within) / a.overlapSamples;
+  const double half = 0.5 * a.overlapSamples;
+  for (int b = 0; b < kAgreementBins; ++b) {
+    const int inBin = counters[kHistogramStart + b];
+    if (below + inBin >= half) {
+      a.medianDepthDifferenceMm = (b + (half - below) / std::max(inBin, 1)) * kAgreementBinMm;
+      break;
+    }
+    below += inBin;
+  }
+  return a;
+}
+
 }  // namespace
+
+DisparityRangePx workingDisparityRange(const RectifiedGeometry& g, const FusionParameters& fusion) {
+  const double fb = g.focalPx * g.baselineMm;
+  DisparityRangePx kept;
+  kept.lowestPx = static_cast<float>(fb / fusion.maxDepthMm - g.doffsPx);
+  if (fusion.minDepthMm > 0) kept.highestPx = static_cast<float>(fb / fusion.minDepthMm - g.doffsPx);
+  return kept;
+}
 
 PointFusion::PointFusion(const RectifiedGeometry& geometry, const FusionParameters& parameters, Device device)
     : geometry_(geometry), parameters_(parameters), device_(device) {
@@ -126,7 +163,7 @@ FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const 
   return stats;
 }
 
-std::size_t PointFusion::pointCount() const { return model_->count; }
+std::size_t PointFusion::pointCount() const { return model_->count - model_->markers; }
 
 bool PointFusion::budgetReached() const { return model_->budgetReached; }
 
@@ -137,16 +174,18 @@ ModelPoints PointFusion::download() const {
   downloadPrefix(model_->store.normal, n, normals.data());
   downloadPrefix(model_->store.colourWeight, n, colours.data());
   ModelPoints model;
-  model.cloud.pointsMm.resize(n);
-  model.cloud.normals.resize(n);
-  model.cloud.colorsRgb.resize(n);
-  model.weights.resize(n);
+  const std::size_t live = n - model_->markers;
+  model.cloud.pointsMm.reserve(live);
+  model.cloud.normals.reserve(live);
+  model.cloud.colorsRgb.reserve(live);
+  model.weights.reserve(live);
   for (std::size_t i = 0; i < n; ++i) {
-    model.cloud.pointsMm[i] = {positions[i].x, positions[i].y, positions[i].z};
-    model.cloud.normals[i] = {normals[i].x, normals[i].y, normals[i].z};
-    model.cloud.colorsRgb[i] = {cv::saturate_cast<uchar>(colours[i].x), cv::saturate_cast<uchar>(colours[i].y),
-                                cv::saturate_cast<uchar>(colours[i].z)};
-    model.weights[i] = positions[i].w;
+    if (!fusion::isLive(positions[i])) continue;  // a moved-tissue marker
+    model.cloud.pointsMm.emplace_back(positions[i].x, positions[i].y, positions[i].z);
+    model.cloud.normals.emplace_back(normals[i].x, normals[i].y, normals[i].z);
+    model.cloud.colorsRgb.emplace_back(cv::saturate_cast<uchar>(colours[i].x), cv::saturate_cast<uchar>(colours[i].y),
+                                       cv::saturate_cast<uchar>(colours[i].z));
+    model.weights.push_back(positions[i].w);
   }
   return model;
 }
@@ -170,6 +209,74 @@ void PointFusion::sampleVisible(const Eigen::Matrix4d& T_world_camera, int maxPo
     pointsWorldMm.emplace_back(positions[i].x, positions[i].y, positions[i].z);
     normalsWorld.emplace_back(normals[i].x, normals[i].y, normals[i].z);
   }
+}
+
+namespace {
+
+fusion::MeasuredDepth measuredDepth(ImageView<const float> disparityPx, const RectifiedGeometry& geometry,
+                                    const FusionParameters& parameters) {
+  require(disparityPx.width == geometry.imageSize.width && disparityPx.height == geometry.imageSize.height &&
+              disparityPx.data != nullptr,
+          "PointFusion: the disparity must have the rectified size " + std::to_string(geometry.imageSize.width) + "x" +
+              std::to_string(geometry.imageSize.height));
+  const DisparityRangePx kept = workingDisparityRange(geometry, parameters);
+  return {disparityPx, reprojectionOf(geometry), kept.lowestPx, kept.highestPx};
+}
+
+/// A host disparity copied into `scratch` on the fusion's device, as a view.
+ImageView<const float> disparityOnDevice(const cv::Mat& disparityPx, Device device, Image<float>& scratch) {
+  require(disparityPx.type() == CV_32F && !disparityPx.empty(), "PointFusion: the disparity must be CV_32F");
+  const cv::Mat host = continuous(disparityPx);
+  if (scratch.width() != host.cols || scratch.height() != host.rows) scratch = Image<float>(device, host.cols, host.rows);
+  scratch.buffer().upload(host.ptr<float>());
+  return scratch.view();
+}
+
+}  // namespace
+
+ModelAgreement PointFusion::measureAgreement(ImageView<const float> disparityPx, const Eigen::Matrix4d& T_world_camera,
+                                             int sampleStridePx) const {
+  require(sampleStridePx >= 1, "PointFusion::measureAgreement: the sample stride must be at least 1 px");
+  const fusion::MeasuredDepth measured = measuredDepth(disparityPx, geometry_, parameters_);
+  if (pointCount() == 0) return {};
+  const fusion::FramePose pose = framePose(T_world_camera);
+  const fusion::FusionSettings settings = fusionSettings(geometry_, parameters_);
+  const fusion::AgreementGrid grid{geometry_.imageSize.width, geometry_.imageSize.height, sampleStridePx};
+  fusion::FusionModel& model = *model_;  // scratch buffers only: the model's points are not changed
+  return agreementFromCounters(device_ == Device::Cuda
+                                   ? fusion::measureAgreementCuda(model, pose, settings, measured, grid)
+                                   : fusion::measureAgreementCpu(model, pose, settings, measured, grid));
+}
+
+ModelAgreement PointFusion::measureAgreement(const cv::Mat& disparityPx, const Eigen::Matrix4d& T_world_camera,
+                                             int sampleStridePx) const {
+  return measureAgreement(disparityOnDevice(disparityPx, device_, model_->disparity), T_world_camera, sampleStridePx);
+}
+
+double PointFusion::motionThresholdMm(const ModelAgreement& agreement) const {
+  const double median = agreement.measured ? agreement.medianDepthDifferenceMm : 0.0;
+  return std::max(parameters_.motionMinThresholdMm, parameters_.motionNoiseFactor * median);
+}
+
+int PointFusion::updateMotion(ImageView<const float> disparityPx, const Eigen::Matrix4d& T_world_camera,
+                              const ModelAgreement& agreement) {
+  const fusion::MeasuredDepth measured = measuredDepth(disparityPx, geometry_, parameters_);
+  if (parameters_.motionPenalty <= 0 || !agreement.measured ||
+      agreement.shareWithin1mm < parameters_.motionMinAgreementShare || pointCount() == 0) {
+    return 0;
+  }
+  const fusion::FramePose pose = framePose(T_world_camera);
+  const fusion::FusionSettings settings = fusionSettings(geometry_, parameters_);
+  const auto threshold = static_cast<float>(motionThresholdMm(agreement));
+  const auto margin = static_cast<float>(parameters_.occlusionMarginMm);
+  const auto penalty = static_cast<float>(parameters_.motionPenalty);
+  return device_ == Device::Cuda ? fusion::updateMotionCuda(*model_, pose, settings, measured, threshold, margin, penalty)
+                                 : fusion::updateMotionCpu(*model_, pose, settings, measured, threshold, margin, penalty);
+}
+
+int PointFusion::updateMotion(const cv::Mat& disparityPx, const Eigen::Matrix4d& T_world_camera,
+                              const ModelAgreement& agreement) {
+  return updateMotion(disparityOnDevice(disparityPx, device_, model_->disparity), T_world_camera, agreement);
 }
 
 std::size_t PointFusion::deviceBytes() const { return device_ == Device::Cuda ? model_->bytes() : 0; }

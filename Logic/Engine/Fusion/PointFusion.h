@@ -13,9 +13,11 @@
 /// from farther away, is averaged whole), and an occluded point fails the depth test by itself. Measured pixels
 /// (with a normal) left uncovered are appended in pixel order while the budget lasts.
 #include "Core/Device.h"
+#include "Core/Image.h"
 #include "Core/StereoRig.h"
 #include "Core/SurfaceMeasurement.h"
 #include "FusionParameters.h"
+#include "ModelAgreement.h"
 #include "PointModel.h"
 
 #include <Eigen/Core>
@@ -38,6 +40,10 @@ namespace fusion {
 struct FusionModel;  // device-resident state (FusionPipeline.h)
 }
 
+/// The disparities whose depth lies inside the fusion's working range [minDepthMm, maxDepthMm] (the rest count as
+/// missing): what fusion, the refinement's ICP term and the model agreement measure with.
+DisparityRangePx workingDisparityRange(const RectifiedGeometry& geometry, const FusionParameters& fusion);
+
 class PointFusion {
 public:
   /// Throws Error on invalid parameters or geometry, or when `device` is Cuda in a build/machine without CUDA.
@@ -51,6 +57,7 @@ public:
   /// Fuses one key frame seen from T_world_camera (left rectified camera -> world, mm). The measurement must have
   /// the geometry's image size (Error otherwise).
   FusionStats integrate(const SurfaceMeasurement& measurement, const Eigen::Matrix4d& T_world_camera);
+  /// Points in the model (those that left it through motion evidence not counted).
   std::size_t pointCount() const;
   /// True once new points were refused for the budget (until reset()).
   bool budgetReached() const;
@@ -58,11 +65,30 @@ public:
   ModelPoints download() const;
   /// The model seen from a camera: up to maxPoints model points (world mm) and their normals (world) that project
   /// inside the image in front of the camera and pass the z-buffer (nearest per pixel), spread evenly over the
-  /// image. For the refinement's ICP term (p_i of the paper's eq. ICPterm). The samples are the z-buffer's pixels
+  /// image; not those that recent frames contradicted (motion evidence, kMaxSampledMotionEvidence). For the refinement's ICP term (p_i of the paper's eq. ICPterm). The samples are the z-buffer's pixels
   /// on a regular grid whose stride is the smallest that keeps them within maxPoints. Uses the fusion's scratch
   /// buffers: do not call concurrently with other members.
   void sampleVisible(const Eigen::Matrix4d& T_world_camera, int maxPoints,
                      std::vector<Eigen::Vector3f>& pointsWorldMm, std::vector<Eigen::Vector3f>& normalsWorld) const;
+  /// The model agreement of a frame seen from T_world_camera (ModelAgreement.h): disparityPx is the frame's
+  /// left-view disparity (NaN = none) in memory of the fusion's device (e.g. StereoMatcher::lastDisparity()), of the
+  /// geometry's size; one pixel in sampleStridePx x sampleStridePx is compared. Uses the fusion's scratch buffers
+  /// (not at the same time as other members). Throws Error for a disparity of another size.
+  ModelAgreement measureAgreement(ImageView<const float> disparityPx, const Eigen::Matrix4d& T_world_camera,
+                                  int sampleStridePx) const;
+  /// The same with the disparity on the host (CV_32F), uploaded first where the fusion runs on CUDA.
+  ModelAgreement measureAgreement(const cv::Mat& disparityPx, const Eigen::Matrix4d& T_world_camera,
+                                  int sampleStridePx) const;
+  /// Motion evidence of a tracked frame (FusionParameters' motion parameters): the model points its depth
+  /// contradicts by more than the threshold lose weight; those at 0 leave the model. `agreement` is the frame's
+  /// (measureAgreement at the same pose): a frame that agrees less than motionMinAgreementShare gives no evidence.
+  /// Returns the points that left. disparityPx as for measureAgreement.
+  int updateMotion(ImageView<const float> disparityPx, const Eigen::Matrix4d& T_world_camera,
+                   const ModelAgreement& agreement);
+  int updateMotion(const cv::Mat& disparityPx, const Eigen::Matrix4d& T_world_camera, const ModelAgreement& agreement);
+  /// The depth difference beyond which a frame with this agreement contradicts a model point (mm).
+  double motionThresholdMm(const ModelAgreement& agreement) const;
+
   /// Bytes held on the device (0 on the CPU).
   std::size_t deviceBytes() const;
   /// Empties the model (keeps the parameters and the device).

@@ -18,6 +18,7 @@ void writeAll(const ReconstructionParameters& p, cv::FileStorage& storage) {
   p.tracking.write(storage);
   p.refinement.write(storage);
   p.fusion.write(storage);
+  p.agreement.write(storage);
 }
 
 /// Every node and key a parameters file may hold: the defaults as writeFile() writes them.
@@ -38,6 +39,7 @@ ReconstructionParameters readStorage(const cv::FileStorage& storage) {
   p.tracking = TrackingParameters::read(storage["tracking"]);
   p.refinement = RefinementParameters::read(storage["refinement"]);
   p.fusion = FusionParameters::read(storage["fusion"]);
+  p.agreement = AgreementParameters::read(storage["agreement"]);
   const cv::FileNode extractor = storage["pipeline"]["extractor"];
   if (!extractor.empty()) {
     const std::string name = extractor.isString() ? static_cast<std::string>(extractor) : std::string();
@@ -57,6 +59,7 @@ void ReconstructionParameters::validate() const {
   tracking.validate();
   refinement.validate();
   fusion.validate();
+  agreement.validate();
 }
 
 ReconstructionParameters ReconstructionParameters::readFile(const std::string& path) {

@@ -8,6 +8,7 @@
 #include "Core/SurfaceMeasurement.h"
 #include "Fusion/PointFusion.h"
 #include "Refinement/KeyFrameRefiner.h"
+#include "Refinement/Relocaliser.h"
 #include "Stereo/StereoMatcher.h"
 #include "Tracking/FrameTracker.h"
 #include "Tracking/SubPixelMatch.h"
@@ -22,15 +23,6 @@ namespace tissuemosaic {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-/// The disparities whose depth lies inside the working range [minDepthMm, maxDepthMm] (the rest count as missing).
-DisparityRangePx workingDisparityRange(const RectifiedGeometry& g, const FusionParameters& fusion) {
-  const double fb = g.focalPx * g.baselineMm;
-  DisparityRangePx kept;
-  kept.lowestPx = static_cast<float>(fb / fusion.maxDepthMm - g.doffsPx);
-  if (fusion.minDepthMm > 0) kept.highestPx = static_cast<float>(fb / fusion.minDepthMm - g.doffsPx);
-  return kept;
-}
 
 FrameTrackerOptions trackerOptions(const ReconstructionParameters& p, Device device,
                                    std::shared_ptr<SubPixelMatcher> subPixel) {
@@ -53,6 +45,14 @@ std::shared_ptr<SubPixelMatcher> sharedSubPixelMatcher(const ReconstructionParam
 
 }  // namespace
 
+const char* frameStatusName(FrameStatus status) {
+  switch (status) {
+    case FrameStatus::Tracked: return "tracked";
+    case FrameStatus::Relocalised: return "relocalised";
+    default: return "lost";
+  }
+}
+
 struct ReconstructionPipeline::Impl {
   RectifiedGeometry geometry;
   std::optional<StereoRectifier> rectifier;
@@ -63,6 +63,7 @@ struct ReconstructionPipeline::Impl {
   std::shared_ptr<SubPixelMatcher> subPixel;  ///< the tracker's and the refiner's
   FrameTracker tracker;
   KeyFrameRefiner refiner;
+  Relocaliser relocaliser;
   PointFusion fusion;
   std::vector<KeyFramePose> keyFrames;
   std::size_t peakDeviceBytes = 0;
@@ -74,8 +75,9 @@ struct ReconstructionPipeline::Impl {
   Impl(const RectifiedGeometry& g, std::optional<StereoRectifier> r, const ReconstructionParameters& p, Device d,
        const Eigen::Matrix4d& T_world_start)
       : geometry(g), rectifier(std::move(r)), parameters(p), device(d), matcher(d, p.stereo),
-        disparityRange(p.stereo, g, d), subPixel(sharedSubPixelMatcher(p, d)), tracker(g, trackerOptions(p, d, subPixel), T_world_start),
-        refiner(g, p.refinement, p.tracking, p.features, d, subPixel),
+        disparityRange(p.stereo, g, d), subPixel(sharedSubPixelMatcher(p, d)),
+        tracker(g, trackerOptions(p, d, subPixel), T_world_start),
+        refiner(g, p.refinement, p.tracking, p.features, d, subPixel), relocaliser(g, p.tracking, p.features, d),
         fusion(g, p.fusion, d) {}
 
   void samplePeakDeviceMemory() {
@@ -184,16 +186,75 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     }
     return trackingDisparityPx;
   };
-  const TrackResult track = s.tracker.track(result.leftRectified, FrameTracker::DisparitySource(takeDisparity));
+  // The model agreement at every pose the tracker solves (the frame's stereo, where it was computed, against the
+  // model seen from the pose): the check that refuses a pose the model contradicts wholesale, and the quality signal.
+  ModelAgreement agreement;
+  Eigen::Matrix4d T_world_agreement = Eigen::Matrix4d::Identity();
+  const auto measureAgreement = [&](const Eigen::Matrix4d& T_world_camera) {
+    const auto agreementStart = Clock::now();
+    agreement = s.fusion.pointCount() > 0
+                    ? s.fusion.measureAgreement(s.matcher.lastDisparity(), T_world_camera,
+                                                s.parameters.agreement.sampleStridePx)
+                    : ModelAgreement{};
+    T_world_agreement = T_world_camera;
+    result.timesMs.agreement += millisecondsSince(agreementStart);
+    return agreement;
+  };
+  const FrameTracker::PoseCheck check = [&](const Eigen::Matrix4d& T_world_camera) -> std::string {
+    const ModelAgreement a = measureAgreement(T_world_camera);
+    if (!s.parameters.agreement.collapsed(a)) return {};
+    return cv::format("the model disagrees with the frame's depth at this pose (%.0f%% within 1 mm, median %.1f mm)",
+                      100 * a.shareWithin1mm, a.medianDepthDifferenceMm);
+  };
+  TrackResult track = s.tracker.track(result.leftRectified, FrameTracker::DisparitySource(takeDisparity), check);
   takeDisparity();  // the tracker has taken it on every path that returns; this only guards that contract
+  if (!track.tracked) {
+    // Frames since the last key frame are from before the loss: not the next key frame's bundle.
+    s.refiner.clearIntermediateFrames();
+    if (s.refiner.keyFrameCount() > 0) {
+      const RelocalisationResult found =
+          s.relocaliser.relocalise(s.tracker.lastFeatures(), s.refiner, s.tracker.lastTrackedPose());
+      if (found.success) {
+        const ModelAgreement a = measureAgreement(found.T_world_camera);
+        const AgreementParameters& limits = s.parameters.agreement;
+        if (a.measured && a.overlap() >= limits.minOverlap && a.shareWithin1mm >= limits.relocalisationMinShare) {
+          const std::string lostReason = track.failureReason;
+          const TrackResult lostTrack = track;
+          track = s.tracker.acceptRelocalisation(found.T_world_camera, found.inliers);
+          track.orbVotingMs = lostTrack.orbVotingMs;
+          track.pnpMs = lostTrack.pnpMs;
+          track.extractMs = lostTrack.extractMs;
+          track.matchMs = lostTrack.matchMs;
+          track.subPixelMs = lostTrack.subPixelMs;
+          track.voteMs = lostTrack.voteMs;
+          result.trackingMessage = "relocalised against key frame " + std::to_string(found.keyFrame) + " (" +
+                                   std::to_string(found.inliers) + " inliers) after: " + lostReason;
+        } else {
+          track.failureReason += cv::format("; relocalisation against key frame %d refused: %.0f%% of its depths within "
+                                            "1 mm of the model", found.keyFrame, a.measured ? 100 * a.shareWithin1mm : 0.0);
+        }
+      }
+    }
+  }
   result.timesMs.orbVoting = track.orbVotingMs;
   result.timesMs.pnp = track.pnpMs;
   result.trackingPartsMs = {track.extractMs, track.matchMs, track.subPixelMs, track.voteMs};
   result.tracked = track.tracked;
+  result.status = !track.tracked ? FrameStatus::Lost : (track.relocalised ? FrameStatus::Relocalised : FrameStatus::Tracked);
   result.keyFrame = track.tracked && track.keyFrame;
-  result.trackingMessage = track.failureReason;
+  if (!track.tracked) result.trackingMessage = track.failureReason;
   result.inliers = track.inliers;
+  result.movingMatches = track.movingMatches;
   result.T_world_camera = track.T_world_camera;
+  if (track.tracked) {
+    if (!(T_world_agreement == result.T_world_camera)) measureAgreement(result.T_world_camera);
+    result.agreement = agreement;
+    result.agreementLevel = s.parameters.agreement.level(agreement);
+    // Motion evidence: model points this frame contradicts lose weight (before a key frame fuses).
+    const auto motionStart = Clock::now();
+    result.pointsRemoved = s.fusion.updateMotion(s.matcher.lastDisparity(), result.T_world_camera, agreement);
+    result.timesMs.agreement += millisecondsSince(motionStart);
+  }
   if (rangeSample) s.disparityRange.afterFrame(rangeSample->get());  // before the model worker's key-frame task
 
   if (result.tracked && !result.keyFrame) {

@@ -12,6 +12,7 @@
 /// through the FrameResult it returns and modelSnapshot().
 #include "Core/Device.h"
 #include "Core/StereoRig.h"
+#include "Fusion/ModelAgreement.h"
 #include "Fusion/PointModel.h"
 #include "Reconstruction/ReconstructionParameters.h"
 #include "Stereo/DisparityRangeFollower.h"
@@ -33,6 +34,7 @@ struct StageTimesMs {
   double stereo = 0;
   double orbVoting = 0;
   double pnp = 0;           ///< DynamicR1PPnP
+  double agreement = 0;     ///< the model agreement and the motion evidence (not in the paper; tracked frames)
   double refinement = 0;    ///< key frames only
   double tsdf = 0;          ///< key frames only
   double total = 0;
@@ -54,11 +56,27 @@ struct TrackingPartsMs {
   double extract = 0, match = 0, subPixel = 0, vote = 0;
 };
 
+/// How a frame's pose came about.
+enum class FrameStatus {
+  Tracked,      ///< tracked against the last key frame
+  Lost,         ///< no pose (too few matches, no solution, an implausible jump, or the model agreement collapsed)
+  Relocalised,  ///< the first pose after lost frames (against the last key frame or a stored one)
+};
+const char* frameStatusName(FrameStatus status);  ///< "tracked", "lost", "relocalised"
+
 struct FrameResult {
   int frameIndex = 0;
-  bool tracked = false;
+  bool tracked = false;         ///< status != Lost
+  FrameStatus status = FrameStatus::Lost;
   bool keyFrame = false;
-  std::string trackingMessage;  ///< why tracking was lost (empty when tracked)
+  /// Why tracking was lost (empty when tracked); for a relocalised frame, against which key frame.
+  std::string trackingMessage;
+  /// The quality signal: the model seen from the tracked pose against the frame's stereo depth (ModelAgreement.h);
+  /// not measured for a lost frame or before the model has points.
+  ModelAgreement agreement;
+  AgreementLevel agreementLevel = AgreementLevel::None;
+  int movingMatches = 0;        ///< key-frame feature matches kept out of the pose (they moved with the scene)
+  int pointsRemoved = 0;        ///< model points that left the model on this frame's motion evidence
   Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();  ///< left rectified camera to world, mm; refined at key frames
   int inliers = 0;
   bool refined = false;         ///< key frame: the refinement improved the tracked pose

@@ -11,7 +11,7 @@ namespace tissuemosaic {
 namespace {
 
 std::vector<double> stageValues(const StageTimesMs& t) {
-  return {t.videoReading, t.stereo, t.orbVoting, t.pnp, t.refinement, t.tsdf, t.total};
+  return {t.videoReading, t.stereo, t.orbVoting, t.pnp, t.agreement, t.refinement, t.tsdf, t.total};
 }
 
 
@@ -35,8 +35,8 @@ std::string jsonGroup(const std::vector<std::string>& names, const std::vector<d
 }  // namespace
 
 const std::vector<std::string>& TimingTable::stageNames() {
-  static const std::vector<std::string> names = {"video_reading", "stereo",    "orb_voting", "dynamic_r1ppnp",
-                                                 "refinement",    "tsdf",      "total"};
+  static const std::vector<std::string> names = {"video_reading", "stereo",     "orb_voting", "dynamic_r1ppnp",
+                                                 "model_agreement", "refinement", "tsdf",       "total"};
   return names;
 }
 
@@ -66,7 +66,8 @@ std::vector<double> TimingTable::percentiles99(bool keyFrames) const {
 
 std::string TimingTable::format() const {
   static const std::vector<std::string> labels = {"video reading", "stereo matching", "ORB matching and voting",
-                                                  "DynamicR1PPnP", "refinement", "TSDF", "total"};
+                                                  "DynamicR1PPnP", "model agreement", "refinement", "TSDF",
+                                                  "total"};
   const std::vector<double> keyMedian = medians(true), keyMean = means(true), keyP99 = percentiles99(true);
   const std::vector<double> otherMedian = medians(false), otherMean = means(false), otherP99 = percentiles99(false);
   std::ostringstream out;

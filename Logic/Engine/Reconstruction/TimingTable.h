@@ -1,6 +1,7 @@
 #pragma once
 /// @file TimingTable.h
-/// @brief The paper's runtime table (video reading, stereo, ORB + voting, DynamicR1PPnP, refinement, TSDF, total)
+/// @brief The paper's runtime table (video reading, stereo, ORB + voting, DynamicR1PPnP, refinement, TSDF, total;
+/// and the model agreement, not in the paper)
 /// gathered over a run, separately for key frames and for the other frames, as medians and means.
 #include "Reconstruction/ReconstructionPipeline.h"
 

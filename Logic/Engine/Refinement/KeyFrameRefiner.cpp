@@ -258,6 +258,64 @@ struct KeyFrameRefiner::Impl {
     }
   }
 
+  /// Drops the inliers farther from the projection of their point at T_camera_world (after the set's median offset,
+  /// the pose's own error) than the tracker's final fit allows: kFitMedianFactor times the median, at least
+  /// kFitMinPx, at most the tracking's dynamicResidualPx.
+  void keepFitting(std::vector<Inlier>& inliers, const MatchSet& set, const Eigen::Matrix4d& T_camera_world) const {
+    if (inliers.empty() || !(tracking.dynamicResidualPx > 0)) return;
+    const PinholeIntrinsics k = geometry.leftIntrinsics();
+    const Eigen::Matrix3d R = T_camera_world.block<3, 3>(0, 0);
+    const Eigen::Vector3d t = T_camera_world.block<3, 1>(0, 3);
+    std::vector<Eigen::Vector2d> offsets;
+    for (const Inlier& inlier : inliers) {
+      const Eigen::Vector3d c = R * set.pointsWorldMm[static_cast<std::size_t>(inlier.match)] + t;
+      Eigen::Vector2d projected(0, 0);
+      if (c.z() > kMinVisibleDepthMm) k.project(c.x(), c.y(), c.z(), projected.x(), projected.y());
+      offsets.push_back(inlier.pixelPx - projected);
+    }
+    const auto median = [](std::vector<double> values) {
+      std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+      return values[values.size() / 2];
+    };
+    std::vector<double> xs, ys;
+    for (const Eigen::Vector2d& o : offsets) {
+      xs.push_back(o.x());
+      ys.push_back(o.y());
+    }
+    const Eigen::Vector2d centre(median(xs), median(ys));
+    std::vector<double> residuals;
+    for (const Eigen::Vector2d& o : offsets) residuals.push_back((o - centre).norm());
+    const double bound = std::clamp(kFitMedianFactor * median(residuals), std::min(kFitMinPx, tracking.dynamicResidualPx),
+                                    tracking.dynamicResidualPx);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < inliers.size(); ++i) {
+      if ((offsets[i] - centre).norm() <= bound) inliers[kept++] = inliers[i];
+    }
+    inliers.resize(kept);
+  }
+
+  /// Drops the inliers on key-frame features the tracker saw moving, and those whose stored world point is not where
+  /// the key frame's own stereo puts it: its depth in the key frame's camera (at T_camera_world) differs from the measured one by more than the tracking's
+  /// dynamicDisparityPx of disparity. The tissue moved there since that key frame (breathing), so the old position
+  /// must not be fixed in the bundle adjustment.
+  void dropMovedPoints(std::vector<Inlier>& inliers, const MatchSet& set, const StereoFeatures& keyFrame,
+                       const Eigen::Matrix4d& T_camera_world) const {
+    const double focalBaseline = geometry.focalPx * geometry.baselineMm;
+    const Eigen::Matrix3d R = T_camera_world.block<3, 3>(0, 0);
+    const Eigen::Vector3d t = T_camera_world.block<3, 1>(0, 3);
+    std::size_t kept = 0;
+    for (const Inlier& inlier : inliers) {
+      const Eigen::Vector3d c = R * set.pointsWorldMm[static_cast<std::size_t>(inlier.match)] + t;
+      const Eigen::Vector3d& measured = keyFrame.pointsCameraMm[static_cast<std::size_t>(inlier.train)];
+      const bool flagged = !keyFrame.moving.empty() && keyFrame.moving[static_cast<std::size_t>(inlier.train)];
+      const bool moved = flagged || (tracking.dynamicDisparityPx > 0 && measured.allFinite() && measured.z() > 0 &&
+                                     c.z() > kMinVisibleDepthMm &&
+                                     focalBaseline * std::abs(1.0 / measured.z() - 1.0 / c.z()) > tracking.dynamicDisparityPx);
+      if (!moved) inliers[kept++] = inlier;
+    }
+    inliers.resize(kept);
+  }
+
   /// DynamicR1PPnP on the matches, started from T_world_expected (the frame's tracked pose). Returns the inliers as
   /// (match index, train feature, pixel) when the solve succeeds with at least minInliers and its pose lies within
   /// the correction limits of T_world_expected.
@@ -270,9 +328,12 @@ struct KeyFrameRefiner::Impl {
     const HistogramVote vote = histogramVote(set.fromPx, set.pixelsPx, features.voteBinPx);
     // The tracked pose starts the first hypothesis near its answer (PnpSolver.h: same iteration, fewer steps).
     const Eigen::Matrix4d T_camera_world_guess = inverseRigid(T_world_expected);
-    const PnpResult pnp = solveDynamicR1Ppnp(set.pointsWorldMm, set.pixelsPx, set.candidates,
-                                             geometry.leftIntrinsics(), tracking, vote.order, &T_camera_world_guess,
-                                             kPnpHypothesesAtOnce);
+    PnpResult pnp = solveDynamicR1Ppnp(set.pointsWorldMm, set.pixelsPx, set.candidates, geometry.leftIntrinsics(),
+                                       tracking, vote.order, &T_camera_world_guess, kPnpHypothesesAtOnce);
+    // Only the matches that sit where the pose puts them, as the tracker keeps them: points the scene moved between
+    // the two frames (within H) would pull the bundle adjustment toward their motion.
+    pnp = polishOnFittingMatches(set.pointsWorldMm, set.pixelsPx, set.candidates, geometry.leftIntrinsics(), pnp,
+                                 tracking.dynamicResidualPx, minInliers);
     hypotheses = pnp.hypotheses;
     if (!pnp.success || static_cast<int>(pnp.inlierIndices.size()) < minInliers) return inliers;
     double degrees = 0, mm = 0;
@@ -358,13 +419,20 @@ struct KeyFrameRefiner::Impl {
       profiling::ScopedTimer timer("host: refinement, intermediate-frame sub-pixel refinement");
       refineInliers(inlierSets, sets, features.grey, frameIndex, frameGreys, frameIndices);
     }
+    // The guided observations that sit where the tracked poses put them (no solve checked them): as the tracker's
+    // final fit, within a few times the frame's own median offset from the projections.
+    for (std::size_t f = 0; f < intermediates.size(); ++f) {
+      if (guided[f]) keepFitting(inlierSets[f], sets[f], inverseRigid(intermediates[f].T_world_camera));
+    }
     for (std::size_t f = 0; f < intermediates.size(); ++f) {
       const MatchSet& set = sets[f];
       const std::vector<Inlier>& inliers = inlierSets[f];
       if (static_cast<int>(inliers.size()) < parameters.minFrameInliers) continue;
       const int slot = 1 + static_cast<int>(frameOfSlot.size());
       frameOfSlot.push_back(static_cast<int>(f));
+      const std::vector<uint8_t>& moving = intermediates[f].features.moving;
       for (const Inlier& inlier : inliers) {
+        if (!moving.empty() && moving[static_cast<std::size_t>(inlier.train)]) continue;  // moved with the scene
         observations.push_back({slot, lifted[set.query[inlier.match]], inlier.pixelPx.x(), inlier.pixelPx.y()});
       }
     }
@@ -373,8 +441,8 @@ struct KeyFrameRefiner::Impl {
     return matched;
   }
 
-  /// Stored key frames whose points fall into the view at T_world_camera, the most overlapping first.
-  std::vector<int> overlappingKeyFrames(const Eigen::Matrix4d& T_world_camera) const {
+  /// Stored key frames whose points fall into the view at T_world_camera, the most overlapping first, at most limit.
+  std::vector<int> overlappingKeyFrames(const Eigen::Matrix4d& T_world_camera, int limit) const {
     const Eigen::Matrix4d T_camera_world = inverseRigid(T_world_camera);
     const Eigen::Matrix3d R = T_camera_world.block<3, 3>(0, 0);
     const Eigen::Vector3d t = T_camera_world.block<3, 1>(0, 3);
@@ -423,7 +491,7 @@ struct KeyFrameRefiner::Impl {
     });
     std::vector<int> chosen;
     for (const auto& [overlap, k] : ranked) {
-      if (static_cast<int>(chosen.size()) >= parameters.maxMatchedKeyFrames) break;
+      if (static_cast<int>(chosen.size()) >= limit) break;
       chosen.push_back(k);
     }
     return chosen;
@@ -556,7 +624,7 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
   const auto partStart = std::chrono::steady_clock::now();
   const std::vector<int> overlapping = [&] {
     profiling::ScopedTimer timer("host: refinement, key-frame overlap test");
-    return s.overlappingKeyFrames(T_world_camera);
+    return s.overlappingKeyFrames(T_world_camera, p.maxMatchedKeyFrames);
   }();
   struct KeyFrameMatch {
     Points3d world;
@@ -614,6 +682,8 @@ KeyFrameMatches KeyFrameRefiner::matchKeyFrame(int frameIndex, const StereoFeatu
       [&](int64_t c) {
         KeyFrameMatch& match = keyFrameMatches[static_cast<std::size_t>(c)];
         match.inliers = s.solveInliers(match.set, p.minKeyFrameInliers, T_world_camera, match.hypotheses);
+        s.dropMovedPoints(match.inliers, match.set, features, T_camera_world);
+        if (static_cast<int>(match.inliers.size()) < p.minKeyFrameInliers) match.inliers.clear();
       },
       1);
   for (const KeyFrameMatch& m : keyFrameMatches) {
@@ -805,6 +875,29 @@ RefinementResult KeyFrameRefiner::refineMatchedKeyFrame(KeyFrameMatches matches,
 }
 
 int KeyFrameRefiner::keyFrameCount() const { return static_cast<int>(impl_->keyFrames.size()); }
+StoredKeyFrameView KeyFrameRefiner::storedKeyFrame(int i) const {
+  require(i >= 0 && i < keyFrameCount(), "refinement: no stored key frame " + std::to_string(i));
+  const StoredKeyFrame& kf = impl_->keyFrames[static_cast<std::size_t>(i)];
+  StoredKeyFrameView view;
+  view.frameIndex = kf.frameIndex;
+  view.T_world_camera = kf.T_world_camera;
+  view.pixelsPx = &kf.pixelsPx;
+  view.descriptors = &kf.descriptors;
+  view.pointsWorldMm = &kf.pointsWorldMm;
+  return view;
+}
+
+std::vector<int> KeyFrameRefiner::keyFramesInView(const Eigen::Matrix4d& T_world_camera) const {
+  require(isRigidTransform(T_world_camera), "refinement: the view's pose is not a rigid transform");
+  return impl_->overlappingKeyFrames(T_world_camera, keyFrameCount());
+}
+
+void KeyFrameRefiner::clearIntermediateFrames() {
+  if (impl_->intermediates.empty()) return;
+  impl_->intermediates.clear();
+  ++impl_->state;
+}
+
 int KeyFrameRefiner::intermediateFrameCount() const { return static_cast<int>(impl_->intermediates.size()); }
 
 std::size_t KeyFrameRefiner::storedBytes() const {

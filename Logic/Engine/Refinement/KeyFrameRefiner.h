@@ -95,6 +95,17 @@ struct IcpModelPoints {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
+/// A stored key frame as others read it (relocalisation): its pose, and its features with depth (pixels,
+/// descriptors, world points). The references stay valid until the refiner next stores or forgets a key frame.
+struct StoredKeyFrameView {
+  int frameIndex = 0;
+  Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
+  const std::vector<cv::Point2f>* pixelsPx = nullptr;
+  const cv::Mat* descriptors = nullptr;  ///< CV_8U, one row per pixel
+  const std::vector<Eigen::Vector3f>* pointsWorldMm = nullptr;
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
 /// Omega's frames: the intermediate frames since the last key frame, the current key frame, and the earlier key
 /// frames it overlaps. Not thread-safe.
 class KeyFrameRefiner {
@@ -148,6 +159,13 @@ public:
 
   /// Key frames stored for matching.
   int keyFrameCount() const;
+  /// Stored key frame i (0 = the oldest kept), 0 <= i < keyFrameCount() (Error otherwise).
+  StoredKeyFrameView storedKeyFrame(int i) const;
+  /// The stored key frames whose points fall into the view at T_world_camera (at least minKeyFrameOverlap of them),
+  /// the most overlapping first: the refinement's candidates before its maxMatchedKeyFrames cap.
+  std::vector<int> keyFramesInView(const Eigen::Matrix4d& T_world_camera) const;
+  /// Forgets the intermediate frames held for the next key frame (e.g. when tracking was lost since them).
+  void clearIntermediateFrames();
   /// Intermediate frames held for the next key frame.
   int intermediateFrameCount() const;
   /// Bytes held by the stored key frames (pixels, descriptors, world points).

@@ -109,6 +109,7 @@ void DisparityRangeEstimatorOptions::validate() const {
   requireRange("keepMarginFraction", keepMarginFraction, 0.0, 1.0);
   requireRange("maxWidthFactor", maxWidthFactor, 1.0, 10.0);
   requireRange("maxWidthSlackPx", maxWidthSlackPx, 0.0, 1000.0);
+  requireRange("maxSpanGrowth", maxSpanGrowth, 1.0, 1000.0);
 }
 
 namespace {
@@ -289,6 +290,7 @@ DisparityRange DisparityRangeEstimator::followingRange(const DisparityRange& cur
                                                       const DisparitySample* previous) const {
   const DisparityRangeEstimatorOptions& o = impl_->options;
   if (sample.matches() < o.minMatches) return current;  // nothing to go by (smoke, a blurred frame): stay
+  if (sample.highPx - sample.lowPx > o.maxSpanGrowth * current.count()) return current;  // not the tissue
   // The next frame's ends: one frame's move further where the tissue moves (never less than this frame's). The
   // median moves with the tissue, while an end can jump with a few wrong matches.
   double low = sample.lowPx, high = sample.highPx;
@@ -297,7 +299,12 @@ DisparityRange DisparityRangeEstimator::followingRange(const DisparityRange& cur
     low += std::min(0.0, movePx);
     high += std::max(0.0, movePx);
   }
-  const DisparityRange wanted = impl_->wanted(low, high);
+  DisparityRange wanted;
+  try {
+    wanted = impl_->wanted(low, high);
+  } catch (const Error&) {
+    return current;  // beyond what the matcher takes: not the tissue
+  }
   const Impl::Margins margins = impl_->marginsPx(low, high);
   const int widest = std::max(static_cast<int>(o.maxWidthFactor * (high - low) + o.maxWidthSlackPx),
                               wanted.maxPx - wanted.minPx + kDisparityRangeGridPx);

@@ -50,7 +50,11 @@ struct DisparityRangeEstimatorOptions {
   // Hysteresis (followingRange): the current range stays while both hold.
   double keepMarginFraction = 0.5;   ///< the robust ends lie at least this share of the margin inside it ...
   double maxWidthFactor = 1.3;       ///< ... and it is at most this many times the robust span wide ...
-  double maxWidthSlackPx = 12;       ///< ... plus this (never less than the wanted range plus one grid step)
+  double maxWidthSlackPx = 12;
+  /// During a video, a frame whose robust span is more than this many times the current range's width, or whose
+  /// range the matcher cannot take, is not the tissue: the random matches of a view without tissue (the scope
+  /// withdrawn: dark, smoke, blur). The range stays.
+  double maxSpanGrowth = 3.0;       ///< ... plus this (never less than the wanted range plus one grid step)
 
   /// Throws Error naming the first option out of range.
   void validate() const;

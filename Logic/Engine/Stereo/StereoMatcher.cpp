@@ -160,6 +160,11 @@ cv::Mat StereoMatcher::lastZnccDisparity() const {
   return downloadDiscrete(impl_->workspace->znccDisparity);
 }
 
+ImageView<const float> StereoMatcher::lastDisparity() const {
+  require(impl_->workspace != nullptr, "no disparity has been computed yet");
+  return impl_->workspace->smoothed.view();
+}
+
 cv::Mat StereoMatcher::lastFilledDisparity() const {
   require(impl_->workspace != nullptr, "no disparity has been computed yet");
   return downloadDiscrete(impl_->workspace->filledDisparity);

@@ -3,6 +3,7 @@
 /// @brief Section II of the paper as one call: ZNCC matching, iterative outlier removal with hole filling, and
 /// the improved Laplacian refinement, on the CPU or on a CUDA GPU.
 #include "Core/Device.h"
+#include "Core/Image.h"
 #include "Stereo/DisparityRange.h"
 #include "StereoExplanation.h"
 #include "StereoParameters.h"
@@ -45,6 +46,12 @@ public:
   /// and the discrete disparities after outlier removal and hole filling.
   cv::Mat lastZnccDisparity() const;
   cv::Mat lastFilledDisparity() const;
+  /// The last computeDisparity result where it was computed (device memory on CUDA, host memory on the CPU), until
+  /// the next call: per-frame steps on the same device read it there instead of uploading the returned Mat again.
+  /// A thread other than the one that computed it may read it once that call has returned (it synchronises).
+  /// Throws Error before the first call.
+  ImageView<const float> lastDisparity() const;
+
   /// CV_8U of the last call: 1 within trackingHighlightMarginPx (a square) of a left-image highlight seed
   /// (HighlightKernels.h), 0 elsewhere and everywhere with highlight removal off. The disparity there is the
   /// surrounding tissue's, but a highlight slides over the tissue as the camera moves: tracking and fusion leave

@@ -12,22 +12,39 @@
 #include <Eigen/Geometry>
 #include <opencv2/features2d.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace tissuemosaic {
 
 namespace {
 
-/// The frame new frames are matched against: its features with depth, their world points, and its pose.
+/// The key frame new frames are matched against: its features with depth, their world points (at the key frame's
+/// refined pose), and how recently each moved with the scene (TrackingParameters::dynamicResidualPx).
 struct Reference {
   int frameIndex = -1;
   std::vector<cv::Point2f> pixelsPx;
   cv::Mat descriptors;
   cv::Mat grey;
-  Points3d pointsWorldMm;
+  Points3d pointsCameraMm, pointsWorldMm;
+  std::vector<float> motionScore;
   Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();
+
+  void place(const Eigen::Matrix4d& T_world_frame) {
+    T_world_camera = T_world_frame;
+    const Eigen::Matrix3d R = T_world_frame.block<3, 3>(0, 0);
+    const Eigen::Vector3d t = T_world_frame.block<3, 1>(0, 3);
+    pointsWorldMm.resize(pointsCameraMm.size());
+    for (std::size_t i = 0; i < pointsCameraMm.size(); ++i) pointsWorldMm[i] = R * pointsCameraMm[i] + t;
+  }
 };
+
+double rotationDeg(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b) {
+  return Eigen::AngleAxisd(Eigen::Matrix3d(a.block<3, 3>(0, 0).transpose() * b.block<3, 3>(0, 0))).angle() * 180.0 /
+         M_PI;
+}
 
 }  // namespace
 
@@ -67,45 +84,69 @@ struct FrameTracker::Impl {
     return knn;
   }
   int frames = 0;
-  StereoFeatures lastFeatures;     ///< of the last track() call
+  StereoFeatures lastFeatures;       ///< of the last track() call; moving features without 3D points
+  std::vector<float> lastScores;     ///< per feature of the last frame: its motion score (0: none seen)
   bool lastTracked = false;
-  Reference reference;
+  Reference reference;               ///< the last key frame
   int lastKeyFrameIndex = -1;
   Eigen::Matrix4d T_world_lastKeyFrame = Eigen::Matrix4d::Identity();
+  bool lost = false;                 ///< the frames since the last tracked one were lost
 
-  /// The reference before the current one (for the constant-velocity prediction); index -1: none.
-  int previousReferenceIndex = -1;
-  Eigen::Matrix4d T_world_previousReference = Eigen::Matrix4d::Identity();
+  /// The last two tracked frames (for the constant-velocity prediction); index -1: none.
+  int lastTrackedIndex = -1, previousTrackedIndex = -1;
+  Eigen::Matrix4d T_world_lastTracked = Eigen::Matrix4d::Identity();
+  Eigen::Matrix4d T_world_previousTracked = Eigen::Matrix4d::Identity();
 
-  /// The pose predicted for frame `frameIndex`: the reference's pose moved on by the motion from the previous
-  /// reference when both steps are one frame (constant velocity), else the reference's pose.
+  /// The pose predicted for frame `frameIndex`: the last tracked pose moved on by the last step when the last two
+  /// tracked frames and this one are consecutive (constant velocity), else the last tracked pose.
   Eigen::Matrix4d predictedPose(int frameIndex) const {
-    if (previousReferenceIndex >= 0 && reference.frameIndex - previousReferenceIndex == 1 &&
-        frameIndex - reference.frameIndex == 1) {
-      return reference.T_world_camera * (inverseRigid(T_world_previousReference) * reference.T_world_camera);
+    if (previousTrackedIndex >= 0 && lastTrackedIndex - previousTrackedIndex == 1 && frameIndex - lastTrackedIndex == 1) {
+      return T_world_lastTracked * (inverseRigid(T_world_previousTracked) * T_world_lastTracked);
     }
-    return reference.T_world_camera;
+    return T_world_lastTracked;
   }
 
-  void setReference(const StereoFeatures& features, const Eigen::Matrix4d& T_world_camera, int frameIndex) {
-    if (reference.frameIndex >= 0 && reference.frameIndex != frameIndex) {
-      previousReferenceIndex = reference.frameIndex;
-      T_world_previousReference = reference.T_world_camera;
+  void recordTracked(int frameIndex, const Eigen::Matrix4d& T_world_camera) {
+    if (lastTrackedIndex >= 0 && lastTrackedIndex != frameIndex) {
+      previousTrackedIndex = lastTrackedIndex;
+      T_world_previousTracked = T_world_lastTracked;
     }
+    lastTrackedIndex = frameIndex;
+    T_world_lastTracked = T_world_camera;
+  }
+
+  /// The frame's features with depth become the reference (a new key frame), with their motion scores.
+  void setReference(const StereoFeatures& features, const std::vector<float>& scores, const Eigen::Matrix4d& T_world_camera,
+                    int frameIndex) {
     reference = Reference();
     reference.frameIndex = frameIndex;
-    reference.T_world_camera = T_world_camera;
     reference.grey = features.grey;
-    const Eigen::Matrix3d R = T_world_camera.block<3, 3>(0, 0);
-    const Eigen::Vector3d t = T_world_camera.block<3, 1>(0, 3);
     std::vector<int> rows;
     for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
       if (!features.pointsCameraMm[i].allFinite()) continue;
       rows.push_back(static_cast<int>(i));
       reference.pixelsPx.push_back(features.keypoints[i].pt);
-      reference.pointsWorldMm.push_back(R * features.pointsCameraMm[i] + t);
+      reference.pointsCameraMm.push_back(features.pointsCameraMm[i]);
+      reference.motionScore.push_back(i < scores.size() ? scores[i] : 0.0f);
     }
     reference.descriptors = descriptorRows(features.descriptors, rows);
+    reference.place(T_world_camera);
+    lastKeyFrameIndex = frameIndex;
+    T_world_lastKeyFrame = T_world_camera;
+  }
+
+  /// What later steps see of the last frame: features that moved recently lose their 3D point.
+  void clearMovingPoints() {
+    const float exclude = static_cast<float>(options.tracking.dynamicExcludeScore);
+    lastFeatures.moving.assign(lastFeatures.keypoints.size(), 0);
+    for (std::size_t i = 0; i < lastScores.size() && i < lastFeatures.pointsCameraMm.size(); ++i) {
+      if (!(lastScores[i] > exclude)) continue;
+      lastFeatures.moving[i] = 1;
+      if (lastFeatures.pointsCameraMm[i].allFinite()) {
+        lastFeatures.pointsCameraMm[i] = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+        --lastFeatures.withDepth;
+      }
+    }
   }
 };
 
@@ -151,7 +192,8 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& dis
   return track(leftRectified, [&disparityPx] { return disparityPx; });
 }
 
-TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySource& disparityPx) {
+TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySource& disparityPx,
+                                const PoseCheck& check) {
   Impl& s = *impl_;
   require(leftRectified.size() == s.geometry.imageSize,
           "tracker: frame size " + std::to_string(leftRectified.cols) + "x" + std::to_string(leftRectified.rows) +
@@ -161,13 +203,17 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
   result.frameIndex = s.frames++;
   const auto start = std::chrono::steady_clock::now();
   s.lastFeatures = s.detect(leftRectified);
+  s.lastScores.assign(s.lastFeatures.keypoints.size(), 0.0f);
   result.extractMs = millisecondsSince(start);
   s.lastTracked = false;
   const StereoFeatures& features = s.lastFeatures;
   result.features = static_cast<int>(features.keypoints.size());
   // Matching and the pose need only the reference's depth: this frame's disparity is waited for at the end, to
   // lift the features for the frames after it (and for the refiner), on every path out.
+  bool lifted = false;
   const auto liftWithDisparity = [&] {
+    if (lifted) return;
+    lifted = true;
     const cv::Mat disparity = disparityPx();
     const auto liftStart = std::chrono::steady_clock::now();
     liftFeatures(s.lastFeatures, disparity, s.geometry);
@@ -182,25 +228,22 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
     liftWithDisparity();
     result.tracked = result.initial = result.keyFrame = true;
     result.T_world_camera = s.T_world_start;
-    s.setReference(features, s.T_world_start, result.frameIndex);
-    s.lastKeyFrameIndex = result.frameIndex;
-    s.T_world_lastKeyFrame = s.T_world_start;
+    s.setReference(features, s.lastScores, s.T_world_start, result.frameIndex);
+    s.recordTracked(result.frameIndex, s.T_world_start);
     s.lastTracked = true;
     return result;
   }
 
-  // Reference features (with depth) against all current ones: the best match is the primary, the next ones are
+  // Key-frame features (with depth) against all current ones: the best match is the primary, the next ones are
   // DynamicR1PPnP's candidates.
   const FeatureParameters& fp = s.options.features;
+  const TrackingParameters& tp = s.options.tracking;
   auto partStart = std::chrono::steady_clock::now();
   std::vector<std::vector<cv::DMatch>> knn;
   if (!s.reference.descriptors.empty() && !features.descriptors.empty())
     knn = s.match(s.reference.descriptors, features.descriptors, 1 + fp.candidatesPerFeature);
   result.matchMs = millisecondsSince(partStart);
   partStart = std::chrono::steady_clock::now();
-  Points3d points;
-  Pixels2d pixels, fromPx;
-  std::vector<std::vector<CandidateMatch>> candidates;
   // The primary match and the candidates within the Hamming limit, then (optionally) all of them refined to
   // sub-pixel accuracy in one call. A match whose window does not lock onto the reference window is dropped: it is
   // either wrong or too poorly textured to be located better than ORB's pixel grid.
@@ -226,21 +269,49 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
   } else {
     for (std::size_t q = 0; q < queries.size(); ++q) answers[q] = {queries[q].toPx, true};
   }
+  // Every locked match, and which reference and current feature it joins.
+  struct Match {
+    int reference, current;
+    Eigen::Vector3d worldMm;
+    Eigen::Vector2d fromPx, toPx;
+    std::vector<CandidateMatch> candidates;
+  };
+  std::vector<Match> all;
   for (std::size_t i = 0; i < knn.size(); ++i) {
     if (firstQuery[i] < 0 || !answers[firstQuery[i]].locked) continue;
     const SubPixelMatchQuery& primary = queries[firstQuery[i]];
     const cv::Point2f to = answers[firstQuery[i]].toPx;
-    points.push_back(s.reference.pointsWorldMm[knn[i][0].queryIdx]);
-    fromPx.emplace_back(primary.fromPx.x, primary.fromPx.y);
-    pixels.emplace_back(to.x, to.y);
-    std::vector<CandidateMatch> further;
+    Match match;
+    match.reference = knn[i][0].queryIdx;
+    match.current = knn[i][0].trainIdx;
+    match.worldMm = s.reference.pointsWorldMm[match.reference];
+    match.fromPx = Eigen::Vector2d(primary.fromPx.x, primary.fromPx.y);
+    match.toPx = Eigen::Vector2d(to.x, to.y);
     for (int q = firstQuery[i] + 1; q < firstQuery[i] + queryCount[i]; ++q) {
       if (!answers[q].locked) continue;
       CandidateMatch candidate;
       candidate.pixelPx = Eigen::Vector2d(answers[q].toPx.x, answers[q].toPx.y);
-      further.push_back(candidate);
+      match.candidates.push_back(candidate);
     }
-    candidates.push_back(std::move(further));
+    all.push_back(std::move(match));
+  }
+  // The pose from the key-frame features that have not moved recently, while enough of them are left.
+  const int needed = std::max(tp.minInliers, 4);
+  const auto moving = [&](const Match& m) { return s.reference.motionScore[m.reference] > tp.dynamicExcludeScore; };
+  const int still = static_cast<int>(std::count_if(all.begin(), all.end(), [&](const Match& m) { return !moving(m); }));
+  const bool leaveOutMoving = still >= std::max(2 * needed, 30);
+  Points3d points;
+  Pixels2d pixels, fromPx;
+  std::vector<std::vector<CandidateMatch>> candidates;
+  for (const Match& m : all) {
+    if (leaveOutMoving && moving(m)) {
+      ++result.movingMatches;
+      continue;
+    }
+    points.push_back(m.worldMm);
+    fromPx.push_back(m.fromPx);
+    pixels.push_back(m.toPx);
+    candidates.push_back(m.candidates);
   }
   result.matches = static_cast<int>(points.size());
   result.subPixelMs = millisecondsSince(partStart);
@@ -253,19 +324,23 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
     liftWithDisparity();
     result.tracked = false;
     result.failureReason = why;
+    s.lost = true;
     return result;
   };
-  const int needed = std::max(s.options.tracking.minInliers, 4);
   if (result.matches < needed) {
-    return lost("too few feature matches with the last tracked frame (" + std::to_string(result.matches) + ", need " +
+    return lost("too few feature matches with the last key frame (" + std::to_string(result.matches) + ", need " +
                 std::to_string(needed) + ")");
   }
   const PinholeIntrinsics intrinsics = s.geometry.leftIntrinsics();
   const auto pnpStart = std::chrono::steady_clock::now();
   // The pose predicted from the last two tracked frames starts the first hypothesis near its answer.
   const Eigen::Matrix4d T_camera_world_guess = inverseRigid(s.predictedPose(result.frameIndex));
-  const PnpResult pnp =
-      solveDynamicR1Ppnp(points, pixels, candidates, intrinsics, s.options.tracking, vote.order, &T_camera_world_guess);
+  PnpResult pnp =
+      solveDynamicR1Ppnp(points, pixels, candidates, intrinsics, tp, vote.order, &T_camera_world_guess);
+  // Polished last on the matches that sit where the pose projects them (within a few times this frame's own
+  // matching noise): points a little off, which the scene moved, would bend the pose toward their own motion.
+  double fitPx = tp.dynamicResidualPx;
+  pnp = polishOnFittingMatches(points, pixels, candidates, intrinsics, pnp, tp.dynamicResidualPx, tp.minInliers, &fitPx);
   result.pnpMs = millisecondsSince(pnpStart);
   if (!pnp.success) return lost(pnp.failureReason);
   result.inliers = static_cast<int>(pnp.inlierIndices.size());
@@ -273,39 +348,97 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
   const Eigen::Matrix4d T_world_camera = inverseRigid(pnp.T_camera_world);
 
   // A step far beyond what a hand-held scope does between frames is a wrong pose, not motion.
-  const int steps = result.frameIndex - s.reference.frameIndex;
-  const double stepMm =
-      (T_world_camera.block<3, 1>(0, 3) - s.reference.T_world_camera.block<3, 1>(0, 3)).norm() / steps;
-  const double stepDeg = Eigen::AngleAxisd(Eigen::Matrix3d(s.reference.T_world_camera.block<3, 3>(0, 0).transpose() *
-                                                           T_world_camera.block<3, 3>(0, 0)))
-                             .angle() * 180.0 / M_PI / steps;
+  const int steps = std::max(1, result.frameIndex - s.lastTrackedIndex);
+  const double stepMm = (T_world_camera.block<3, 1>(0, 3) - s.T_world_lastTracked.block<3, 1>(0, 3)).norm() / steps;
+  const double stepDeg = rotationDeg(s.T_world_lastTracked, T_world_camera) / steps;
   if (stepMm > s.options.maxStepMm || stepDeg > s.options.maxStepDeg) {
     return lost(cv::format("implausible pose jump (%.1f mm, %.1f deg per frame)", stepMm, stepDeg));
   }
 
   liftWithDisparity();
-  result.tracked = true;
-  result.T_world_camera = T_world_camera;
-  const double difference = keyFramePoseDifference(T_world_camera, s.T_world_lastKeyFrame);
-  result.keyFrame = isKeyFrame(result.inliers, result.frameIndex - s.lastKeyFrameIndex, difference, s.options.tracking);
-  if (result.keyFrame) {
-    s.lastKeyFrameIndex = result.frameIndex;
-    s.T_world_lastKeyFrame = T_world_camera;
+  if (check) {
+    const std::string refused = check(T_world_camera);
+    if (!refused.empty()) return lost(refused);
   }
-  s.setReference(features, T_world_camera, result.frameIndex);
+  result.tracked = true;
+  result.relocalised = s.lost;
+  s.lost = false;
+  result.T_world_camera = T_world_camera;
+
+  // Motion evidence: each matched key-frame feature whose match (primary or candidate) lands off its projection, or
+  // whose depth here is not the depth the pose predicts for it.
+  const Eigen::Matrix3d R = pnp.T_camera_world.block<3, 3>(0, 0);
+  const Eigen::Vector3d t = pnp.T_camera_world.block<3, 1>(0, 3);
+  const double limit2 = fitPx * fitPx;
+  const double focalBaseline = s.geometry.focalPx * s.geometry.baselineMm;
+  for (float& score : s.reference.motionScore) score *= static_cast<float>(tp.dynamicScoreDecay);
+  for (const Match& m : all) {
+    const Eigen::Vector3d c = R * m.worldMm + t;
+    double u = 0, v = 0;
+    bool off = !(c.z() > 1e-9);
+    if (!off) {
+      intrinsics.project(c.x(), c.y(), c.z(), u, v);
+      const Eigen::Vector2d projected(u, v);
+      double error2 = (projected - m.toPx).squaredNorm();
+      for (const CandidateMatch& candidate : m.candidates) error2 = std::min(error2, (projected - candidate.pixelPx).squaredNorm());
+      off = tp.dynamicResidualPx > 0 && error2 > limit2;
+      const Eigen::Vector3d& measured = s.lastFeatures.pointsCameraMm[m.current];
+      if (!off && tp.dynamicDisparityPx > 0 && measured.allFinite() && measured.z() > 0) {
+        off = focalBaseline * std::abs(1.0 / measured.z() - 1.0 / c.z()) > tp.dynamicDisparityPx;
+      }
+    }
+    float& score = s.reference.motionScore[m.reference];
+    if (off) score = 1.0f;
+    s.lastScores[m.current] = std::max(s.lastScores[m.current], score);
+  }
+
+  const double difference = keyFramePoseDifference(T_world_camera, s.T_world_lastKeyFrame);
+  result.keyFrame = isKeyFrame(result.inliers, result.frameIndex - s.lastKeyFrameIndex, difference, tp);
+  s.recordTracked(result.frameIndex, T_world_camera);
+  if (result.keyFrame) s.setReference(features, s.lastScores, T_world_camera, result.frameIndex);
+  s.clearMovingPoints();
   s.lastTracked = true;
   return result;
 }
+
+TrackResult FrameTracker::acceptRelocalisation(const Eigen::Matrix4d& T_world_camera, int inliers) {
+  Impl& s = *impl_;
+  require(s.frames > 0 && !s.lastTracked, "tracker: only a frame that was lost can be relocalised");
+  require(isRigidTransform(T_world_camera), "tracker: the relocalised pose is not a rigid transform");
+  TrackResult result;
+  result.frameIndex = s.frames - 1;
+  result.tracked = result.keyFrame = result.relocalised = true;
+  result.T_world_camera = T_world_camera;
+  result.inliers = inliers;
+  result.features = static_cast<int>(s.lastFeatures.keypoints.size());
+  result.featuresWithDepth = s.lastFeatures.withDepth;
+  // A fresh start from here: no velocity across the gap, no motion seen yet.
+  s.previousTrackedIndex = -1;
+  s.lastTrackedIndex = -1;
+  s.recordTracked(result.frameIndex, T_world_camera);
+  s.lastScores.assign(s.lastFeatures.keypoints.size(), 0.0f);
+  s.setReference(s.lastFeatures, s.lastScores, T_world_camera, result.frameIndex);
+  s.lost = false;
+  s.lastTracked = true;
+  return result;
+}
+
+bool FrameTracker::isLost() const { return impl_->lost; }
+const Eigen::Matrix4d& FrameTracker::lastTrackedPose() const { return impl_->T_world_lastTracked; }
+int FrameTracker::lastTrackedFrame() const { return impl_->lastTrackedIndex; }
 
 const StereoFeatures& FrameTracker::lastFeatures() const { return impl_->lastFeatures; }
 
 void FrameTracker::correctLastPose(const Eigen::Matrix4d& T_world_camera) {
   Impl& s = *impl_;
-  require(s.lastTracked && s.reference.frameIndex == s.frames - 1,
+  require(s.lastTracked && s.lastTrackedIndex == s.frames - 1,
           "tracker: only the pose of a just-tracked frame can be corrected");
   require(isRigidTransform(T_world_camera), "tracker: the corrected pose is not a rigid transform");
-  if (s.lastKeyFrameIndex == s.reference.frameIndex) s.T_world_lastKeyFrame = T_world_camera;
-  s.setReference(s.lastFeatures, T_world_camera, s.reference.frameIndex);
+  s.T_world_lastTracked = T_world_camera;
+  if (s.reference.frameIndex == s.lastTrackedIndex) {  // a key frame: its features move with it
+    s.reference.place(T_world_camera);
+    s.T_world_lastKeyFrame = T_world_camera;
+  }
 }
 
 }  // namespace tissuemosaic

@@ -1,13 +1,21 @@
 #pragma once
 /// @file FrameTracker.h
-/// @brief Frame-to-frame camera tracking of paper section III.A-C on the CPU: ORB features of the rectified left
-/// image lifted to 3D with the stereo disparity, brute-force Hamming matching with the previous tracked frame
-/// (best match plus the next-best ones as DynamicR1PPnP candidates), histogram voting on the 2D displacements
-/// (the control-point order), DynamicR1PPnP for the pose, and the key-frame decision.
+/// @brief Camera tracking of paper section III.A-C: ORB features of the rectified left image lifted to 3D with the
+/// stereo disparity, brute-force Hamming matching (best match plus the next-best ones as DynamicR1PPnP candidates),
+/// histogram voting on the 2D displacements (the control-point order), DynamicR1PPnP for the pose, and the key-frame
+/// decision.
 ///
-/// Lost tracking is a state, never a guessed pose: when there are too few matches, the solver fails, or the pose
-/// jumps implausibly far, track() reports tracked = false with a reason, and the next frame is matched against
-/// the last tracked frame again.
+/// Not in the paper: every frame is matched with the LAST KEY FRAME (its features at its refined pose), not with
+/// the previous frame, so that errors do not pile up frame by frame between key frames; and the scene's own motion
+/// is kept out of the pose: a key-frame feature whose match lands off its projection (TrackingParameters::
+/// dynamicResidualPx) moved with the scene, and features that moved recently neither steer the pose nor reach the
+/// refinement (their 3D points are cleared in lastFeatures()). The pose is polished last on the matches within
+/// dynamicResidualPx.
+///
+/// Lost tracking is a state, never a guessed pose: when there are too few matches, the solver fails, the pose jumps
+/// implausibly far, or the caller's check refuses it (the model agreement), track() reports tracked = false with a
+/// reason, and the next frame is matched against the last key frame again. The first frame tracked after lost ones
+/// is `relocalised`; so is a frame whose pose the caller found otherwise (acceptRelocalisation).
 #include "Core/Device.h"
 #include "Core/StereoRig.h"
 #include "Tracking/StereoFeatures.h"
@@ -53,7 +61,9 @@ struct TrackResult {
   int features = 0;              ///< ORB features in this frame
   int featuresWithDepth = 0;
   int matches = 0;               ///< reference features (with depth) that found a descriptor match here
-  int inliers = 0;               ///< DynamicR1PPnP inliers
+  int inliers = 0;               ///< DynamicR1PPnP inliers (within dynamicResidualPx after the last polish)
+  int movingMatches = 0;         ///< matches of key-frame features that moved recently: kept out of the pose
+  bool relocalised = false;      ///< tracked again after lost frames
   double rmsErrorPx = 0;         ///< inliers' reprojection error
   double orbVotingMs = 0;        ///< ORB detection, description, lifting, matching and histogram voting (not the wait for the disparity)
   double pnpMs = 0;              ///< DynamicR1PPnP
@@ -79,17 +89,31 @@ public:
   /// Supplies the frame's disparity when the tracker needs it; it may block (e.g. on the stereo stage running on
   /// another thread).
   using DisparitySource = std::function<cv::Mat()>;
+  /// A check of a solved pose before it is taken (e.g. the model agreement): an empty string accepts it, a reason
+  /// refuses it (the frame is then lost with that reason). Called after the frame's disparity was taken.
+  using PoseCheck = std::function<std::string(const Eigen::Matrix4d& T_world_camera)>;
   /// The same, with the disparity asked for only after the features are matched and the pose is solved, so that the
   /// stereo stage can compute it meanwhile. `disparityPx` is called exactly once, on every path that returns.
-  TrackResult track(const cv::Mat& leftRectified, const DisparitySource& disparityPx);
+  /// `check` (optional) may refuse the pose.
+  TrackResult track(const cv::Mat& leftRectified, const DisparitySource& disparityPx, const PoseCheck& check = {});
+  /// Takes a pose found for the last frame some other way (relocalisation against stored key frames) after track()
+  /// reported it lost: the frame becomes the key frame later frames are tracked against. Returns the frame's result
+  /// as tracked, relocalised key frame. Throws Error when the last frame was tracked or the pose is not rigid.
+  TrackResult acceptRelocalisation(const Eigen::Matrix4d& T_world_camera, int inliers);
+  /// True while the frames since the last tracked one are lost.
+  bool isLost() const;
+  /// The pose of the last tracked frame (the start pose before any) and its index (-1 before any).
+  const Eigen::Matrix4d& lastTrackedPose() const;
+  int lastTrackedFrame() const;
 
   /// Frames given to track() so far.
   int frameCount() const;
-  /// The features of the frame last given to track() (empty before the first call), for key-frame refinement.
+  /// The features of the frame last given to track() (empty before the first call), for key-frame refinement:
+  /// features that moved with the scene have no 3D point (NaN).
   const StereoFeatures& lastFeatures() const;
   /// Replaces the pose of the last tracked frame (e.g. after key-frame refinement): later frames are tracked
-  /// relative to the corrected pose, and a corrected key frame is the new reference of the key-frame decision.
-  /// Throws Error when the last frame was not tracked or the pose is not rigid.
+  /// relative to the corrected pose, and a corrected key frame is the new reference of the key-frame decision and
+  /// of tracking. Throws Error when the last frame was not tracked or the pose is not rigid.
   void correctLastPose(const Eigen::Matrix4d& T_world_camera);
   const FrameTrackerOptions& options() const;
 

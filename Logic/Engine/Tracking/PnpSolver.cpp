@@ -7,6 +7,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -161,6 +162,33 @@ int refine(const Points3d& points, const Pixels2d& pixels, const std::vector<std
     previous = inliers;
   }
   return select(matches) ? static_cast<int>(inliers.size()) : 0;
+}
+
+/// The result for the pose (R, t): its matches within thresholdPx (primary or candidate) and their RMS error;
+/// failure when fewer than max(minInliers, 4).
+PnpResult solvedPose(const Points3d& points, const Pixels2d& pixels,
+                     const std::vector<std::vector<CandidateMatch>>& candidates, const PinholeIntrinsics& k,
+                     const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double thresholdPx, int minInliers,
+                     int hypotheses, int innerIterations) {
+  const double H2 = thresholdPx * thresholdPx;
+  const std::vector<BestMatch> matches = bestMatches(points, pixels, candidates, k, R, t);
+  PnpResult result;
+  double sum2 = 0;
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    if (matches[i].error2 > H2) continue;
+    result.inlierIndices.push_back(i);
+    result.inlierMatch.push_back(matches[i].slot);
+    sum2 += matches[i].error2;
+  }
+  if (static_cast<int>(result.inlierIndices.size()) < std::max(minInliers, 4))
+    return failure("PnP: too few inliers after polishing", hypotheses, innerIterations);
+  result.success = true;
+  result.T_camera_world.block<3, 3>(0, 0) = R;
+  result.T_camera_world.block<3, 1>(0, 3) = t;
+  result.hypotheses = hypotheses;
+  result.innerIterations = innerIterations;
+  result.rmsInlierErrorPx = std::sqrt(sum2 / static_cast<double>(result.inlierIndices.size()));
+  return result;
 }
 
 PnpResult solve(const Points3d& points, const Pixels2d& pixels,
@@ -320,28 +348,8 @@ PnpResult solve(const Points3d& points, const Pixels2d& pixels,
                    hypotheses, innerIterations);
   }
 
-  const Eigen::Matrix3d R = best.R;
-  const Eigen::Vector3d t = best.tMm;
-  const double H2 = params.inlierThresholdPx * params.inlierThresholdPx;
-  std::vector<BestMatch> matches;
-  matches = bestMatches(points, pixels, candidates, k, R, t);
-  PnpResult result;
-  double sum2 = 0;
-  for (int i = 0; i < n; ++i) {
-    if (matches[i].error2 > H2) continue;
-    result.inlierIndices.push_back(i);
-    result.inlierMatch.push_back(matches[i].slot);
-    sum2 += matches[i].error2;
-  }
-  if (static_cast<int>(result.inlierIndices.size()) < std::max(params.minInliers, 4))
-    return failure("PnP: too few inliers after polishing", hypotheses, innerIterations);
-  result.success = true;
-  result.T_camera_world.block<3, 3>(0, 0) = R;
-  result.T_camera_world.block<3, 1>(0, 3) = t;
-  result.hypotheses = hypotheses;
-  result.innerIterations = innerIterations;
-  result.rmsInlierErrorPx = std::sqrt(sum2 / static_cast<double>(result.inlierIndices.size()));
-  return result;
+  return solvedPose(points, pixels, candidates, k, best.R, best.tMm, params.inlierThresholdPx, params.minInliers,
+                    hypotheses, innerIterations);
 }
 
 }  // namespace
@@ -361,6 +369,50 @@ PnpResult solveDynamicR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx,
   }
   return solve(pointsMm, pixelsPx, candidates, intrinsics, parameters, voteOrder, T_camera_world_guess,
                hypothesesAtOnce);
+}
+
+PnpResult polishPnpPose(const Points3d& pointsMm, const Pixels2d& pixelsPx,
+                        const std::vector<std::vector<CandidateMatch>>& candidates, const PinholeIntrinsics& intrinsics,
+                        const Eigen::Matrix4d& T_camera_world, double thresholdPx, int minInliers) {
+  require(pixelsPx.size() == pointsMm.size() && (candidates.empty() || candidates.size() == pointsMm.size()),
+          "PnP polish: the 3D points, pixels and candidate lists differ in number");
+  require(thresholdPx > 0 && T_camera_world.allFinite(), "PnP polish: the threshold must be positive, the pose finite");
+  Eigen::Matrix3d R = T_camera_world.block<3, 3>(0, 0);
+  Eigen::Vector3d t = T_camera_world.block<3, 1>(0, 3);
+  if (refine(pointsMm, pixelsPx, candidates, intrinsics, thresholdPx, R, t) < std::max(minInliers, 4)) {
+    return failure("PnP polish: fewer than " + std::to_string(std::max(minInliers, 4)) + " matches within " +
+                   cv::format("%.1f", thresholdPx) + " px");
+  }
+  return solvedPose(pointsMm, pixelsPx, candidates, intrinsics, R, t, thresholdPx, minInliers, 0, 0);
+}
+
+PnpResult polishOnFittingMatches(const Points3d& pointsMm, const Pixels2d& pixelsPx,
+                                 const std::vector<std::vector<CandidateMatch>>& candidates,
+                                 const PinholeIntrinsics& intrinsics, const PnpResult& solved, double maxPx,
+                                 int minInliers, double* fitPx) {
+  if (fitPx) *fitPx = maxPx;
+  if (!solved.success || solved.inlierIndices.empty() || !(maxPx > 0)) return solved;
+  const Eigen::Matrix3d R = solved.rotation();
+  const Eigen::Vector3d t = solved.translationMm();
+  std::vector<double> residuals;
+  residuals.reserve(solved.inlierIndices.size());
+  for (std::size_t k = 0; k < solved.inlierIndices.size(); ++k) {
+    const int i = solved.inlierIndices[k], slot = solved.inlierMatch[k];
+    const Eigen::Vector3d c = R * pointsMm[static_cast<std::size_t>(i)] + t;
+    Eigen::Vector2d projected;
+    intrinsics.project(c.x(), c.y(), c.z(), projected.x(), projected.y());
+    const Eigen::Vector2d& seen = slot < 0 ? pixelsPx[static_cast<std::size_t>(i)]
+                                           : candidates[static_cast<std::size_t>(i)][static_cast<std::size_t>(slot)].pixelPx;
+    residuals.push_back((projected - seen).norm());
+  }
+  std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
+  const double bound = std::clamp(kFitMedianFactor * residuals[residuals.size() / 2], std::min(kFitMinPx, maxPx), maxPx);
+  if (fitPx) *fitPx = bound;
+  PnpResult tight = polishPnpPose(pointsMm, pixelsPx, candidates, intrinsics, solved.T_camera_world, bound, minInliers);
+  if (!tight.success) return solved;
+  tight.hypotheses = solved.hypotheses;
+  tight.innerIterations = solved.innerIterations;
+  return tight;
 }
 
 void poseDifference(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double& rotationDeg, double& centreMm) {

@@ -77,6 +77,27 @@ PnpResult solveDynamicR1Ppnp(const Points3d& pointsMm, const Pixels2d& pixelsPx,
                              const std::vector<int>& voteOrder = {},
                              const Eigen::Matrix4d* T_camera_world_guess = nullptr, int hypothesesAtOnce = 1);
 
+/// A solved pose polished again on the matches within thresholdPx of it (primary or candidate, re-selected until
+/// the set settles, as the solvers' own last step): a tighter final fit that leaves out matches a little off, e.g.
+/// points that moved with the scene. Failure (no pose) when fewer than max(minInliers, 4) matches remain or they do
+/// not fix a pose. Throws Error for arrays of different lengths or a non-positive threshold.
+PnpResult polishPnpPose(const Points3d& pointsMm, const Pixels2d& pixelsPx,
+                        const std::vector<std::vector<CandidateMatch>>& candidates, const PinholeIntrinsics& intrinsics,
+                        const Eigen::Matrix4d& T_camera_world, double thresholdPx, int minInliers);
+
+/// The final fit that keeps scene motion out of a pose (not in the paper): `solved`'s pose polished again
+/// (polishPnpPose) on the matches within a bound that follows the set's own matching noise: kFitMedianFactor times
+/// the median reprojection error of solved's inliers, at least kFitMinPx, at most maxPx. Matches a little off
+/// (points the scene moved, still within H) would otherwise bend the pose toward their motion. Returns `solved`
+/// unchanged when it failed, the polish leaves too few matches, or maxPx is 0 (off). fitPx (optional): the bound used (maxPx when none).
+PnpResult polishOnFittingMatches(const Points3d& pointsMm, const Pixels2d& pixelsPx,
+                                 const std::vector<std::vector<CandidateMatch>>& candidates,
+                                 const PinholeIntrinsics& intrinsics, const PnpResult& solved, double maxPx,
+                                 int minInliers, double* fitPx = nullptr);
+/// Rayleigh-distributed matching noise exceeds 3 medians about once in 200; sub-pixel matches are good to ~0.2 px.
+constexpr double kFitMedianFactor = 3.0;
+constexpr double kFitMinPx = 0.5;
+
 /// Rotation angle (degrees) and camera-centre distance (mm) between two T_camera_world poses; for tests and benches.
 void poseDifference(const Eigen::Matrix4d& a, const Eigen::Matrix4d& b, double& rotationDeg, double& centreMm);
 

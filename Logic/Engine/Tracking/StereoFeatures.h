@@ -49,6 +49,9 @@ struct StereoFeatures {
   cv::Mat descriptors;    ///< CV_8U, one 32-byte row per keypoint
   Points3d pointsCameraMm;
   int withDepth = 0;      ///< keypoints that have a 3D point
+  /// Per keypoint, set by FrameTracker: 1 where the feature moved with the scene recently (its 3D point is then
+  /// cleared too); empty: nothing known.
+  std::vector<uint8_t> moving;
 };
 
 /// Finds keypoints and 32-byte binary descriptors (one CV_8U row each) in an 8-bit grey image.

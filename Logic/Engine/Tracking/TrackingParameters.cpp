@@ -32,6 +32,12 @@ void TrackingParameters::validate() const {
   requireRange("keyFrameMinInliers", keyFrameMinInliers, 4, 100000);
   requireRange("keyFrameMinGapFrames", keyFrameMinGapFrames, 0, 100000);
   requireRange("keyFramePoseThreshold", keyFramePoseThreshold, 0.0, 1e6);
+  requireRange("dynamicResidualPx", dynamicResidualPx, 0.0, 100.0);
+  requireRange("dynamicDisparityPx", dynamicDisparityPx, 0.0, 1000.0);
+  requireRange("dynamicScoreDecay", dynamicScoreDecay, 0.0, 1.0);
+  requireRange("dynamicExcludeScore", dynamicExcludeScore, 0.0, 1.0);
+  requireRange("relocalisationMinInliers", relocalisationMinInliers, 4, 100000);
+  requireRange("relocalisationCandidates", relocalisationCandidates, 0, 1000);
 }
 
 void TrackingParameters::write(cv::FileStorage& storage) const {
@@ -41,6 +47,10 @@ void TrackingParameters::write(cv::FileStorage& storage) const {
   storage << "ransacConfidence" << ransacConfidence << "maxInnerIterations" << maxInnerIterations;
   storage << "minInliers" << minInliers << "keyFrameMinInliers" << keyFrameMinInliers;
   storage << "keyFrameMinGapFrames" << keyFrameMinGapFrames << "keyFramePoseThreshold" << keyFramePoseThreshold;
+  storage << "dynamicResidualPx" << dynamicResidualPx << "dynamicDisparityPx" << dynamicDisparityPx;
+  storage << "dynamicScoreDecay" << dynamicScoreDecay;
+  storage << "dynamicExcludeScore" << dynamicExcludeScore << "relocalisationMinInliers" << relocalisationMinInliers;
+  storage << "relocalisationCandidates" << relocalisationCandidates;
   storage << "}";
 }
 
@@ -58,6 +68,12 @@ TrackingParameters TrackingParameters::read(const cv::FileNode& node) {
   readKey(node, "keyFrameMinInliers", p.keyFrameMinInliers);
   readKey(node, "keyFrameMinGapFrames", p.keyFrameMinGapFrames);
   readKey(node, "keyFramePoseThreshold", p.keyFramePoseThreshold);
+  readKey(node, "dynamicResidualPx", p.dynamicResidualPx);
+  readKey(node, "dynamicDisparityPx", p.dynamicDisparityPx);
+  readKey(node, "dynamicScoreDecay", p.dynamicScoreDecay);
+  readKey(node, "dynamicExcludeScore", p.dynamicExcludeScore);
+  readKey(node, "relocalisationMinInliers", p.relocalisationMinInliers);
+  readKey(node, "relocalisationCandidates", p.relocalisationCandidates);
   p.validate();
   return p;
 }

@@ -26,6 +26,24 @@ struct TrackingParameters {
   int keyFrameMinGapFrames = 10;      ///< ... and this many frames since the last key frame,
   double keyFramePoseThreshold = 10;  ///< ... or a pose difference ||dt|| + 20 min(||dE||, 2pi - ||dE||) above this
 
+  // Scene motion (not in the paper). Frames are tracked against the last key frame; a key-frame feature moved with
+  // the scene (breathing, an instrument) when its match lands off where the frame's pose projects it (farther than
+  // 3 times the frame's median inlier residual, 0.5 px at least, dynamicResidualPx at most), or its depth in this
+  // frame differs from the depth the pose predicts by more than dynamicDisparityPx of disparity. Its motion score then jumps to 1; the score decays by dynamicScoreDecay per
+  // tracked frame and is handed on to the feature it matched when the frame becomes a key frame. Features scoring
+  // above dynamicExcludeScore do not steer the pose (while enough others remain) and are not stored for refinement
+  // or relocalisation. The pose is polished last on the matches that sit where it projects them (the same bound).
+  // dynamicResidualPx 0 switches the image test and the final fit off, dynamicDisparityPx 0 the depth test.
+  double dynamicResidualPx = 2.0;
+  double dynamicDisparityPx = 1.0;
+  double dynamicScoreDecay = 0.97;
+  double dynamicExcludeScore = 0.3;
+
+  // Relocalisation (not in the paper): a lost frame is matched with stored key frames (those that overlapped the
+  // last tracked view first, then the others in turn), R1PPnP on the matches.
+  int relocalisationMinInliers = 30;  ///< a relocalised pose needs this many inliers
+  int relocalisationCandidates = 6;   ///< stored key frames tried per lost frame
+
   /// Throws Error naming the first parameter that is out of range.
   void validate() const;
 

@@ -1,0 +1,38 @@
+#include "SyntheticBreathing.h"
+
+#include "Core/Error.h"
+
+#include <cmath>
+
+namespace tissuemosaic::synthetic {
+
+SyntheticBreathing::SyntheticBreathing(double amplitudeMm, double periodS, const cv::Point2d& centreMm,
+                                       double innerRadiusMm, double outerRadiusMm)
+    : amplitudeMm_(amplitudeMm), periodS_(periodS) {
+  require(amplitudeMm > 0 && periodS > 0 && innerRadiusMm >= 0 && outerRadiusMm > innerRadiusMm,
+          "synthetic breathing: amplitude, period and radii must be positive, the outer radius beyond the inner");
+  shape_.centreXMm = centreMm.x;
+  shape_.centreYMm = centreMm.y;
+  shape_.innerRadiusMm = innerRadiusMm;
+  shape_.outerRadiusMm = outerRadiusMm;
+  shape_.amplitudeMm = 1;
+}
+
+SurfaceSwell SyntheticBreathing::swellAt(double timeS) const {
+  SurfaceSwell swell = shape_;
+  constexpr double twoPi = 6.283185307179586;
+  swell.amplitudeMm = active() ? -amplitudeMm_ * 0.5 * (1 - std::cos(twoPi * timeS / periodS_)) : 0.0;
+  return swell;
+}
+
+SurfaceSwell SyntheticBreathing::peakSwell() const {
+  SurfaceSwell swell = shape_;
+  swell.amplitudeMm = -amplitudeMm_;
+  return swell;
+}
+
+double SyntheticBreathing::peakDisplacementMm(double xMm, double yMm) const {
+  return active() ? amplitudeMm_ * shape_.weight(xMm, yMm) : 0.0;
+}
+
+}  // namespace tissuemosaic::synthetic

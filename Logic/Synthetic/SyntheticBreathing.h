@@ -1,0 +1,44 @@
+#pragma once
+/// @file SyntheticBreathing.h
+/// @brief The breathing of part of the tissue: a flat-topped swell (SurfaceSwell.h) that rises toward the scope
+/// and falls back once per breath, d(x, y, t) = A w(x, y) (1 - cos(2 pi t / T)) / 2 along world -Z: A at its
+/// centre, exactly 0 outside its outer radius. The texture stays attached to the tissue (it is painted on X, Y, and
+/// the tissue moves along Z only), so a breathing point is one material point at every instant.
+///
+/// Ground truth: the surface at a frame is TissueSurface::swollen(swellAt(t)); the part that never moves is where
+/// the peak displacement A w is at most kStaticToleranceMm.
+#include "SurfaceSwell.h"
+
+#include <opencv2/core.hpp>
+
+namespace tissuemosaic::synthetic {
+
+class SyntheticBreathing {
+public:
+  /// A region no moving point is farther than this (mm) from its rest position: static_surface.ply keeps it.
+  static constexpr double kStaticToleranceMm = 0.01;
+
+  SyntheticBreathing() = default;
+  /// amplitudeMm > 0, periodS > 0: the swell centred at centreMm (world XY) with the given radii.
+  SyntheticBreathing(double amplitudeMm, double periodS, const cv::Point2d& centreMm, double innerRadiusMm,
+                     double outerRadiusMm);
+
+  bool active() const { return amplitudeMm_ > 0; }
+  /// The swell at time t (s): amplitude -A (1 - cos(2 pi t / T)) / 2, so at t = 0 the surface is at rest.
+  SurfaceSwell swellAt(double timeS) const;
+  /// The swell at its peak (the surface nearest the scope).
+  SurfaceSwell peakSwell() const;
+  /// Largest displacement of the tissue at world (x, y) over a breath (mm).
+  double peakDisplacementMm(double xMm, double yMm) const;
+  /// True where the tissue never moves by more than kStaticToleranceMm.
+  bool isStatic(double xMm, double yMm) const { return peakDisplacementMm(xMm, yMm) <= kStaticToleranceMm; }
+  const SurfaceSwell& shape() const { return shape_; }
+  double amplitudeMm() const { return amplitudeMm_; }
+  double periodS() const { return periodS_; }
+
+private:
+  double amplitudeMm_ = 0, periodS_ = 4;
+  SurfaceSwell shape_;  ///< amplitude 1 (the weight alone)
+};
+
+}  // namespace tissuemosaic::synthetic
