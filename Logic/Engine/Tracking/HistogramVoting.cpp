@@ -17,10 +17,13 @@ HistogramVote histogramVote(const std::vector<Eigen::Vector2d, Eigen::aligned_al
   require(binSizePx > 0 && std::isfinite(binSizePx), "histogram voting: the bin size must be a positive number of pixels");
   const int n = static_cast<int>(fromPx.size());
   // Sparse histogram: displacements span the whole image, but only a few bins are occupied.
-  const auto key = [](long long bx, long long by) { return (bx << 32) ^ (by & 0xffffffffLL); };
+  // Shifted as unsigned: shifting a negative bin index is undefined behaviour in C++17 (UBSan reports it).
+  const auto key = [](long long bx, long long by) {
+    return (static_cast<unsigned long long>(bx) << 32) ^ (static_cast<unsigned long long>(by) & 0xffffffffULL);
+  };
   std::vector<long long> binX(n), binY(n);
   std::vector<char> valid(n, 0);
-  std::unordered_map<long long, int> counts;
+  std::unordered_map<unsigned long long, int> counts;
   counts.reserve(2 * static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector2d d = toPx[i] - fromPx[i];

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The sanitizer step of run-tests.sh (and of CI): configures a build with AddressSanitizer + UndefinedBehaviorSanitizer
+# (TISSUEMOSAIC_SANITIZE, cmake/Sanitizers.cmake; CUDA and GUI off), builds only the two binaries that the labelled
+# subset needs, and runs that subset (ctest label "sanitize": readers, parameter files, calibration, stereo, tracking
+# and fusion on the CPU, atomic files, bad input to the command-line tool). Exits non-zero on failure.
+# Extra arguments go to ctest. docs/TESTING.md says what it covers and how long it takes.
+#
+# Environment (all optional): TM_SANITIZE_BUILD_DIR (default <repo>/build-asan), TM_JOBS (default nproc).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+build="${TM_SANITIZE_BUILD_DIR:-$root/build-asan}"
+jobs="${TM_JOBS:-$(nproc)}"
+start=$SECONDS
+
+printf '\n== sanitizer build: configuring %s\n' "$build"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTISSUEMOSAIC_SANITIZE=ON -DTM_WITH_GUI=OFF > /dev/null
+printf '\n== sanitizer build: building the subset'"'"'s binaries with %s jobs\n' "$jobs"
+cmake --build "$build" -j "$jobs" --target TissueMosaicEngineTests tissuemosaic
+built=$SECONDS
+
+printf '\n== sanitizer build: running the subset (ctest -L sanitize)\n'
+log="$build/Testing/run-sanitize-tests.log"
+mkdir -p "$(dirname "$log")"
+status=0
+ctest --test-dir "$build" -L sanitize --output-on-failure -j "$jobs" "$@" 2>&1 | tee "$log" || status=$?
+grep -E 'tests passed|tests failed out of' "$log" || echo "ctest printed no summary (see $log)"
+echo "sanitizer step: build $((built - start)) s, tests $((SECONDS - built)) s"
+if [ "$status" -ne 0 ]; then
+  echo "SANITIZER RESULT: FAILED (ctest exit status $status; full log: $log)"
+  exit "$status"
+fi
+echo "SANITIZER RESULT: PASSED"
