@@ -312,7 +312,7 @@ TEST(ReconstructionModulePanel, ControlsFollowTheScanState) {
   ASSERT_TRUE(start && reset && exportModel);
   EXPECT_FALSE(start->isEnabled()) << "no input yet";
   EXPECT_FALSE(exportModel->isEnabled());
-  EXPECT_EQ(panel.timingTable()->rowCount(), 7);
+  EXPECT_EQ(panel.timingTable()->rowCount(), 8);  // the paper's 7 stages and the model agreement
 
   EXPECT_FALSE(panel.openFrameFolders("/nonexistent/left", "/nonexistent/right"));
   EXPECT_FALSE(panel.lastMessage().isEmpty());
