@@ -56,5 +56,16 @@ TEST(ParameterFiles, EveryWrittenKeyReadsBackAndEmptyFilesAreNamed) {
             std::string::npos);
 }
 
+// Found by fuzz_params (Testing/Fuzz/corpus/fuzz_params/crash-*): OpenCV's YAML parser lets an empty key out as
+// std::length_error, which is not an Error (the CLI printed "basic_string::_M_create").
+TEST(ParameterFiles, ParserFailuresOtherThanCvExceptionAreErrors) {
+  const std::string text = "%YAML:1.0\n---\nstereo:\n   minDisparityPx: -20\n   :\n   refineAlpha: 0.1\n";
+  const std::string path = writeFile("empty-key.yml", text);
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(path); })
+                .find("cannot read parameters file '" + path + "': not a valid YAML/XML file"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::parse(text); }).find("not valid YAML/XML"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace tissuemosaic

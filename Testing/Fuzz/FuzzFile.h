@@ -5,7 +5,7 @@
 /// libFuzzer, which reports it as a crash, as it does for ASan/UBSan findings, a hang or a leak.
 #include "Core/Error.h"
 
-#include <opencv2/core/utils/logging.hpp>
+#include <opencv2/core/utils/logger.hpp>
 
 #include <cstddef>
 #include <cstdint>

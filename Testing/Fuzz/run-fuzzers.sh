@@ -25,8 +25,9 @@ if ((${#targets[@]} == 0)); then
   for dir in "$root"/Testing/Fuzz/corpus/*/; do targets+=("$(basename "$dir")"); done
 fi
 mkdir -p "$out"
-# The readers' temporary files (FuzzFile.h) go here and are removed with it, even after a crash.
-scratch=$(mktemp -d)
+# The readers' temporary files (FuzzFile.h) go here and are removed with it, even after a crash
+# (in memory where /dev/shm exists: every execution writes one).
+if [[ -w /dev/shm ]]; then scratch=$(mktemp -d -p /dev/shm); else scratch=$(mktemp -d); fi
 trap 'rm -rf "$scratch"' EXIT
 
 printf '%-24s %14s %8s\n' target executions crashes | tee "$out/summary.txt"
@@ -42,7 +43,7 @@ for target in "${targets[@]}"; do
   # -fork=1: a crash, timeout or leak is recorded and the run goes on (-ignore_*), so one target's time is used
   # whole and every distinct crash is kept.
   set +e
-  TMPDIR=$scratch "$binary" "$corpus" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -fork=1 \
+  TMPDIR=$scratch LSAN_OPTIONS=suppressions=$root/Testing/Fuzz/lsan-suppressions.txt "$binary" "$corpus" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -fork=1 \
     -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 -artifact_prefix="$artifacts/" -print_final_stats=1 \
     >"$out/$target.log" 2>&1
   set -e

@@ -46,6 +46,9 @@ cv::FileStorage openParameterFile(const std::string& path) {
   } catch (const cv::Exception& error) {
     // error.err, not what(): OpenCV's source file and line mean nothing to a user.
     throw Error(context + "not a valid YAML/XML file (" + error.err + ")");
+  } catch (const std::exception& error) {
+    // OpenCV's parser lets some of its own failures out as std::length_error (an empty key: "   :").
+    throw Error(context + "not a valid YAML/XML file (" + error.what() + ")");
   }
   require(storage.isOpened(), context + "not a valid YAML/XML file");
   require(storage.root().isMap() && storage.root().size() > 0,

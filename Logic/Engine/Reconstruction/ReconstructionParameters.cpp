@@ -76,6 +76,8 @@ ReconstructionParameters ReconstructionParameters::parse(const std::string& yaml
     storage.open(yamlText, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   } catch (const cv::Exception& error) {
     throw Error("cannot parse parameters: not valid YAML/XML (" + error.err + ")");
+  } catch (const std::exception& error) {  // OpenCV's parser lets some failures out as std::length_error
+    throw Error("cannot parse parameters: not valid YAML/XML (" + std::string(error.what()) + ")");
   }
   require(storage.isOpened(), "cannot parse parameters");
   try {
