@@ -273,6 +273,14 @@ TEST(CalibrationLayouts, MatrixSizeBeyondItsDataIsRefusedBeforeAllocating) {
   writeText(path, "%YAML:1.0\n---\nK1: !!opencv-matrix\n   rows: -3\n   cols: 3\n   dt: d\n   data: [ 1., 2. ]\n");
   EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); }).find("key 'K1' says -3x3"),
             std::string::npos);
+  // A complex YAML key (a list as key) made the list of keys in the no-layout error throw YAML::TypedBadConversion
+  // (found by fuzz_calibration: corpus/fuzz_calibration/crash-f6b9a089*).
+  writeText(path, "focal: 800\n? [a, b]\n: 5\n");
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); }).find("its keys (focal [a, b])"),
+            std::string::npos);
+  writeText(path, "K1: {rows: 3}\nD1: [1, 2, 3, 4]\nK2: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\nD2: [1, 2, 3, 4]\nR: x\nT: [1, 2, 3]\n");
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); }).find("cannot read stereo calibration"),
+            std::string::npos);
   // OpenCV's parser lets an empty key out as std::length_error, not cv::Exception (found by fuzz_params).
   writeText(path, "%YAML:1.0\n---\nK1:\n   :\n");
   EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); })

@@ -67,5 +67,18 @@ TEST(ParameterFiles, ParserFailuresOtherThanCvExceptionAreErrors) {
   EXPECT_NE(errorOf([&] { ReconstructionParameters::parse(text); }).find("not valid YAML/XML"), std::string::npos);
 }
 
+// Found by fuzz_params (corpus/fuzz_params/timeout-6a984fd7*, 272 bytes, minimised to this): OpenCV 4.6's YAML
+// parser never returned, so `stereo --params` hung. yaml-cpp reads the text first.
+TEST(ParameterFiles, TextsThatHangOpenCvsParserAreErrors) {
+  for (const std::string text : {"%YAML:1.0\n L:0\n-a--\n", "%YAML:1.0\n L:0\n-~--x\n"}) {
+    const std::string path = writeFile("hangs-opencv.yml", text);
+    EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(path); }).find("cannot read parameters file '" + path + "': "),
+              std::string::npos);
+    EXPECT_NE(errorOf([&] { ReconstructionParameters::parse(text); }).find("cannot parse parameters: "), std::string::npos);
+  }
+  const std::string broken = writeFile("broken.yml", "%YAML:1.0\n---\nstereo: [1, 2\n");
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(broken); }).find("not a valid YAML file ("), std::string::npos);
+}
+
 }  // namespace
 }  // namespace tissuemosaic

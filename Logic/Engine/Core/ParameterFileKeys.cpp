@@ -4,6 +4,7 @@
 #include "Core/Error.h"
 
 #include <filesystem>
+#include <yaml-cpp/yaml.h>
 #include <fstream>
 #include <iterator>
 #include <vector>
@@ -33,6 +34,22 @@ void requireKnownKeys(const cv::FileNode& given, const cv::FileNode& known, cons
   }
 }
 
+void requireWellFormedYaml(const std::string& text, const std::string& context) {
+  const std::size_t start = text.find_first_not_of(" \t\r\n");
+  if (start == std::string::npos || text[start] == '<') return;  // empty (the callers say so) or XML
+  // OpenCV's "%YAML:1.0" is not a YAML directive yaml-cpp knows: the rest of the file is plain YAML.
+  const std::size_t body = text.compare(start, 5, "%YAML") == 0 ? text.find('\n', start) : start;
+  YAML::Node root;
+  try {
+    root = YAML::Load(body == std::string::npos ? std::string() : text.substr(body));
+  } catch (const YAML::Exception& error) {
+    throw Error(context + "not a valid YAML file (" + error.msg + " at line " + std::to_string(error.mark.line + 1) +
+                ")");
+  }
+  require(root.IsMap() && root.size() > 0,
+          context + "the file holds no parameter node (such as 'stereo:' or 'tracking:', see Resources/Presets)");
+}
+
 cv::FileStorage openParameterFile(const std::string& path) {
   const std::string context = "cannot read parameters file '" + path + "': ";
   require(std::filesystem::is_regular_file(path), "cannot open parameters file '" + path + "': file does not exist");
@@ -40,6 +57,7 @@ cv::FileStorage openParameterFile(const std::string& path) {
   const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   require(text.find_first_not_of(" \t\r\n") != std::string::npos,
           context + "the file is empty (it should hold nodes such as 'stereo:' or 'tracking:', see Resources/Presets)");
+  requireWellFormedYaml(text, context);
   cv::FileStorage storage;
   try {
     storage.open(path, cv::FileStorage::READ);

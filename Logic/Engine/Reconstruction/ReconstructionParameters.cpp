@@ -71,6 +71,7 @@ ReconstructionParameters ReconstructionParameters::readFile(const std::string& p
 }
 
 ReconstructionParameters ReconstructionParameters::parse(const std::string& yamlText) {
+  parameters::requireWellFormedYaml(yamlText, "cannot parse parameters: ");
   cv::FileStorage storage;
   try {
     storage.open(yamlText, cv::FileStorage::READ | cv::FileStorage::MEMORY);

@@ -118,10 +118,17 @@ CalibrationDocument CalibrationDocument::load(const std::string& path) {
 
 void CalibrationDocument::merge(const CalibrationDocument& other) {
   for (const auto& entry : other.root) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = keyText(entry.first);
     require(!root[key], "key '" + key + "' is in both '" + path + "' and '" + other.path + "'");
     root[key] = entry.second;
   }
+}
+
+std::string keyText(const YAML::Node& key) {
+  if (key.IsScalar()) return key.Scalar();
+  YAML::Emitter flow;
+  flow << YAML::Flow << key;
+  return flow.c_str();
 }
 
 bool hasKeys(const YAML::Node& node, std::initializer_list<const char*> keys) {
