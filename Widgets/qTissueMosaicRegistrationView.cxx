@@ -2,6 +2,7 @@
 
 #include "qTissueMosaicViewLegends.h"
 #include "vtkTissueMosaicDistanceReport.h"
+#include "vtkTissueMosaicPointPick.h"
 #include "vtkTissueMosaicRegistrationLogic.h"
 
 #include <QVTKOpenGLNativeWidget.h>
@@ -19,7 +20,6 @@
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
-#include <vtkPointPicker.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
@@ -40,11 +40,15 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <functional>
 #include <memory>
 
 namespace {
+
+/// How far from the cursor a click still picks a scan point: a fraction of the view's diagonal (5.7 px at 900x700).
+constexpr double kPickRadiusOfDiagonal = 0.005;
 
 /// The usual trackball camera, plus: a left click that does not drag calls `Click` (picking). A style rather than
 /// an interactor observer, because the style grabs the mouse focus on a press and then receives the release alone.
@@ -148,7 +152,6 @@ public:
   vtkNew<vtkPolyData> LabelPoints;
   vtkNew<vtkLabeledDataMapper> LabelMapper;
   vtkNew<vtkActor2D> LabelActor;
-  vtkNew<vtkPointPicker> PointPicker;
   vtkNew<vtkCellPicker> CellPicker;
   vtkNew<ClickPickingStyle> InteractorStyle;
   PickMode Mode = PickNone;
@@ -236,11 +239,6 @@ void qTissueMosaicRegistrationView::Private::setupScene() {
   this->Renderer->AddActor2D(this->ScalarBar);
   this->Renderer->AddActor2D(this->LabelActor);
 
-  this->PointPicker->PickFromListOn();
-  this->PointPicker->AddPickList(this->ModelActor);
-  this->PointPicker->AddPickList(this->DistanceActor);
-  this->PointPicker->SetTolerance(0.005);  // fraction of the window diagonal
-
   if (vtkRenderWindowInteractor* interactor = this->RenderWindow->GetInteractor()) {
     interactor->SetInteractorStyle(this->InteractorStyle);
   }
@@ -321,12 +319,16 @@ int qTissueMosaicRegistrationView::Private::pickModel(int x, int y, QString& rea
     const Eigen::Vector3d modelPoint = mapped(targetFromModel.inverse(), Eigen::Vector3d(world[0], world[1], world[2]));
     return this->Logic->AddModelLandmark(modelPoint);
   }
-  // A point cloud: the scanned point nearest the ray (ids are the model's: both actors keep its point order).
-  if (!this->PointPicker->Pick(x, y, 0, this->Renderer)) {
-    reason = missed;
-    return -1;
-  }
-  const vtkIdType id = this->PointPicker->GetPointId();
+  // A point cloud: the scan point drawn under the cursor, in whichever actor shows the model (ids are the model's:
+  // both keep its point order). Not vtkPointPicker: its threaded search made the same click pick different points.
+  const bool byDistance = this->DistanceActor->GetVisibility();
+  vtkActor* shown = byDistance ? this->DistanceActor.Get() : this->ModelActor.Get();
+  vtkPolyData* drawn = byDistance ? this->Logic->GetRegisteredModel() : model;
+  const int* sizePx = this->Renderer->GetSize();
+  const double radiusPx = kPickRadiusOfDiagonal * std::hypot(sizePx[0], sizePx[1]);
+  const vtkIdType id = drawn ? tissuemosaic::pickDrawnPoint(this->Renderer, shown, drawn->GetPoints(), x, y,
+                                                            shown->GetProperty()->GetPointSize(), radiusPx)
+                             : -1;
   if (id < 0 || id >= model->GetNumberOfPoints()) {
     reason = missed;
     return -1;

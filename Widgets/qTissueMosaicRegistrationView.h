@@ -6,8 +6,9 @@
 /// axes and a scale bar. The model and its landmarks are drawn through the current transform T_target_model, so the
 /// model moves onto the CT/MR model as the registration proceeds.
 ///
-/// Picking: in a pick mode, a left click that does not drag puts a landmark on the model (the scan point nearest the
-/// ray, or the hit point of a surface) or on the CT/MR surface (the hit point); dragging still turns the camera.
+/// Picking: in a pick mode, a left click that does not drag puts a landmark on the model (the scan point drawn under
+/// the cursor, see vtkTissueMosaicPointPick.h, or the hit point of a surface) or on the CT/MR surface (the hit
+/// point); dragging still turns the camera.
 ///
 /// The application shows this view in its main view area while the Registration module is active (as 3D Slicer
 /// switches its layout); the panel, qTissueMosaicRegistrationWidget, holds the controls. The view is a
