@@ -35,6 +35,7 @@
 #include <iterator>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 namespace tissuemosaic {
 
@@ -165,6 +166,55 @@ void requireVtkXmlArrayTypesKnown(const std::string& path) {
   }
 }
 
+/// VTK 9.1's legacy reader dereferences null when a section of an ASCII file is malformed and the file ends inside
+/// it (`POINTS 4f POLYGONS 2 8`, found by fuzz_surface_vtk). For ASCII files, check that POINTS names its count
+/// and a known type and that the numbers follow, and that each cell section's integers follow, before VTK reads.
+void requireLegacyVtkSectionsComplete(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::string line;
+  for (int i = 0; i < 3 && std::getline(file, line); ++i) {
+  }
+  if (line.rfind("ASCII", 0) != 0) return;  // binary legacy files: VTK reads counted blocks
+  std::vector<std::string> tokens;
+  for (std::string token; file >> token;) tokens.push_back(token);
+  const auto fail = [&](const std::string& why) {
+    throw Error("cannot read surface model '" + path + "': " + why);
+  };
+  const auto count = [&](std::size_t at, const std::string& section) {
+    if (at >= tokens.size() || !isNumber(tokens[at], true) || std::strtoll(tokens[at].c_str(), nullptr, 10) < 0) {
+      fail("section " + section + " does not give its counts");
+    }
+    return static_cast<std::size_t>(std::strtoll(tokens[at].c_str(), nullptr, 10));
+  };
+  static const char* types[] = {"bit", "unsigned_char", "char", "unsigned_short", "short", "unsigned_int", "int",
+                                "unsigned_long", "long", "float", "double", "vtkIdType", "vtktypeint64",
+                                "vtktypeuint64"};
+  for (std::size_t at = 0; at < tokens.size(); ++at) {
+    const std::string& word = tokens[at];
+    std::size_t numbers = 0;
+    if (word == "POINTS") {
+      numbers = 3 * count(at + 1, word);
+      if (at + 2 >= tokens.size() || std::find(std::begin(types), std::end(types), tokens[at + 2]) == std::end(types))
+        fail("POINTS has no known data type");
+      at += 2;
+    } else if (word == "VERTICES" || word == "LINES" || word == "POLYGONS" || word == "TRIANGLE_STRIPS") {
+      count(at + 1, word);
+      numbers = count(at + 2, word);
+      at += 2;
+      // VTK 5.1 files: OFFSETS / CONNECTIVITY blocks follow, each with a type and its own integers.
+      if (at + 1 < tokens.size() && tokens[at + 1] == "OFFSETS") numbers = 0;
+    } else {
+      continue;
+    }
+    for (std::size_t k = 1; k <= numbers; ++k) {
+      if (at + k >= tokens.size() || !isNumber(tokens[at + k], false)) {
+        fail(word + " declares " + std::to_string(numbers) + " numbers but " + std::to_string(k - 1) + " follow");
+      }
+    }
+    at += numbers;
+  }
+}
+
 /// Applies the LPS<->RAS flip to points and normals in place (a 180 degree turn about z: faces keep their order).
 void flipInPlace(vtkPolyData* polyData) {
   Eigen::Matrix4d flip = Eigen::Matrix4d::Identity();
@@ -207,6 +257,7 @@ SurfaceModelFile readSurfaceModel(const std::string& path, ModelFrameChoice fram
     }
     declared = declaredFrame(header);
   } else if (extension == ".vtk") {
+    requireLegacyVtkSectionsComplete(path);
     vtkNew<vtkPolyDataReader> reader;
     reader->SetFileName(path.c_str());
     require(reader->IsFilePolyData(), "cannot read surface model '" + path +

@@ -380,6 +380,16 @@ TEST(RegistrationFiles, FilesThatCrashVtksReadersAreClearErrors) {
                  "</FieldData></PolyData></VTKFile>\n");
   expectError([&] { readSurfaceModel(vtp); }, "an array has the unknown type 'StOing'");
 
+  const std::string vtk = outputPath("malformed.vtk");
+  writeText(vtk, "# vtk DataFile Version\n\nASCII\nDATASET POLYDATA\nPOINTS 4f POLYGONS 2 8");
+  expectError([&] { readSurfaceModel(vtk); }, "section POINTS does not give its counts");
+  writeText(vtk, "# vtk DataFile Version 4.2\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\n"
+                 "POLYGONS 1 4\n3 0 1\n");
+  expectError([&] { readSurfaceModel(vtk); }, "POLYGONS declares 4 numbers but 3 follow");
+  writeText(vtk, "# vtk DataFile Version 4.2\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\n"
+                 "POLYGONS 1 4\n3 0 1 2\n");
+  EXPECT_EQ(readSurfaceModel(vtk).polyDataLps->GetNumberOfCells(), 1);
+
   const std::string stl = outputPath("huge-count.stl");
   std::string binary(80, '\x01');
   binary += std::string("\xff\xff\xff\x7f", 4) + std::string(50, '\x02');
