@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <vector>
 
 namespace tissuemosaic::parameters {
@@ -39,6 +40,19 @@ void requireWellFormedYaml(const std::string& text, const std::string& context) 
   if (start == std::string::npos || text[start] == '<') return;  // empty (the callers say so) or XML
   // OpenCV's "%YAML:1.0" is not a YAML directive yaml-cpp knows: the rest of the file is plain YAML.
   const std::size_t body = text.compare(start, 5, "%YAML") == 0 ? text.find('\n', start) : start;
+  // OpenCV's parser also loops on a line that starts with '-' followed by neither a space (a list item), a number
+  // nor "--" (a document start), such as "-~--" (found by fuzz_params), which yaml-cpp reads as part of a scalar.
+  std::istringstream lines(text);
+  int number = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++number;
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] != '-' || first + 1 >= line.size()) continue;
+    const char next = line[first + 1];
+    const bool fine = next == ' ' || next == '\t' || next == '\r' || next == '.' || (next >= '0' && next <= '9') ||
+                      line.compare(first, 3, "---") == 0;
+    if (!fine) throw Error(context + "line " + std::to_string(number) + " starts with '-' but is no list item or number");
+  }
   YAML::Node root;
   try {
     root = YAML::Load(body == std::string::npos ? std::string() : text.substr(body));
