@@ -26,11 +26,16 @@
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <vtksys/SystemTools.hxx>
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <optional>
+#include <sstream>
+#include <vector>
 
 namespace tissuemosaic {
 
@@ -70,6 +75,146 @@ vtkSmartPointer<vtkPolyData> runReader(Reader* reader, const std::string& path) 
   return output;
 }
 
+/// VTK's STL reader takes a file for binary as vtksys::SystemTools::DetectFileType does, and then allocates the
+/// triangle count that bytes 80-83 declare before reading any: a corrupt 300-byte file asked for 19.6 GB. A
+/// binary STL is 84 bytes plus 50 per triangle.
+void requireBinaryStlCountFits(const std::string& path) {
+  if (vtksys::SystemTools::DetectFileType(path.c_str()) != vtksys::SystemTools::FileTypeBinary) return;
+  std::ifstream file(path, std::ios::binary);
+  file.seekg(0, std::ios::end);
+  const long long bytes = static_cast<long long>(file.tellg());
+  require(bytes >= 84, "cannot read surface model '" + path + "': a binary STL file holds at least 84 bytes, this one " +
+                           std::to_string(bytes));
+  unsigned char count[4] = {};
+  file.seekg(80);
+  file.read(reinterpret_cast<char*>(count), 4);
+  const long long triangles = count[0] | count[1] << 8 | count[2] << 16 | static_cast<long long>(count[3]) << 24;
+  require(84 + 50 * triangles <= bytes, "cannot read surface model '" + path + "': the binary STL declares " +
+                                            std::to_string(triangles) + " triangles but holds " +
+                                            std::to_string(bytes) + " bytes (84 + 50 per triangle)");
+}
+
+/// True when `text` is a whole number (strtod / strtoll took every character).
+bool isNumber(const std::string& text, bool integer) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  if (integer) std::strtoll(text.c_str(), &end, 10);
+  else std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size();
+}
+
+/// VTK 9.1's OBJ reader dereferences null when a face uses a vertex, texture coordinate or normal that the file
+/// does not define (`f 2 100/1` with no `v` line; a `vn` line whose numbers are garbage): check every reference
+/// first. OBJ indices are 1-based, negative ones count back from the last definition.
+void requireObjReferencesDefined(const std::string& path) {
+  std::ifstream file(path);
+  std::string line;
+  long long defined[3] = {0, 0, 0};  // v, vt, vn
+  const char* names[3] = {"vertex", "texture coordinate", "normal"};
+  for (long long number = 1; std::getline(file, line); ++number) {
+    std::istringstream words(line);
+    std::string keyword, word;
+    words >> keyword;
+    const auto fail = [&](const std::string& why) {
+      throw Error("cannot read surface model '" + path + "': line " + std::to_string(number) + ": " + why);
+    };
+    const int definition = keyword == "v" ? 0 : keyword == "vt" ? 1 : keyword == "vn" ? 2 : -1;
+    if (definition >= 0) {
+      const int needed = definition == 1 ? 1 : 3;
+      for (int i = 0; i < needed; ++i) {
+        if (!(words >> word) || !isNumber(word, false)) fail("'" + keyword + "' needs " + std::to_string(needed) + " numbers");
+      }
+      ++defined[definition];
+    } else if (keyword == "f" || keyword == "l" || keyword == "p") {
+      while (words >> word) {
+        std::istringstream parts(word);
+        std::string part;
+        for (int kind = 0; kind < 3 && std::getline(parts, part, '/'); ++kind) {
+          if (part.empty() && kind > 0) continue;  // "1//3": no texture coordinate
+          if (!isNumber(part, true)) fail("'" + word + "' is not a reference such as 1, 1/2 or 1//3");
+          const long long index = std::strtoll(part.c_str(), nullptr, 10);
+          if (index == 0 || index > defined[kind] || -index > defined[kind]) {
+            fail("'" + keyword + "' refers to " + names[kind] + " " + part + " but " + std::to_string(defined[kind]) +
+                 " are defined before it");
+          }
+        }
+      }
+    }
+  }
+}
+
+/// VTK 9.1's XML reader dereferences null for an array whose type it does not know (`<Array type="StOing"`):
+/// check the type of every array in the XML part of the file (before any appended raw data) first.
+void requireVtkXmlArrayTypesKnown(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  text = text.substr(0, text.find("<AppendedData"));
+  static const char* known[] = {"Int8",   "Int16",  "Int32",   "Int64",   "UInt8",  "UInt16", "UInt32",
+                                "UInt64", "Float32", "Float64", "String", "Bit"};
+  for (const char* tag : {"<DataArray", "<Array"}) {
+    for (std::size_t at = text.find(tag); at != std::string::npos; at = text.find(tag, at + 1)) {
+      const std::string element = text.substr(at, text.find('>', at) - at);
+      const std::size_t typeAt = element.find(" type=\"");
+      const std::string type =
+          typeAt == std::string::npos ? "" : element.substr(typeAt + 7, element.find('"', typeAt + 7) - typeAt - 7);
+      require(std::find_if(std::begin(known), std::end(known), [&](const char* k) { return type == k; }) !=
+                  std::end(known),
+              "cannot read surface model '" + path + "': an array has " +
+                  (typeAt == std::string::npos ? std::string("no type") : "the unknown type '" + type + "'") +
+                  " (Int8..UInt64, Float32, Float64, String or Bit)");
+    }
+  }
+}
+
+/// VTK 9.1's legacy reader dereferences null when a section of an ASCII file is malformed and the file ends inside
+/// it (`POINTS 4f POLYGONS 2 8`, found by fuzz_surface_vtk). For ASCII files, check that POINTS names its count
+/// and a known type and that the numbers follow, and that each cell section's integers follow, before VTK reads.
+void requireLegacyVtkSectionsComplete(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::string line;
+  for (int i = 0; i < 3 && std::getline(file, line); ++i) {
+  }
+  if (line.rfind("ASCII", 0) != 0) return;  // binary legacy files: VTK reads counted blocks
+  std::vector<std::string> tokens;
+  for (std::string token; file >> token;) tokens.push_back(token);
+  const auto fail = [&](const std::string& why) {
+    throw Error("cannot read surface model '" + path + "': " + why);
+  };
+  const auto count = [&](std::size_t at, const std::string& section) {
+    if (at >= tokens.size() || !isNumber(tokens[at], true) || std::strtoll(tokens[at].c_str(), nullptr, 10) < 0) {
+      fail("section " + section + " does not give its counts");
+    }
+    return static_cast<std::size_t>(std::strtoll(tokens[at].c_str(), nullptr, 10));
+  };
+  static const char* types[] = {"bit", "unsigned_char", "char", "unsigned_short", "short", "unsigned_int", "int",
+                                "unsigned_long", "long", "float", "double", "vtkIdType", "vtktypeint64",
+                                "vtktypeuint64"};
+  for (std::size_t at = 0; at < tokens.size(); ++at) {
+    const std::string& word = tokens[at];
+    std::size_t numbers = 0;
+    if (word == "POINTS") {
+      numbers = 3 * count(at + 1, word);
+      if (at + 2 >= tokens.size() || std::find(std::begin(types), std::end(types), tokens[at + 2]) == std::end(types))
+        fail("POINTS has no known data type");
+      at += 2;
+    } else if (word == "VERTICES" || word == "LINES" || word == "POLYGONS" || word == "TRIANGLE_STRIPS") {
+      count(at + 1, word);
+      numbers = count(at + 2, word);
+      at += 2;
+      // VTK 5.1 files: OFFSETS / CONNECTIVITY blocks follow, each with a type and its own integers.
+      if (at + 1 < tokens.size() && tokens[at + 1] == "OFFSETS") numbers = 0;
+    } else {
+      continue;
+    }
+    for (std::size_t k = 1; k <= numbers; ++k) {
+      if (at + k >= tokens.size() || !isNumber(tokens[at + k], false)) {
+        fail(word + " declares " + std::to_string(numbers) + " numbers but " + std::to_string(k - 1) + " follow");
+      }
+    }
+    at += numbers;
+  }
+}
+
 /// Applies the LPS<->RAS flip to points and normals in place (a 180 degree turn about z: faces keep their order).
 void flipInPlace(vtkPolyData* polyData) {
   Eigen::Matrix4d flip = Eigen::Matrix4d::Identity();
@@ -102,6 +247,7 @@ SurfaceModelFile readSurfaceModel(const std::string& path, ModelFrameChoice fram
   SurfaceModelFile model;
   std::optional<AnatomicalFrame> declared;
   if (extension == ".stl") {
+    requireBinaryStlCountFits(path);
     vtkNew<vtkSTLReader> reader;
     model.polyDataLps = runReader(reader.Get(), path);
     std::string header = text(reader->GetHeader());
@@ -111,6 +257,7 @@ SurfaceModelFile readSurfaceModel(const std::string& path, ModelFrameChoice fram
     }
     declared = declaredFrame(header);
   } else if (extension == ".vtk") {
+    requireLegacyVtkSectionsComplete(path);
     vtkNew<vtkPolyDataReader> reader;
     reader->SetFileName(path.c_str());
     require(reader->IsFilePolyData(), "cannot read surface model '" + path +
@@ -118,6 +265,7 @@ SurfaceModelFile readSurfaceModel(const std::string& path, ModelFrameChoice fram
     model.polyDataLps = runReader(reader.Get(), path);
     declared = declaredFrame(text(reader->GetHeader()));
   } else if (extension == ".vtp") {
+    requireVtkXmlArrayTypesKnown(path);
     vtkNew<vtkXMLPolyDataReader> reader;
     model.polyDataLps = runReader(reader.Get(), path);
     if (auto* space = vtkStringArray::SafeDownCast(
@@ -146,6 +294,7 @@ SurfaceModelFile readSurfaceModel(const std::string& path, ModelFrameChoice fram
       declared = declaredFrame(comments->GetValue(i));
     }
   } else if (extension == ".obj") {
+    requireObjReferencesDefined(path);
     vtkNew<vtkOBJReader> reader;
     model.polyDataLps = runReader(reader.Get(), path);
     declared = declaredFrame(text(reader->GetComment()));

@@ -262,5 +262,31 @@ TEST(CalibrationLayouts, UnknownLayoutListsTheLayoutsUnderstood) {
   EXPECT_NE(errorOf([&] { StereoCalibration::read(list); }).find("holds no keys"), std::string::npos);
 }
 
+// Found by fuzz_calibration (Testing/Fuzz/corpus/fuzz_calibration/oom-*): OpenCV allocates an OpenCV matrix's
+// rows x cols before it counts the data, so a 1 KB file saying 65536 x 65536 asked for 32 GB (an out-of-memory
+// under ASan, std::bad_alloc or a swap storm without).
+TEST(CalibrationLayouts, MatrixSizeBeyondItsDataIsRefusedBeforeAllocating) {
+  const std::string path = outputPath("huge-matrix.yml");
+  writeText(path, "%YAML:1.0\n---\nK1: !!opencv-matrix\n   rows: 65536\n   cols: 65536\n   dt: d\n   data: [ 1., 2. ]\n");
+  const std::string message = errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); });
+  EXPECT_NE(message.find("key 'K1' says 65536x65536 but holds 2 values"), std::string::npos) << message;
+  writeText(path, "%YAML:1.0\n---\nK1: !!opencv-matrix\n   rows: -3\n   cols: 3\n   dt: d\n   data: [ 1., 2. ]\n");
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); }).find("key 'K1' says -3x3"),
+            std::string::npos);
+  // A complex YAML key (a list as key) made the list of keys in the no-layout error throw YAML::TypedBadConversion
+  // (found by fuzz_calibration: corpus/fuzz_calibration/crash-f6b9a089*).
+  writeText(path, "focal: 800\n? [a, b]\n: 5\n");
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); }).find("its keys (focal [a, b])"),
+            std::string::npos);
+  writeText(path, "K1: {rows: 3}\nD1: [1, 2, 3, 4]\nK2: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\nD2: [1, 2, 3, 4]\nR: x\nT: [1, 2, 3]\n");
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); }).find("cannot read stereo calibration"),
+            std::string::npos);
+  // OpenCV's parser lets an empty key out as std::length_error, not cv::Exception (found by fuzz_params).
+  writeText(path, "%YAML:1.0\n---\nK1:\n   :\n");
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); })
+                .find("not a valid OpenCV YAML/XML file"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace tissuemosaic

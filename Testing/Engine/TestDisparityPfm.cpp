@@ -111,6 +111,17 @@ TEST(DisparityPfm, BadFilesGiveErrors) {
   const std::string hugeSize = outputPath("huge.pfm");
   writeBytes(hugeSize, "Pf\n100000000 100000000\n-1.0\n");
   expectError(hugeSize, "implausible");
+  // Found by fuzz_pfm (corpus/fuzz_pfm/crash-*): a plausible but huge size was allocated before the floats were
+  // counted (4 TB for 2^20 x 2^20: allocation-size-too-big under ASan, cv::Exception without).
+  const std::string declaredHuge = outputPath("declared_huge.pfm");
+  writeBytes(declaredHuge, "Pf\n1048576 1048576\n-1.0\n" + std::string(4, '\0'));
+  std::string message;
+  try {
+    readPfm(declaredHuge);
+  } catch (const Error& error) {
+    message = error.what();
+  }
+  EXPECT_NE(message.find("1048576x1048576 floats expected, 4 bytes found"), std::string::npos) << message;
 
   EXPECT_THROW(writePfm(outputPath("no_such_folder/x.pfm"), cv::Mat(2, 2, CV_32F)), Error);
   EXPECT_THROW(writePfm(outputPath("wrong_type.pfm"), cv::Mat(2, 2, CV_64F)), Error);

@@ -56,5 +56,30 @@ TEST(ParameterFiles, EveryWrittenKeyReadsBackAndEmptyFilesAreNamed) {
             std::string::npos);
 }
 
+// Found by fuzz_params (Testing/Fuzz/corpus/fuzz_params/crash-*): OpenCV's YAML parser lets an empty key out as
+// std::length_error, which is not an Error (the CLI printed "basic_string::_M_create").
+TEST(ParameterFiles, ParserFailuresOtherThanCvExceptionAreErrors) {
+  const std::string text = "%YAML:1.0\n---\nstereo:\n   minDisparityPx: -20\n   :\n   refineAlpha: 0.1\n";
+  const std::string path = writeFile("empty-key.yml", text);
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(path); })
+                .find("cannot read parameters file '" + path + "': not a valid YAML/XML file"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::parse(text); }).find("not valid YAML/XML"), std::string::npos);
+}
+
+// Found by fuzz_params (corpus/fuzz_params/timeout-6a984fd7*, 272 bytes, minimised to this): OpenCV 4.6's YAML
+// parser never returned, so `stereo --params` hung. yaml-cpp reads the text first.
+TEST(ParameterFiles, TextsThatHangOpenCvsParserAreErrors) {
+  // The second is a valid YAML map for yaml-cpp (the "-~--" line continues a scalar) but still hung OpenCV.
+  for (const std::string text : {"%YAML:1.0\n L:0\n-a--\n", "%YAML:1.0\n---\n# A\n   ransacConfidence: 0.\n-~--\n"}) {
+    const std::string path = writeFile("hangs-opencv.yml", text);
+    EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(path); }).find("cannot read parameters file '" + path + "': "),
+              std::string::npos);
+    EXPECT_NE(errorOf([&] { ReconstructionParameters::parse(text); }).find("cannot parse parameters: "), std::string::npos);
+  }
+  const std::string broken = writeFile("broken.yml", "%YAML:1.0\n---\nstereo: [1, 2\n");
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(broken); }).find("not a valid YAML file ("), std::string::npos);
+}
+
 }  // namespace
 }  // namespace tissuemosaic

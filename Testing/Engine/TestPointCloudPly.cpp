@@ -147,6 +147,15 @@ void expectError(const std::string& path, const std::string& expected) {
   }
 }
 
+void expectWholeFileError(const std::string& path, const std::string& expected) {
+  try {
+    readPlyWholeFile(path);
+    ADD_FAILURE() << "no error; expected one containing '" << expected << "'";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find(expected), std::string::npos) << error.what();
+  }
+}
+
 TEST(PointCloudPly, BadFilesGiveErrors) {
   expectError(outputPath("missing.ply"), "does not exist");
   const std::string good = outputPath("good.ply");
@@ -174,6 +183,19 @@ TEST(PointCloudPly, BadFilesGiveErrors) {
              "ply\nformat binary_little_endian 1.0\nelement vertex 999999999999\nproperty float x\n"
              "property float y\nproperty float z\nend_header\n");
   expectError(hugeCount, "truncated");
+
+  // readPlyWholeFile checks faces as VTK's PLY reader needs them (found by fuzz_surface_ply: VTK 9.1 read out of
+  // bounds for a face index beyond the vertices, or faces without 'vertex_indices').
+  const std::string faces = outputPath("faces.ply");
+  const std::string triangle = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                               "property float z\nelement face 1\n";
+  writeBytes(faces, triangle + "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 99\n");
+  EXPECT_EQ(readPly(faces).size(), 3u);  // the vertices alone are fine
+  expectWholeFileError(faces, "face 0 refers to vertex 99 of 3");
+  writeBytes(faces, triangle + "property list uchar int vertex_indics\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  expectWholeFileError(faces, "the faces have no list property 'vertex_indices'");
+  writeBytes(faces, triangle + "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(readPlyWholeFile(faces).size(), 3u);
 
   ColoredPointCloud mismatched = randomCloud(3, true);
   mismatched.normals.pop_back();

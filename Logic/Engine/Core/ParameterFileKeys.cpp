@@ -4,8 +4,10 @@
 #include "Core/Error.h"
 
 #include <filesystem>
+#include <yaml-cpp/yaml.h>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <vector>
 
 namespace tissuemosaic::parameters {
@@ -33,6 +35,35 @@ void requireKnownKeys(const cv::FileNode& given, const cv::FileNode& known, cons
   }
 }
 
+void requireWellFormedYaml(const std::string& text, const std::string& context) {
+  const std::size_t start = text.find_first_not_of(" \t\r\n");
+  if (start == std::string::npos || text[start] == '<') return;  // empty (the callers say so) or XML
+  // OpenCV's "%YAML:1.0" is not a YAML directive yaml-cpp knows: the rest of the file is plain YAML.
+  const std::size_t body = text.compare(start, 5, "%YAML") == 0 ? text.find('\n', start) : start;
+  // OpenCV's parser also loops on a line that starts with '-' followed by neither a space (a list item), a number
+  // nor "--" (a document start), such as "-~--" (found by fuzz_params), which yaml-cpp reads as part of a scalar.
+  std::istringstream lines(text);
+  int number = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++number;
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] != '-' || first + 1 >= line.size()) continue;
+    const char next = line[first + 1];
+    const bool fine = next == ' ' || next == '\t' || next == '\r' || next == '.' || (next >= '0' && next <= '9') ||
+                      line.compare(first, 3, "---") == 0;
+    if (!fine) throw Error(context + "line " + std::to_string(number) + " starts with '-' but is no list item or number");
+  }
+  YAML::Node root;
+  try {
+    root = YAML::Load(body == std::string::npos ? std::string() : text.substr(body));
+  } catch (const YAML::Exception& error) {
+    throw Error(context + "not a valid YAML file (" + error.msg + " at line " + std::to_string(error.mark.line + 1) +
+                ")");
+  }
+  require(root.IsMap() && root.size() > 0,
+          context + "the file holds no parameter node (such as 'stereo:' or 'tracking:', see Resources/Presets)");
+}
+
 cv::FileStorage openParameterFile(const std::string& path) {
   const std::string context = "cannot read parameters file '" + path + "': ";
   require(std::filesystem::is_regular_file(path), "cannot open parameters file '" + path + "': file does not exist");
@@ -40,12 +71,16 @@ cv::FileStorage openParameterFile(const std::string& path) {
   const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   require(text.find_first_not_of(" \t\r\n") != std::string::npos,
           context + "the file is empty (it should hold nodes such as 'stereo:' or 'tracking:', see Resources/Presets)");
+  requireWellFormedYaml(text, context);
   cv::FileStorage storage;
   try {
     storage.open(path, cv::FileStorage::READ);
   } catch (const cv::Exception& error) {
     // error.err, not what(): OpenCV's source file and line mean nothing to a user.
     throw Error(context + "not a valid YAML/XML file (" + error.err + ")");
+  } catch (const std::exception& error) {
+    // OpenCV's parser lets some of its own failures out as std::length_error (an empty key: "   :").
+    throw Error(context + "not a valid YAML/XML file (" + error.what() + ")");
   }
   require(storage.isOpened(), context + "not a valid YAML/XML file");
   require(storage.root().isMap() && storage.root().size() > 0,

@@ -14,6 +14,11 @@ namespace tissuemosaic::parameters {
 /// checked too.
 void requireKnownKeys(const cv::FileNode& given, const cv::FileNode& known, const std::string& nodeName, bool recurse);
 
+/// Throws Error (prefixed with `context`) unless a YAML parameters text parses with yaml-cpp as a map: OpenCV 4.6's
+/// own YAML parser never returns on some malformed texts (" L:0\n-a--", found by fuzz_params), so a text goes to
+/// it only once a careful parser has read it. XML texts (starting with '<') are left to OpenCV.
+void requireWellFormedYaml(const std::string& text, const std::string& context);
+
 /// Opens a parameters file (OpenCV YAML/XML) for reading; an empty, missing or malformed file is an Error that says so
 /// (never OpenCV's assertion text).
 cv::FileStorage openParameterFile(const std::string& path);

@@ -56,6 +56,15 @@ cv::Mat readPfm(const std::string& path) {
   if (separator == '\r' && file.peek() == '\n') file.get();  // tolerate CRLF headers written on Windows
 
   const int channels = magic == "PF" ? 3 : 1;
+  // The floats must be in the file before they are allocated: a 20-byte header may declare 2^20 x 2^20 pixels.
+  const std::streampos dataStart = file.tellg();
+  file.seekg(0, std::ios::end);
+  const long long dataBytes = static_cast<long long>(file.tellg() - dataStart);
+  file.seekg(dataStart);
+  if (dataBytes < width * height * channels * static_cast<long long>(sizeof(float))) {
+    throw Error(context + "the file is truncated (" + std::to_string(width) + "x" + std::to_string(height) +
+                " floats expected, " + std::to_string(dataBytes) + " bytes found)");
+  }
   cv::Mat image(static_cast<int>(height), static_cast<int>(width), CV_MAKETYPE(CV_32F, channels));
   const std::streamsize rowBytes = static_cast<std::streamsize>(width * channels * sizeof(float));
   for (int y = image.rows - 1; y >= 0; --y) {

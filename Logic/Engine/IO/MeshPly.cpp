@@ -104,6 +104,7 @@ TriangleMesh readMeshPly(const std::string& path) {
     } else if (keyword == "element") {
       int64_t count = 0;
       words >> element >> count;
+      if (words.fail() || count < 0) fail("malformed line '" + line + "'");
       if (element == "vertex") vertexCount = count;
       if (element == "face") faceCount = count;
       if (element != "vertex" && element != "face" && count > 0) fail("element '" + element + "' is not supported");
@@ -127,6 +128,15 @@ TriangleMesh readMeshPly(const std::string& path) {
     }
   }
   if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0) fail("vertices lack x, y or z");
+  // Every vertex and face takes at least one byte: a corrupt count must not allocate more than the file holds.
+  const std::streampos dataStart = file.tellg();
+  file.seekg(0, std::ios::end);
+  const int64_t dataBytes = static_cast<int64_t>(file.tellg() - dataStart);
+  file.seekg(dataStart);
+  if (vertexCount > dataBytes || faceCount > dataBytes) {
+    fail("the header declares " + std::to_string(vertexCount) + " vertices and " + std::to_string(faceCount) +
+         " faces but only " + std::to_string(dataBytes) + " bytes follow it");
+  }
   TriangleMesh mesh;
   mesh.verticesMm.resize(static_cast<std::size_t>(vertexCount));
   std::vector<double> values(vertexProperties.size());

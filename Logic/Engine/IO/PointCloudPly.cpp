@@ -271,6 +271,17 @@ ColoredPointCloud readPlyFile(const std::string& path, bool wholeFile) {
       if (hasNormals) cloud.normals.reserve(expected);
     }
     values.assign(element.properties.size(), 0.0);
+    // Faces as VTK's PLY reader takes them: a list 'vertex_indices' of existing vertices (VTK 9.1 reads out of
+    // bounds otherwise; found by fuzz_surface_ply).
+    const bool isFace = wholeFile && element.name == "face" && element.count > 0;
+    int faceIndices = -1;
+    for (std::size_t p = 0; isFace && p < element.properties.size(); ++p) {
+      if (element.properties[p].isList && (element.properties[p].name == "vertex_indices" ||
+                                           element.properties[p].name == "vertex_index")) {
+        faceIndices = static_cast<int>(p);
+      }
+    }
+    if (isFace && faceIndices < 0) throw Error(context + "the faces have no list property 'vertex_indices'");
     for (std::size_t i = 0; i < element.count; ++i) {
       for (std::size_t p = 0; p < element.properties.size(); ++p) {
         const Property& property = element.properties[p];
@@ -280,7 +291,14 @@ ColoredPointCloud readPlyFile(const std::string& path, bool wholeFile) {
         }
         const double count = reader.read(property.countType);
         if (!(count >= 0 && count == std::floor(count))) throw Error(context + "a list has an invalid length");
-        for (long long k = 0; k < static_cast<long long>(count); ++k) reader.read(property.valueType);
+        for (long long k = 0; k < static_cast<long long>(count); ++k) {
+          const double value = reader.read(property.valueType);
+          if (isFace && static_cast<int>(p) == faceIndices &&
+              !(value >= 0 && value < static_cast<double>(vertex.count) && value == std::floor(value))) {
+            throw Error(context + "face " + std::to_string(i) + " refers to vertex " + cv::format("%.17g", value) + " of " +
+                        std::to_string(vertex.count));
+          }
+        }
       }
       if (!isVertex) continue;
       cloud.pointsMm.emplace_back(static_cast<float>(values[ix]), static_cast<float>(values[iy]),

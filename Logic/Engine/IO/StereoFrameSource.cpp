@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <vector>
 
 namespace tissuemosaic {
@@ -91,6 +92,13 @@ cv::VideoCapture openVideo(const std::string& path) {
   return capture;
 }
 
+/// A size or frame count from the container's header; 0 when the header holds nothing usable. A corrupt header
+/// can say -9.2e16 frames, which static_cast<int> would turn into undefined behaviour.
+int headerInt(const cv::VideoCapture& capture, int property) {
+  const double value = capture.get(property);
+  return std::isfinite(value) && value >= 0 && value <= std::numeric_limits<int>::max() ? static_cast<int>(value) : 0;
+}
+
 /// Time stamp of the frame just read: the container's, else index / fps (30 when the container has none).
 double frameTimeS(cv::VideoCapture& capture, int index) {
   const double ms = capture.get(cv::CAP_PROP_POS_MSEC);
@@ -114,13 +122,13 @@ public:
   VideoPairSource(const std::string& leftVideo, const std::string& rightVideo)
       : left_(openVideo(leftVideo)), right_(openVideo(rightVideo)),
         description_("videos '" + leftVideo + "' and '" + rightVideo + "'") {
-    const cv::Size l(static_cast<int>(left_.get(cv::CAP_PROP_FRAME_WIDTH)), static_cast<int>(left_.get(cv::CAP_PROP_FRAME_HEIGHT)));
-    const cv::Size r(static_cast<int>(right_.get(cv::CAP_PROP_FRAME_WIDTH)), static_cast<int>(right_.get(cv::CAP_PROP_FRAME_HEIGHT)));
+    const cv::Size l(headerInt(left_, cv::CAP_PROP_FRAME_WIDTH), headerInt(left_, cv::CAP_PROP_FRAME_HEIGHT));
+    const cv::Size r(headerInt(right_, cv::CAP_PROP_FRAME_WIDTH), headerInt(right_, cv::CAP_PROP_FRAME_HEIGHT));
     require(l == r, "the left video is " + sizeText(l) + " but the right one is " + sizeText(r));
     size_ = l;
     // Unequal lengths are refused, as unequal frame folders are: the pairs would not be the same moments.
-    const int leftFrames = static_cast<int>(left_.get(cv::CAP_PROP_FRAME_COUNT));
-    const int rightFrames = static_cast<int>(right_.get(cv::CAP_PROP_FRAME_COUNT));
+    const int leftFrames = headerInt(left_, cv::CAP_PROP_FRAME_COUNT);
+    const int rightFrames = headerInt(right_, cv::CAP_PROP_FRAME_COUNT);
     require(leftFrames <= 0 || rightFrames <= 0 || leftFrames == rightFrames,
             "the left video '" + leftVideo + "' has " + std::to_string(leftFrames) + " frames but the right video '" +
                 rightVideo + "' has " + std::to_string(rightFrames));
@@ -162,15 +170,15 @@ public:
       : capture_(openVideo(video)), layout_(layout),
         description_(std::string(layout == VideoLayout::SideBySide ? "side-by-side" : videoLayoutName(layout)) +
                      " video '" + video + "'") {
-    const cv::Size packed(static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_WIDTH)),
-                          static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_HEIGHT)));
+    const cv::Size packed(headerInt(capture_, cv::CAP_PROP_FRAME_WIDTH),
+                          headerInt(capture_, cv::CAP_PROP_FRAME_HEIGHT));
     try {
       size_ = eyeSizeOf(packed, layout);
     } catch (const Error& e) {
       throw Error("video '" + video + "': " + e.what());
     }
     packedSize_ = packed;
-    const int frames = static_cast<int>(capture_.get(cv::CAP_PROP_FRAME_COUNT));
+    const int frames = headerInt(capture_, cv::CAP_PROP_FRAME_COUNT);
     frames_ = frames > 0 ? frames : -1;
   }
   bool next(StereoFrame& frame) override {

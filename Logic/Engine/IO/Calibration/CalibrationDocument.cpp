@@ -27,6 +27,12 @@ bool isOpenCvMatrix(const cv::FileNode& node) {
 /// FileStorage's tree as a YAML tree; OpenCV matrices (any dt) become lists of rows.
 YAML::Node fromFileNode(const cv::FileNode& node) {
   if (isOpenCvMatrix(node)) {
+    // OpenCV allocates rows x cols before it counts the data: a 1 KB file saying 65536 x 65536 would ask for 32 GB.
+    const double declaredRows = node["rows"].real(), declaredCols = node["cols"].real();
+    const std::size_t values = node["data"].isSeq() ? node["data"].size() : 1;
+    require(declaredRows >= 1 && declaredCols >= 1 && declaredRows * declaredCols <= static_cast<double>(values),
+            "key '" + node.name() + "' says " + cv::format("%.0fx%.0f", declaredRows, declaredCols) + " but holds " +
+                std::to_string(values) + " values");
     cv::Mat m;
     node >> m;
     if (m.channels() != 1) return YAML::Node(std::string("<matrix with channels>"));
@@ -89,6 +95,8 @@ CalibrationDocument CalibrationDocument::load(const std::string& path) {
       storage.open(path, cv::FileStorage::READ);
     } catch (const cv::Exception& e) {
       throw Error("not a valid OpenCV YAML/XML file (" + e.err + ")");
+    } catch (const std::exception& e) {  // OpenCV's parser lets some failures out as std::length_error
+      throw Error("not a valid OpenCV YAML/XML file (" + std::string(e.what()) + ")");
     }
     require(storage.isOpened(), "not a valid OpenCV YAML/XML file");
     try {
@@ -110,10 +118,17 @@ CalibrationDocument CalibrationDocument::load(const std::string& path) {
 
 void CalibrationDocument::merge(const CalibrationDocument& other) {
   for (const auto& entry : other.root) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = keyText(entry.first);
     require(!root[key], "key '" + key + "' is in both '" + path + "' and '" + other.path + "'");
     root[key] = entry.second;
   }
+}
+
+std::string keyText(const YAML::Node& key) {
+  if (key.IsScalar()) return key.Scalar();
+  YAML::Emitter flow;
+  flow << YAML::Flow << key;
+  return flow.c_str();
 }
 
 bool hasKeys(const YAML::Node& node, std::initializer_list<const char*> keys) {

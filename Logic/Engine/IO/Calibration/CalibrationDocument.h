@@ -22,6 +22,9 @@ struct CalibrationDocument {
   void merge(const CalibrationDocument& other);
 };
 
+/// A map key as text: its scalar, or a flow rendering for the complex keys YAML allows (`? [a, b]`, which
+/// as<std::string>() would throw for).
+std::string keyText(const YAML::Node& key);
 /// True when `node` is a map holding every key in `keys`.
 bool hasKeys(const YAML::Node& node, std::initializer_list<const char*> keys);
 /// The child `key` of `node`; Error "key 'KEY' is missing" (prefixed with `where`, e.g. "cam1: ").

@@ -52,9 +52,11 @@ CalibrationFileContent readCalibrationFiles(const CalibrationFiles& files) {
     throw Error(context + e.what());
   } catch (const cv::Exception& e) {
     throw Error(context + e.err);
+  } catch (const YAML::Exception& e) {  // a node of another kind than the layout reads (found by fuzz_calibration)
+    throw Error(context + "a value has an unexpected form (" + e.what() + ")");
   }
   std::string keys;
-  for (const auto& entry : input.main.root) keys += (keys.empty() ? "" : " ") + entry.first.as<std::string>();
+  for (const auto& entry : input.main.root) keys += (keys.empty() ? "" : " ") + keyText(entry.first);
   throw Error(context + "no known layout matches its keys (" + keys + ")" +
               (input.right ? " with a second, right-eye file" : "") + ". Layouts understood:\n" +
               calibrationLayoutsText());
