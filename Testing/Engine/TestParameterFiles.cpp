@@ -78,7 +78,7 @@ TEST(ParameterFiles, TextsThatHangOpenCvsParserAreErrors) {
     EXPECT_NE(errorOf([&] { ReconstructionParameters::parse(text); }).find("cannot parse parameters: "), std::string::npos);
   }
   const std::string broken = writeFile("broken.yml", "%YAML:1.0\n---\nstereo: [1, 2\n");
-  EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(broken); }).find("not a valid YAML file ("), std::string::npos);
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(broken); }).find("not a valid YAML/XML file ("), std::string::npos);
 }
 
 }  // namespace

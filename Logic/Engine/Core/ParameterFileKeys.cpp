@@ -57,7 +57,7 @@ void requireWellFormedYaml(const std::string& text, const std::string& context) 
   try {
     root = YAML::Load(body == std::string::npos ? std::string() : text.substr(body));
   } catch (const YAML::Exception& error) {
-    throw Error(context + "not a valid YAML file (" + error.msg + " at line " + std::to_string(error.mark.line + 1) +
+    throw Error(context + "not a valid YAML/XML file (" + error.msg + " at line " + std::to_string(error.mark.line + 1) +
                 ")");
   }
   require(root.IsMap() && root.size() > 0,
