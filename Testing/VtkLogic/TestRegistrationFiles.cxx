@@ -437,6 +437,23 @@ TEST(RegistrationFiles, DistanceCsvHistogramPngAndDistanceMap) {
   EXPECT_FLOAT_EQ(reader->GetOutput()->GetPointData()->GetArray("DistanceMm")->GetComponent(3, 0), 0.5f);
 }
 
+// VTK 9.1's PLY reader calls strtol(NULL) when an ASCII row is split over two lines (found by fuzz_surface_ply:
+// a segfault in eval and register): each row must be one line of its declared values.
+TEST(RegistrationFiles, AsciiPlyRowsSplitOverLinesAreErrors) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string good = outputPath("ascii_triangle.ply");
+  writeText(good, header + "0 0 50\n1 0 50\n0 1 51\n3 0 1 2\n");
+  EXPECT_EQ(readSurfaceModel(good).polyDataLps->GetNumberOfPoints(), 3);
+  const std::string split = outputPath("ascii_split_row.ply");
+  writeText(split, header + "0 0 50\n1 0\n50 0 1 51\n3 0 1 2\n");
+  expectError([&] { readSurfaceModel(split); }, "row 1 of element 'vertex' is not one line of its declared values");
+  const std::string longList = outputPath("ascii_long_list.ply");
+  writeText(longList, header + "0 0 50\n1 0 50\n0 1 51\n3 0 1 2 0\n");
+  expectError([&] { readSurfaceModel(longList); }, "row 0 of element 'face'");
+}
+
 // VTK 9.1's PLY reader fills a truncated file's missing vertices with zeros (a silently wrong model) or crashes:
 // readSurfaceModel checks the whole file first, in the vertex data and in the faces.
 TEST(RegistrationFiles, TruncatedPlyModelsAreErrors) {
