@@ -566,7 +566,9 @@ bool qTissueMosaicReconstructionWidget::hasUnexportedModel() const {
 bool qTissueMosaicReconstructionWidget::updateFromLogic() {
   Q_D(qTissueMosaicReconstructionWidget);
   const bool changed = d->logic->UpdateOutputs();
-  const int state = d->logic->GetScanState();
+  // The state taken with the outputs, not the worker's state now: a scan that ended after UpdateOutputs took its
+  // last model is reported ended at the next poll, once that final model is here.
+  const int state = d->logic->GetStatus().state;
   if (changed) {
     // The table is for reading, not for watching every frame: a few updates per second are plenty.
     if (++d->pollsSinceTiming >= 8 || state != vtkTissueMosaicReconstructionLogic::StateRunning) {

@@ -139,7 +139,8 @@ public:
   void Stop();
   /// Ends the scan (without waiting for the worker) and clears every result; the input and calibration stay.
   void Reset();
-  /// The state now (Running until the worker has really ended).
+  /// The worker's state now (Running until the worker has really ended). It can be ahead of the outputs: wait for
+  /// GetStatus().state, which UpdateOutputs() takes together with the model, to know the final model is here.
   int GetScanState() const;
   /// Stop after this many frames (-1: the whole input). For tests and previews.
   vtkSetMacro(MaximumFrames, int);
