@@ -69,8 +69,8 @@ void runBenchTrack(const BenchTrackOptions& settings) {
     std::fprintf(stderr, "\rbench track: frame %d/%d", k + 1, scan.frameCount());
     const synthetic::SyntheticScanFrame& frame = frames[static_cast<std::size_t>(k)];
     StereoTimingsMs stereoMs;
-    const cv::Mat stereo = matcher.computeDisparity(frame.leftRectified, frame.rightRectified, &stereoMs);
-    const cv::Mat disparity = withoutHighlightNeighbourhood(stereo, matcher.lastHighlightNeighbourhood());
+    matcher.computeDisparity(frame.leftRectified, frame.rightRectified, &stereoMs);
+    const cv::Mat disparity = matcher.lastDisparityAwayFromHighlights();
     const TrackResult result = tracker.track(frame.leftRectified, disparity);
     lost += !result.tracked;
     if (k < 2) continue;  // warm-up (and the first frame has nothing to match)

@@ -117,8 +117,8 @@ void runTrack(const TrackOptions& options) {
       rethrowWithRangeOptions(error);
     }
     // As the reconstruction pipeline does: features near a highlight get no depth (StereoMatcher.h).
-    const cv::Mat stereo = matcher.computeDisparity(left, right);
-    const cv::Mat disparity = withoutHighlightNeighbourhood(stereo, matcher.lastHighlightNeighbourhood());
+    matcher.computeDisparity(left, right);
+    const cv::Mat disparity = matcher.lastDisparityAwayFromHighlights();
     const auto t3 = std::chrono::steady_clock::now();
     const TrackResult result = tracker.track(left, disparity);
     range.afterFrame(left, right);  // the next frame's range, from this frame's sparse matches

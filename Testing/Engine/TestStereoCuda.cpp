@@ -97,6 +97,11 @@ TEST(StereoCuda, MatchesCpuBitForBitWithHighlights) {
     const cv::Mat cpuNear = cpu.lastHighlightNeighbourhood(), gpuNear = gpu.lastHighlightNeighbourhood();
     EXPECT_GT(cv::countNonZero(cpuNear), 0) << what;
     EXPECT_EQ(cv::countNonZero(cpuNear != gpuNear), 0) << what;
+    // The disparity they take, masked on each device: the same bits (NaN where the neighbourhood is).
+    const cv::Mat cpuKept = cpu.lastDisparityAwayFromHighlights(), gpuKept = gpu.lastDisparityAwayFromHighlights();
+    EXPECT_EQ(countDifferent(cpuKept, gpuKept), 0) << what;
+    EXPECT_EQ(cv::countNonZero(cpuKept == cpuKept), cv::countNonZero((cpuDisparity == cpuDisparity) & (cpuNear == 0)))
+        << what;
     EXPECT_GT(cpuCounts.highlight, 0) << what;
     EXPECT_EQ(cpuCounts.json(), gpuCounts.json()) << what;
   }

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstring>
 
 using namespace tissuemosaic;
 using namespace tissuemosaic::stereo;
@@ -255,8 +256,8 @@ TEST(StereoHighlights, ExplanationCountsAddUpAndChangeNothing) {
 
 // Tracking and fusion leave out the pixels within trackingHighlightMarginPx of a left highlight seed (a highlight
 // slides over the tissue as the camera moves): on the realistic look, the neighbourhood covers the generator's
-// highlights and stays near them (bright diffuse tissue keeps its pixels for tracking), withoutHighlightNeighbourhood
-// removes exactly those pixels from the stereo output, and with highlight removal off nothing is left out.
+// highlights and stays near them (bright diffuse tissue keeps its pixels for tracking), the matcher's disparity for
+// tracking is its output without exactly those pixels, and with highlight removal off nothing is left out.
 TEST(StereoHighlights, TrackingLeavesOutTheHighlightNeighbourhood) {
   const auto pair = realisticPair(1);
   const StereoParameters parameters;
@@ -287,7 +288,9 @@ TEST(StereoHighlights, TrackingLeavesOutTheHighlightNeighbourhood) {
   EXPECT_LE(cv::countNonZero(near), 0.1 * near.rows * near.cols);
   EXPECT_LE(cv::countNonZero(brightTissue & (near != 0)), 0.3 * cv::countNonZero(brightTissue));
 
-  const cv::Mat kept = withoutHighlightNeighbourhood(disparity, near);
+  const cv::Mat kept = matcher.lastDisparityAwayFromHighlights();
+  ASSERT_EQ(kept.type(), CV_32F);
+  ASSERT_EQ(kept.size(), disparity.size());
   long wrong = 0;
   for (int i = 0; i < disparity.rows * disparity.cols; ++i) {
     const float d = disparity.at<float>(i), k = kept.at<float>(i);
@@ -297,6 +300,8 @@ TEST(StereoHighlights, TrackingLeavesOutTheHighlightNeighbourhood) {
   EXPECT_EQ(wrong, 0);
 
   StereoMatcher without(Device::Cpu, withoutHighlightRemoval());
-  without.computeDisparity(pair.leftRectified, pair.rightRectified);
+  const cv::Mat all = without.computeDisparity(pair.leftRectified, pair.rightRectified);
   EXPECT_EQ(cv::countNonZero(without.lastHighlightNeighbourhood()), 0);
+  const cv::Mat allKept = without.lastDisparityAwayFromHighlights();
+  EXPECT_EQ(std::memcmp(all.data, allKept.data, all.total() * sizeof(float)), 0) << "a copy with removal off";
 }

@@ -114,8 +114,8 @@ void trackShortScan(const FrameTrackerOptions& options, const char* label, doubl
   for (int k = 0; k < scan.frameCount(); ++k) {
     const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
     // As the reconstruction pipeline gives it: without the pixels near a highlight.
-    const cv::Mat stereo = matcher.computeDisparity(frame.leftRectified, frame.rightRectified);
-    const cv::Mat disparity = withoutHighlightNeighbourhood(stereo, matcher.lastHighlightNeighbourhood());
+    matcher.computeDisparity(frame.leftRectified, frame.rightRectified);
+    const cv::Mat disparity = matcher.lastDisparityAwayFromHighlights();
     const TrackResult result = tracker.track(frame.leftRectified, disparity);
     ASSERT_TRUE(result.tracked) << "frame " << k << " lost: " << result.failureReason;
     EXPECT_EQ(result.initial, k == 0);

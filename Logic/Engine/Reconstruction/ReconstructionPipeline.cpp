@@ -169,8 +169,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     const auto stereoStart = Clock::now();
     TimedDisparity computed;
     computed.disparityPx = s.matcher.computeDisparity(result.leftRectified, result.rightRectified, &computed.parts);
-    computed.awayFromHighlightsPx =
-        withoutHighlightNeighbourhood(computed.disparityPx, s.matcher.lastHighlightNeighbourhood());
+    computed.awayFromHighlightsPx = s.matcher.lastDisparityAwayFromHighlights();
     synchronize(s.device);  // nothing of this thread's left in flight when another thread takes over
     computed.milliseconds = millisecondsSince(stereoStart);
     return computed;

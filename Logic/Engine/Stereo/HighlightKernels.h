@@ -217,4 +217,14 @@ struct DropHighlightFloat {
   }
 };
 
+/// The disparity that tracking and fusion take: the final disparity with NaN within the highlight neighbourhood
+/// (MarkHighlightNeighbourhood), where a highlight slides over the tissue as the camera moves. Made on the device
+/// that matched, so that only this map comes down instead of the mask and a host copy.
+struct DisparityAwayFromHighlights {
+  ImageView<const float> disparity;
+  ImageView<const uint8_t> neighbourhood;
+  ImageView<float> kept;
+  TM_HOST_DEVICE void operator()(int64_t index) const { kept[index] = neighbourhood[index] != 0 ? NAN : disparity[index]; }
+};
+
 }  // namespace tissuemosaic::stereo

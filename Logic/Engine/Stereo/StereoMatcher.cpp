@@ -38,7 +38,7 @@ StereoWorkspace::StereoWorkspace(Device device_, StereoMethod method_, int width
       smoothed(device, width, height), smoothedPrevious(device, paperWidth(), height), correction(device, width, height),
       leftHighlightSeeds(device, width, height), rightHighlightSeeds(device, width, height),
       leftNearHighlight(device, width, height), rightNearHighlight(device, width, height),
-      highlightNeighbourhood(device, width, height),
+      highlightNeighbourhood(device, width, height), awayFromHighlights(device, width, height),
       radialHitDistance(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       radialHitValue(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       rayPasses(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
@@ -178,13 +178,12 @@ cv::Mat StereoMatcher::lastHighlightNeighbourhood() const {
   return result;
 }
 
-cv::Mat withoutHighlightNeighbourhood(const cv::Mat& disparityPx, const cv::Mat& highlightNeighbourhood) {
-  require(disparityPx.type() == CV_32F && highlightNeighbourhood.type() == CV_8U &&
-              disparityPx.size() == highlightNeighbourhood.size(),
-          "internal: a highlight neighbourhood needs a CV_32F disparity and a CV_8U mask of one size");
-  cv::Mat kept = disparityPx.clone();
-  kept.setTo(cv::Scalar(std::nan("")), highlightNeighbourhood);
-  return kept;
+cv::Mat StereoMatcher::lastDisparityAwayFromHighlights() const {
+  require(impl_->workspace != nullptr, "no disparity has been computed yet");
+  const Image<float>& kept = impl_->workspace->awayFromHighlights;
+  cv::Mat result(kept.height(), kept.width(), CV_32F);
+  kept.buffer().download(result.ptr<float>());
+  return result;
 }
 
 }  // namespace tissuemosaic

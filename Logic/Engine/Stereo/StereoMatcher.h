@@ -55,8 +55,12 @@ public:
   /// CV_8U of the last call: 1 within trackingHighlightMarginPx (a square) of a left-image highlight seed
   /// (HighlightKernels.h), 0 elsewhere and everywhere with highlight removal off. The disparity there is the
   /// surrounding tissue's, but a highlight slides over the tissue as the camera moves: tracking and fusion leave
-  /// these pixels out (withoutHighlightNeighbourhood).
+  /// these pixels out (lastDisparityAwayFromHighlights).
   cv::Mat lastHighlightNeighbourhood() const;
+  /// CV_32F of the last call: its disparity with NaN wherever lastHighlightNeighbourhood() is 1, the disparity that
+  /// tracking lifts its features with and that fusion takes its points from. Made by the matcher's device, so that
+  /// one map comes down instead of the mask and a copy masked on the host.
+  cv::Mat lastDisparityAwayFromHighlights() const;
 
   /// Matches later pairs over this range (between frames: never while computeDisparity runs). Throws Error for a
   /// range StereoParameters refuses. A range of the same count keeps the workspace (the cost volumes); another count
@@ -71,9 +75,5 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-/// A copy of disparityPx (CV_32F) with NaN where highlightNeighbourhood (CV_8U, same size) is non-zero: the
-/// disparity that tracking lifts its features with and that fusion takes its points from.
-cv::Mat withoutHighlightNeighbourhood(const cv::Mat& disparityPx, const cv::Mat& highlightNeighbourhood);
 
 }  // namespace tissuemosaic

@@ -65,6 +65,7 @@ struct StereoWorkspace {
   /// 1 within trackingHighlightMarginPx of a left seed, else 0 (all 0 with highlight removal off): what tracking
   /// and fusion leave out (MarkHighlightNeighbourhood).
   Image<uint8_t> highlightNeighbourhood;
+  Image<float> awayFromHighlights;  ///< smoothed with NaN in highlightNeighbourhood (DisparityAwayFromHighlights)
   Buffer<int16_t> radialHitDistance, radialHitValue;  ///< CPU radial filling: nearest estimate per ray [8][pixels]
   Buffer<uint8_t> rayPasses;  ///< CPU outlier test: 1 where a pixel's ray of direction k passes [8][pixels]
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)

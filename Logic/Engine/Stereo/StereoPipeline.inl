@@ -167,6 +167,13 @@ struct PipelineSteps {
             MarkHighlightNeighbourhood{w.highlightNeighbourhood.view()});
   }
 
+  /// The disparity for tracking and fusion (DisparityAwayFromHighlights): with highlight removal off the
+  /// neighbourhood is all 0 and this is a copy.
+  void awayFromHighlights() {
+    parallelFor<Backend>(pixels(), DisparityAwayFromHighlights{w.smoothed.view(), w.highlightNeighbourhood.view(),
+                                                               w.awayFromHighlights.view()});
+  }
+
   void outliersAndHoles() {
     winnersAfterLeftRightCheck();
     if (explain) explainWinners();
@@ -348,6 +355,7 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
     clock.mark();
     steps.adCensusFinish();
     w.filledDisparity.buffer().copyFrom(w.discrete.buffer());
+    steps.awayFromHighlights();
     clock.mark();
   } else {
     steps.windowStatistics(w.left, w.sumLeft, w.inverseNormLeft);
@@ -364,6 +372,7 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
     clock.mark();
 
     steps.refinement();
+    steps.awayFromHighlights();
     clock.mark();
   }
   const std::vector<double> stageMs = clock.stageMilliseconds();  // waits for the device
