@@ -166,67 +166,6 @@ void requireVtkXmlArrayTypesKnown(const std::string& path) {
   }
 }
 
-/// VTK 9.1's PLY reader calls strtol(NULL) when an ASCII row is split over lines (found by fuzz_surface_ply): it
-/// reads each element's row from one line. For ASCII files, check that each row the header declares is one line
-/// holding exactly its values (a list property: its count, then that many values).
-void requireAsciiPlyRowsOnePerLine(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  const auto fail = [&](const std::string& why) { throw Error("cannot read surface model '" + path + "': " + why); };
-  struct Element {
-    std::string name;
-    long long rows = 0;
-    std::vector<bool> propertyIsList;
-  };
-  std::vector<Element> elements;
-  bool ascii = false;
-  std::string line;
-  while (std::getline(file, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string keyword;
-    words >> keyword;
-    if (keyword == "end_header") break;
-    if (keyword == "format") {
-      std::string format;
-      words >> format;
-      ascii = format == "ascii";
-    } else if (keyword == "element") {
-      Element element;
-      words >> element.name >> element.rows;
-      elements.push_back(element);
-    } else if (keyword == "property" && !elements.empty()) {
-      std::string type;
-      words >> type;
-      elements.back().propertyIsList.push_back(type == "list");
-    }
-  }
-  if (!ascii) return;  // binary PLY: VTK reads counted blocks (readPlyWholeFile checked their length)
-  for (const Element& element : elements) {
-    for (long long row = 0; row < element.rows; ++row) {
-      if (!std::getline(file, line)) fail("the file ends inside element '" + element.name + "'");
-      std::istringstream words(line);
-      std::vector<std::string> values;
-      for (std::string word; words >> word;) values.push_back(word);
-      std::size_t at = 0;
-      bool fits = true;
-      for (bool isList : element.propertyIsList) {
-        if (!isList) {
-          ++at;
-          continue;
-        }
-        const long long count = at < values.size() && isNumber(values[at], true)
-                                    ? std::strtoll(values[at].c_str(), nullptr, 10) : -1;
-        if (count < 0) fits = false;
-        at += 1 + static_cast<std::size_t>(std::max(0LL, count));
-      }
-      if (!fits || at != values.size()) {
-        fail("row " + std::to_string(row) + " of element '" + element.name + "' is not one line of its " +
-             "declared values (an ASCII PLY holds one row per line)");
-      }
-    }
-  }
-}
-
 /// VTK 9.1's legacy reader dereferences null when a section of an ASCII file is malformed and the file ends inside
 /// it (`POINTS 4f POLYGONS 2 8`, found by fuzz_surface_vtk). For ASCII files, check that POINTS names its count
 /// and a known type and that the numbers follow, and that each cell section's integers follow, before VTK reads.
@@ -336,14 +275,14 @@ SurfaceModelFile readSurfaceModel(const std::string& path, ModelFrameChoice fram
       model.polyDataLps->GetFieldData()->RemoveArray(kSpaceArrayName);
     }
   } else if (extension == ".ply") {
-    // VTK's reader fills a truncated file's missing vertices with zeros (or crashes): check the whole file first.
+    // VTK's reader fills a truncated file's missing vertices with zeros, and crashes on faces beyond the vertices or
+    // an ASCII row split over lines: check the whole file first (readPlyWholeFile checks all three).
     std::size_t vertices = 0;
     try {
       vertices = readPlyWholeFile(path).size();
     } catch (const Error& error) {
       throw Error("cannot read surface model '" + path + "': " + error.what());
     }
-    requireAsciiPlyRowsOnePerLine(path);
     vtkNew<vtkPLYReader> reader;
     require(reader->CanReadFile(path.c_str()), "cannot read surface model '" + path + "': not a PLY file");
     model.polyDataLps = runReader(reader.Get(), path);

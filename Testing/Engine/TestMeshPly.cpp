@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -34,6 +36,42 @@ TEST(MeshPly, RoundTrip) {
   ASSERT_EQ(read.triangles.size(), 2u);
   for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(read.verticesMm[i], mesh.verticesMm[i]);
   EXPECT_EQ(read.triangles[1], mesh.triangles[1]);
+}
+
+// Through the shared PLY layer (IO/PlyFormat.h): other elements and properties are read past, and ascii and
+// big-endian files read as the little-endian ones do.
+TEST(MeshPly, ReadsPastOtherElementsAndPropertiesInEveryFormat) {
+  const std::string path = outputPath("extras.ply");
+  writeBytes(path,
+             "ply\nformat ascii 1.0\nelement material 1\nproperty list uchar float values\n"
+             "element vertex 3\nproperty double x\nproperty uchar flag\nproperty double y\nproperty double z\n"
+             "element face 2\nproperty int group\nproperty list uchar int vertex_indices\nend_header\n"
+             "2 0.5 0.25\n0 7 0 50\n1 7 0 50.5\n0 7 1 51\n4 3 0 1 2\n5 3 2 1 0\n");
+  TriangleMesh mesh = readMeshPly(path);
+  ASSERT_EQ(mesh.verticesMm.size(), 3u);
+  EXPECT_EQ(mesh.verticesMm[1], cv::Point3f(1, 0, 50.5f));
+  ASSERT_EQ(mesh.triangles.size(), 2u);
+  EXPECT_EQ(mesh.triangles[1], cv::Vec3i(2, 1, 0));
+
+  std::string big = "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const auto appendBig = [&](auto value) {
+    char raw[sizeof(value)];
+    std::memcpy(raw, &value, sizeof(value));
+    std::reverse(raw, raw + sizeof(value));
+    big.append(raw, sizeof(value));
+  };
+  for (float v : {0.f, 0.f, 50.f, 1.f, 0.f, 50.5f, 0.f, 1.f, 51.f}) appendBig(v);
+  big.push_back(3);
+  for (int v : {0, 1, 2}) appendBig(v);
+  writeBytes(path, big);
+  mesh = readMeshPly(path);
+  ASSERT_EQ(mesh.verticesMm.size(), 3u);
+  EXPECT_EQ(mesh.verticesMm[2], cv::Point3f(0, 1, 51));
+  ASSERT_EQ(mesh.triangles.size(), 1u);
+  EXPECT_EQ(mesh.triangles[0], cv::Vec3i(0, 1, 2));
+  writeBytes(path, big.substr(0, big.size() - 2));
+  EXPECT_NE(errorOf([&] { readMeshPly(path); }).find("truncated"), std::string::npos);
 }
 
 TEST(MeshPly, CorruptCountsAreErrorsNotAllocations) {

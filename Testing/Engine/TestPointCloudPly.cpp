@@ -197,6 +197,23 @@ TEST(PointCloudPly, BadFilesGiveErrors) {
   writeBytes(faces, triangle + "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   EXPECT_EQ(readPlyWholeFile(faces).size(), 3u);
 
+  // ... and, for an ASCII file, each row on one line of its declared values, as VTK's line-based reader takes them
+  // (VTK 9.1 called strtol(NULL) on a split row: fuzz_surface_ply). readPly itself takes values as a stream.
+  const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string rows = outputPath("rows.ply");
+  writeBytes(rows, header + "0 0 50\n1 0\n50 0 1 51\n3 0 1 2\n");
+  EXPECT_EQ(readPly(rows).size(), 3u);
+  expectWholeFileError(rows, "row 1 of element 'vertex' is not one line of its declared values");
+  writeBytes(rows, header + "0 0 50 1 0 50\n0 1 51\n3 0 1 2\n");
+  expectWholeFileError(rows, "row 0 of element 'vertex' is not one line");
+  writeBytes(rows, header + "0 0 50\n\n1 0 50\n0 1 51\n3 0 1 2\n");
+  expectWholeFileError(rows, "row 1 of element 'vertex' is not one line");
+  writeBytes(rows, header + "0 0 50\n1 0 50\n0 1 51\n3 0 1 2 0\n");
+  expectWholeFileError(rows, "row 0 of element 'face' is not one line");
+  writeBytes(rows, header + "0 0 50\r\n1 0 50 \r\n0\t1 51\r\n3 0 1 2");  // CR LF, spaces, no final line end
+  EXPECT_EQ(readPlyWholeFile(rows).size(), 3u);
+
   ColoredPointCloud mismatched = randomCloud(3, true);
   mismatched.normals.pop_back();
   EXPECT_THROW(writePly(outputPath("mismatched.ply"), mismatched), Error);

@@ -1,56 +1,18 @@
 #include "IO/MeshPly.h"
 
 #include "IO/AtomicFile.h"
+#include "IO/PlyFormat.h"
 
 #include "Core/Error.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 namespace tissuemosaic {
-
-namespace {
-
-int typeSize(const std::string& type) {
-  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
-  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-  if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" || type == "float32")
-    return 4;
-  if (type == "double" || type == "float64") return 8;
-  return 0;
-}
-
-/// A little-endian binary value of a PLY scalar type, as double.
-double readBinary(std::istream& in, const std::string& type) {
-  unsigned char bytes[8] = {};
-  in.read(reinterpret_cast<char*>(bytes), typeSize(type));
-  if (type == "float" || type == "float32") {
-    float v;
-    std::memcpy(&v, bytes, 4);
-    return v;
-  }
-  if (type == "double" || type == "float64") {
-    double v;
-    std::memcpy(&v, bytes, 8);
-    return v;
-  }
-  if (type == "uchar" || type == "uint8") return bytes[0];
-  if (type == "char" || type == "int8") return static_cast<int8_t>(bytes[0]);
-  if (type == "ushort" || type == "uint16") return static_cast<uint16_t>(bytes[0] | bytes[1] << 8);
-  if (type == "short" || type == "int16") return static_cast<int16_t>(bytes[0] | bytes[1] << 8);
-  uint32_t u = 0;
-  std::memcpy(&u, bytes, 4);
-  if (type == "uint" || type == "uint32") return u;
-  return static_cast<int32_t>(u);
-}
-
-struct Property {
-  std::string name, type, countType;  // countType non-empty: a list
-};
-
-}  // namespace
 
 void writeMeshPly(const std::string& path, const TriangleMesh& mesh, const std::string& comment) {
   const auto vertexCount = static_cast<int64_t>(mesh.verticesMm.size());
@@ -82,98 +44,64 @@ void writeMeshPly(const std::string& path, const TriangleMesh& mesh, const std::
 TriangleMesh readMeshPly(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   require(file.good(), "cannot read mesh '" + path + "': file does not exist or is not readable");
-  const auto fail = [&](const std::string& why) { throw Error("mesh PLY '" + path + "': " + why); };
-  std::string line;
-  std::getline(file, line);
-  if (line != "ply" && line != "ply\r") fail("not a PLY file");
-  bool ascii = false;
-  std::string element;
-  int64_t vertexCount = 0, faceCount = 0;
-  std::vector<Property> vertexProperties, faceProperties;
-  while (std::getline(file, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string keyword;
-    words >> keyword;
-    if (keyword == "end_header") break;
-    if (keyword == "format") {
-      std::string format;
-      words >> format;
-      if (format == "ascii") ascii = true;
-      else if (format != "binary_little_endian") fail("format '" + format + "' is not supported");
-    } else if (keyword == "element") {
-      int64_t count = 0;
-      words >> element >> count;
-      if (words.fail() || count < 0) fail("malformed line '" + line + "'");
-      if (element == "vertex") vertexCount = count;
-      if (element == "face") faceCount = count;
-      if (element != "vertex" && element != "face" && count > 0) fail("element '" + element + "' is not supported");
-    } else if (keyword == "property") {
-      Property p;
-      words >> p.type;
-      if (p.type == "list") words >> p.countType >> p.type;
-      words >> p.name;
-      if (typeSize(p.type) == 0 || (!p.countType.empty() && typeSize(p.countType) == 0))
-        fail("property '" + p.name + "' has an unknown type");
-      (element == "vertex" ? vertexProperties : faceProperties).push_back(p);
-    }
-  }
-  if (!file.good()) fail("the header has no end_header");
+  const std::string context = "mesh PLY '" + path + "': ";
+  const auto fail = [&](const std::string& why) { throw Error(context + why); };
+  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const PlyHeader header = parsePlyHeader(bytes, context);
+  const PlyElement* vertex = header.find("vertex");
+  const PlyElement* face = header.find("face");
+  const std::size_t vertexCount = vertex ? vertex->count : 0, faceCount = face ? face->count : 0;
   int xyz[3] = {-1, -1, -1};
-  for (int i = 0; i < static_cast<int>(vertexProperties.size()); ++i) {
-    const Property& p = vertexProperties[i];
-    if (!p.countType.empty()) fail("vertex list properties are not supported");
-    for (int k = 0; k < 3; ++k) {
-      if (p.name == std::string(1, "xyz"[k])) xyz[k] = i;
+  if (vertex) {
+    for (const PlyProperty& p : vertex->properties) {
+      if (p.isList) fail("vertex list properties are not supported");
     }
+    xyz[0] = vertex->findScalar({"x"});
+    xyz[1] = vertex->findScalar({"y"});
+    xyz[2] = vertex->findScalar({"z"});
   }
   if (xyz[0] < 0 || xyz[1] < 0 || xyz[2] < 0) fail("vertices lack x, y or z");
   // Every vertex and face takes at least one byte: a corrupt count must not allocate more than the file holds.
-  const std::streampos dataStart = file.tellg();
-  file.seekg(0, std::ios::end);
-  const int64_t dataBytes = static_cast<int64_t>(file.tellg() - dataStart);
-  file.seekg(dataStart);
+  const std::size_t dataBytes = bytes.size() - header.bodyStart;
   if (vertexCount > dataBytes || faceCount > dataBytes) {
     fail("the header declares " + std::to_string(vertexCount) + " vertices and " + std::to_string(faceCount) +
          " faces but only " + std::to_string(dataBytes) + " bytes follow it");
   }
   TriangleMesh mesh;
-  mesh.verticesMm.resize(static_cast<std::size_t>(vertexCount));
-  std::vector<double> values(vertexProperties.size());
-  for (int64_t v = 0; v < vertexCount; ++v) {
-    for (std::size_t i = 0; i < vertexProperties.size(); ++i) {
-      if (ascii) file >> values[i];
-      else values[i] = readBinary(file, vertexProperties[i].type);
-    }
-    if (!file) fail("truncated vertex data");
-    mesh.verticesMm[v] = cv::Point3f(static_cast<float>(values[xyz[0]]), static_cast<float>(values[xyz[1]]),
+  mesh.verticesMm.reserve(vertexCount);
+  mesh.triangles.reserve(faceCount);
+  PlyBodyReader reader(bytes, header, context);
+  std::vector<double> values;
+  // Elements in the header's order; those other than vertices and faces (and the faces' other properties) are read
+  // past.
+  for (const PlyElement& element : header.elements) {
+    const bool isVertex = &element == vertex, isFace = &element == face;
+    values.assign(element.properties.size(), 0.0);
+    for (std::size_t row = 0; row < element.count; ++row) {
+      for (std::size_t p = 0; p < element.properties.size(); ++p) {
+        const PlyProperty& property = element.properties[p];
+        if (!property.isList) {
+          values[p] = reader.read(property.valueType);
+          continue;
+        }
+        const double count = reader.read(property.countType);
+        if (!(count >= 0 && count == std::floor(count))) fail("a list has an invalid length");
+        const bool indices = isFace && (property.name == "vertex_indices" || property.name == "vertex_index");
+        if (indices && count != 3) fail("face " + std::to_string(row) + " is not a triangle");
+        cv::Vec3i triangle;
+        for (long long k = 0; k < static_cast<long long>(count); ++k) {
+          const double value = reader.read(property.valueType);
+          if (!indices) continue;
+          if (!(value >= 0 && value < static_cast<double>(vertexCount))) fail("a face refers to a missing vertex");
+          triangle[static_cast<int>(k)] = static_cast<int>(value);
+        }
+        if (indices) mesh.triangles.push_back(triangle);
+      }
+      if (isVertex) {
+        mesh.verticesMm.emplace_back(static_cast<float>(values[xyz[0]]), static_cast<float>(values[xyz[1]]),
                                      static_cast<float>(values[xyz[2]]));
-  }
-  mesh.triangles.reserve(static_cast<std::size_t>(faceCount));
-  for (int64_t f = 0; f < faceCount; ++f) {
-    for (const Property& p : faceProperties) {
-      if (p.countType.empty()) {  // a scalar face property: skip
-        double skip;
-        if (ascii) file >> skip;
-        else readBinary(file, p.type);
-        continue;
       }
-      double count = 0;
-      if (ascii) file >> count;
-      else count = readBinary(file, p.countType);
-      if (!file) fail("truncated face data");
-      if (count != 3) fail("face " + std::to_string(f) + " is not a triangle");
-      cv::Vec3i t;
-      for (int k = 0; k < 3; ++k) {
-        double index = 0;
-        if (ascii) file >> index;
-        else index = readBinary(file, p.type);
-        if (!(index >= 0 && index < static_cast<double>(vertexCount))) fail("a face refers to a missing vertex");
-        t[k] = static_cast<int>(index);
-      }
-      mesh.triangles.push_back(t);
     }
-    if (!file) fail("truncated face data");
   }
   return mesh;
 }

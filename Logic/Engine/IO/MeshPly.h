@@ -20,9 +20,9 @@ struct TriangleMesh {
 /// Throws Error for an index outside the vertices or an unwritable path.
 void writeMeshPly(const std::string& path, const TriangleMesh& mesh, const std::string& comment = {});
 
-/// Reads a PLY with float or double x y z (other vertex properties of fixed size are skipped) and triangular faces
-/// (list of uchar/int/uint count and int/uint indices), ascii or binary little-endian. Throws Error for a missing,
-/// malformed or truncated file, non-triangular faces, or indices outside the vertices.
+/// Reads a PLY (ascii, or binary of either byte order; PlyFormat.h) with x y z of any numeric type per vertex and
+/// triangular faces (list 'vertex_indices' or 'vertex_index'); other properties and elements are read past. Throws
+/// Error for a missing, malformed or truncated file, non-triangular faces, or indices outside the vertices.
 TriangleMesh readMeshPly(const std::string& path);
 
 }  // namespace tissuemosaic

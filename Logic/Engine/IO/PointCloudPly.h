@@ -21,7 +21,8 @@ void writePly(const std::string& path, const ColoredPointCloud& cloud, const std
 ColoredPointCloud readPly(const std::string& path);
 /// readPly that also reads (and skips) every element after the vertices, so that a file truncated or malformed
 /// anywhere is an Error: a check to run before readers that are not so careful (VTK 9.1's PLY reader fills a
-/// truncated file's missing vertices with zeros, or crashes).
+/// truncated file's missing vertices with zeros, or crashes). It also requires faces to have a list
+/// 'vertex_indices' of existing vertices, and an ASCII file to hold each row on one line, as VTK reads them.
 ColoredPointCloud readPlyWholeFile(const std::string& path);
 
 }  // namespace tissuemosaic
