@@ -1,0 +1,62 @@
+#include "Tracking/StereoFeatures.h"
+
+#include "Core/Error.h"
+#include "Core/ParameterChecks.h"
+
+#include <opencv2/core/persistence.hpp>
+
+namespace tissuemosaic {
+
+namespace {
+
+void requireRange(double value, double low, double high, const char* name) {
+  parameters::requireRange("feature", name, value, low, high);
+}
+
+}  // namespace
+
+void FeatureParameters::validate() const {
+  requireRange(maxFeatures, 10, 100000, "maxFeatures");
+  requireRange(scaleFactor, 1.01, 2.0, "scaleFactor");
+  requireRange(levels, 1, 16, "levels");
+  requireRange(fastThreshold, 1, 255, "fastThreshold");
+  requireRange(edgeThresholdPx, 3, 100, "edgeThresholdPx");
+  requireRange(maxHammingDistance, 1, 256, "maxHammingDistance");
+  requireRange(candidatesPerFeature, 0, 8, "candidatesPerFeature");
+  requireRange(voteBinPx, 0.5, 1000, "voteBinPx");
+  requireRange(maxRefinementShiftPx, 0.1, 100, "maxRefinementShiftPx");
+}
+
+void FeatureParameters::write(cv::FileStorage& storage) const {
+  storage << "features" << "{";
+  storage << "maxFeatures" << maxFeatures << "scaleFactor" << scaleFactor << "levels" << levels;
+  storage << "fastThreshold" << fastThreshold << "edgeThresholdPx" << edgeThresholdPx;
+  storage << "maxHammingDistance" << maxHammingDistance << "candidatesPerFeature" << candidatesPerFeature;
+  storage << "voteBinPx" << voteBinPx << "subPixelRefinement" << static_cast<int>(subPixelRefinement);
+  storage << "maxRefinementShiftPx" << maxRefinementShiftPx;
+  storage << "}";
+}
+
+FeatureParameters FeatureParameters::read(const cv::FileNode& node) {
+  FeatureParameters p;
+  if (node.empty()) return p;
+  if (!node.isMap()) throw Error("the 'features' parameter node must be a map");
+  const auto key = [&node](const char* name, auto& value) { parameters::readKey("feature", node, name, value); };
+  key("maxFeatures", p.maxFeatures);
+  key("scaleFactor", p.scaleFactor);
+  key("levels", p.levels);
+  key("fastThreshold", p.fastThreshold);
+  key("edgeThresholdPx", p.edgeThresholdPx);
+  key("maxHammingDistance", p.maxHammingDistance);
+  key("candidatesPerFeature", p.candidatesPerFeature);
+  key("voteBinPx", p.voteBinPx);
+  int subPixel = p.subPixelRefinement ? 1 : 0;
+  key("subPixelRefinement", subPixel);
+  if (subPixel != 0 && subPixel != 1) throw Error("feature parameter subPixelRefinement must be 0 or 1");
+  p.subPixelRefinement = subPixel == 1;
+  key("maxRefinementShiftPx", p.maxRefinementShiftPx);
+  p.validate();
+  return p;
+}
+
+}  // namespace tissuemosaic
