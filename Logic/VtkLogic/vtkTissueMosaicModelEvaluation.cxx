@@ -170,7 +170,19 @@ ModelEvaluation evaluateModel(const std::vector<Eigen::Vector3d>& modelPoints, c
     for (std::size_t i = 1; i < steps.size(); ++i) evaluation.alignment += "+" + steps[i];
   }
   const std::vector<Eigen::Vector3d> placed = transformedPoints(modelPoints, evaluation.T_reference_model);
-  evaluation.distances = distanceStatistics(distancesToSurface(reference, placed));
+  std::vector<double> distances;
+  distances.reserve(placed.size());
+  for (const Eigen::Vector3d& point : placed) {
+    const TargetSurface::Closest closest = reference.closest(point);
+    if (options.excludeBeyondReferenceEdge && closest.onSurfaceEdge) {
+      ++evaluation.pointsBeyondReferenceEdge;
+      continue;
+    }
+    distances.push_back(closest.distanceMm);
+  }
+  require(!distances.empty(), "all " + std::to_string(placed.size()) +
+                                  " model points lie beyond the reference's edge: none to score");
+  evaluation.distances = distanceStatistics(distances);
   if (options.coverageRadiusMm > 0) evaluation.coverage = surfaceCoverage(reference, placed, options.coverageRadiusMm);
   return evaluation;
 }

@@ -50,6 +50,11 @@ struct EvaluationOptions {
   /// False: the model and its trajectory are already in the reference's frame (e.g. a reconstruction started at the
   /// true first pose): the ATE is measured without alignment and the model is not moved.
   bool alignTrajectories = true;
+  /// Leave out of the distances the model points whose closest reference point lies on the reference's edge
+  /// (TargetSurface::Closest::onSurfaceEdge): points beyond a partial reference's outline or over a hole in it (a
+  /// synthetic scan's static_surface.ply has one where the tissue breathes), where the distance measures the gap,
+  /// not the model's error. They are counted in ModelEvaluation::pointsBeyondReferenceEdge.
+  bool excludeBeyondReferenceEdge = false;
   bool icp = false;              ///< refine the placement by ICP before measuring
   IcpParameters icpParameters;
 
@@ -64,7 +69,8 @@ struct ModelEvaluation {
   Eigen::Matrix4d T_reference_model = Eigen::Matrix4d::Identity();  ///< the final placement
   std::optional<TrajectoryErrors> trajectory;  ///< given trajectories: ATE after their rigid alignment, RPE
   std::optional<IcpResult> icp;                ///< with options.icp
-  DistanceStatistics distances;                ///< every model point's distance to the reference surface
+  DistanceStatistics distances;                ///< every (scored) model point's distance to the reference surface
+  std::size_t pointsBeyondReferenceEdge = 0;   ///< left out by options.excludeBeyondReferenceEdge
   SurfaceCoverage coverage;                    ///< of the reference surface by the placed model (radius 0: none)
 };
 

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 namespace tissuemosaic {
 namespace {
@@ -78,6 +79,28 @@ TargetSurface::TargetSurface(vtkPolyData* surfaceLps) {
   require(triangles_->GetNumberOfCells() > 0, "the target model has no non-degenerate triangles");
   normals_ = triangles_->GetCellData()->GetNormals();
   require(normals_ != nullptr, "could not compute the target surface's normals");
+  // The surface's edges: edges that only one triangle has (its outline, and the rims of its holes).
+  const vtkIdType cells = triangles_->GetNumberOfCells();
+  std::unordered_map<uint64_t, int> trianglesPerEdge;
+  const auto edgeKey = [](vtkIdType a, vtkIdType b) {
+    return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint64_t>(std::max(a, b));
+  };
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < cells; ++c) {
+    triangles_->GetCellPoints(c, ids);
+    for (int k = 0; k < 3; ++k) ++trianglesPerEdge[edgeKey(ids->GetId(k), ids->GetId((k + 1) % 3))];
+  }
+  edgeOfSurface_.assign(static_cast<std::size_t>(cells), 0);
+  vertexOnEdge_.assign(static_cast<std::size_t>(triangles_->GetNumberOfPoints()), 0);
+  for (vtkIdType c = 0; c < cells; ++c) {
+    triangles_->GetCellPoints(c, ids);
+    for (int k = 0; k < 3; ++k) {
+      const vtkIdType a = ids->GetId(k), b = ids->GetId((k + 1) % 3);
+      if (trianglesPerEdge[edgeKey(a, b)] != 1) continue;
+      edgeOfSurface_[static_cast<std::size_t>(c)] |= static_cast<uint8_t>(1 << k);
+      vertexOnEdge_[static_cast<std::size_t>(a)] = vertexOnEdge_[static_cast<std::size_t>(b)] = 1;
+    }
+  }
   locator_ = vtkSmartPointer<vtkStaticCellLocator>::New();
   locator_->SetDataSet(triangles_);
   locator_->BuildLocator();
@@ -99,6 +122,31 @@ TargetSurface::Closest TargetSurface::closest(const Eigen::Vector3d& queryLps) c
   result.normal = Eigen::Vector3d(normal[0], normal[1], normal[2]).normalized();
   result.distanceMm = std::sqrt(distance2);
   result.signedDistanceMm = result.normal.dot(queryLps - result.pointLps) < 0 ? -result.distanceMm : result.distanceMm;
+  const vtkIdType* ids = nullptr;
+  vtkIdType count = 0;
+  if (cellId >= 0) triangles_->GetCellPoints(cellId, count, ids);
+  const auto onEdge = [&](vtkIdType point) { return vertexOnEdge_[static_cast<std::size_t>(point)] != 0; };
+  if (count == 3 && (onEdge(ids[0]) || onEdge(ids[1]) || onEdge(ids[2]))) {
+    // Where on its triangle the closest point lies: on edge k when the barycentric weight of the vertex opposite it
+    // is zero (to rounding), on vertex k when its own weight is one.
+    Eigen::Vector3d v[3];
+    for (int k = 0; k < 3; ++k) triangles_->GetPoint(ids[k], v[k].data());
+    const Eigen::Vector3d e0 = v[1] - v[0], e1 = v[2] - v[0], p = result.pointLps - v[0];
+    const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = p.dot(e0), d21 = p.dot(e1);
+    const double denominator = d00 * d11 - d01 * d01;
+    if (denominator > 0) {
+      const double w1 = (d11 * d20 - d01 * d21) / denominator, w2 = (d00 * d21 - d01 * d20) / denominator;
+      const double weight[3] = {1 - w1 - w2, w1, w2};
+      constexpr double kTolerance = 1e-6;
+      const uint8_t edges = edgeOfSurface_[static_cast<std::size_t>(cellId)];
+      for (int k = 0; k < 3 && !result.onSurfaceEdge; ++k) {
+        // Edge k runs from vertex k to k + 1: the weight of vertex k + 2 is zero on it.
+        const bool onEdgeK = std::abs(weight[(k + 2) % 3]) <= kTolerance;
+        const bool atVertexK = std::abs(weight[k] - 1) <= kTolerance;
+        result.onSurfaceEdge = (onEdgeK && (edges >> k & 1)) || (atVertexK && onEdge(ids[k]));
+      }
+    }
+  }
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include <vtkSmartPointer.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 class vtkGenericCell;
@@ -30,6 +31,9 @@ public:
     Eigen::Vector3d normal;         ///< unit normal of the triangle holding it
     double distanceMm = 0;          ///< |query - pointLps|
     double signedDistanceMm = 0;    ///< distanceMm, negative when the query lies behind the triangle's normal
+    /// The closest point lies on the surface's edge (an edge of one triangle only, or a vertex on one): the query is
+    /// beyond the surface's outline or over a hole in it, where its distance measures the gap, not its error.
+    bool onSurfaceEdge = false;
   };
   Closest closest(const Eigen::Vector3d& queryLps) const;
 
@@ -40,6 +44,8 @@ private:
   vtkSmartPointer<vtkStaticCellLocator> locator_;
   vtkSmartPointer<vtkGenericCell> scratch_;
   vtkDataArray* normals_ = nullptr;
+  std::vector<uint8_t> edgeOfSurface_;    ///< per triangle: bit k set when its edge k (vertex k to k+1) is on no other
+  std::vector<uint8_t> vertexOnEdge_;     ///< per point: 1 when it ends such an edge
 };
 
 /// Unsigned distance of every point to the surface; the signed ones too when `signedDistancesMm` is given.

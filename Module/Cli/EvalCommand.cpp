@@ -41,7 +41,8 @@ Measures:
   rmse_mm mean_mm p95_mm   distance of every placed model point to the reference surface (closest point on a
                            triangle): RMS, mean, 95th percentile (also median_mm, max_mm, and share_within_1mm:
                            against a synthetic scan's groundtruth/instruments.ply, the share of the model's points
-                           within 1 mm of an instrument's surface)
+                           within 1 mm of an instrument's surface); points counts them, and with
+                           --exclude-beyond-reference-edge points_beyond_reference_edge those left out
   coverage                 share of the reference surface's AREA lying within --coverage-radius-mm of some model
                            point (0..1)
   ate_mm                   absolute trajectory error: RMS of the aligned position differences (null without
@@ -136,6 +137,7 @@ Report report(const ModelEvaluation& evaluation, const EvaluationOptions& option
       {"max_mm", evaluation.distances.maxMm},
       {"share_within_1mm", evaluation.distances.shareWithin1mm},
       {"points", evaluation.distances.count},
+      {"points_beyond_reference_edge", evaluation.pointsBeyondReferenceEdge},
       {"coverage_radius_mm", evaluation.coverage.radiusMm},
       {"reference_area_mm2", evaluation.coverage.surfaceAreaMm2},
       {"covered_area_mm2", evaluation.coverage.coveredAreaMm2},
@@ -170,7 +172,11 @@ void printJson(const Report& report) {
 void printTable(const ModelEvaluation& e, const std::string& model, const std::string& reference,
                 std::size_t nonFinitePoints) {
   std::cout << "model      " << model << " (" << e.distances.count << " points"
-            << (nonFinitePoints > 0 ? ", " + std::to_string(nonFinitePoints) + " non-finite left out" : "") << ")\n"
+            << (nonFinitePoints > 0 ? ", " + std::to_string(nonFinitePoints) + " non-finite left out" : "")
+            << (e.pointsBeyondReferenceEdge > 0
+                    ? ", " + std::to_string(e.pointsBeyondReferenceEdge) + " beyond the reference's edge left out"
+                    : "")
+            << ")\n"
             << "reference  " << reference << cv::format(" (%.1f mm^2)\n", e.coverage.surfaceAreaMm2)
             << "alignment  " << e.alignment;
   if (e.icp) {
@@ -263,6 +269,11 @@ void setupEval(CLI::App& tool) {
                                                                         "step", heading::options)->capture_default_str();
   add("--icp-max-distance", evaluation.icpParameters.maxDistanceMm, "correspondences farther (mm) never used "
                                                                     "(default: no limit)", heading::options);
+  command->add_flag("--exclude-beyond-reference-edge", evaluation.excludeBeyondReferenceEdge,
+                    "leave out of the distances the model points whose closest reference point lies on the "
+                    "reference's edge: beyond a partial reference's outline or over a hole in it (a synthetic scan's "
+                    "static_surface.ply, where the tissue breathes); counted in points_beyond_reference_edge")
+      ->group(heading::options);
   add("--coverage-radius-mm", evaluation.coverageRadiusMm, "coverage radius (0: no coverage, null in the JSON: for a reference such as groundtruth/instruments.ply, whose large area would take long to cover)", heading::options)->capture_default_str();
   command->callback([options] { runEval(*options); });
 }

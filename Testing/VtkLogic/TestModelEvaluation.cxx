@@ -15,6 +15,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -99,6 +100,66 @@ TEST(ModelEvaluation, PointsAtAKnownNormalOffsetAreThatFar) {
               bent.distances.meanMm, bent.distances.p95Mm);
   EXPECT_NEAR(bent.distances.rmseMm, 0.3, 0.003);
   EXPECT_NEAR(bent.distances.meanMm, 0.3, 0.003);
+}
+
+// A partial reference (the plane z = 0 over [-10, 10]^2 at 0.5 mm, with a hole where the triangles' centres lie
+// within 4 mm of (2, -1)) and a model 0.2 mm above it that reaches over the hole and 3 mm beyond the outline: with
+// excludeBeyondReferenceEdge exactly the points whose foot is in no triangle are left out, and every other point
+// scores 0.2 mm; without it, the points over the gaps score their distance to the rim.
+TEST(ModelEvaluation, PointsBeyondTheReferencesEdgeCanBeLeftOut) {
+  vtkSmartPointer<vtkPolyData> plane = planeMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(),
+                                                 Eigen::Vector3d::UnitY(), 10, 40);
+  vtkNew<vtkCellArray> kept;
+  std::vector<std::array<Eigen::Vector3d, 3>> keptTriangles;
+  const vtkIdType* ids = nullptr;
+  vtkIdType count = 0;
+  for (vtkIdType c = 0; c < plane->GetNumberOfCells(); ++c) {
+    plane->GetCellPoints(c, count, ids);
+    std::array<Eigen::Vector3d, 3> corners;
+    for (int k = 0; k < 3; ++k) plane->GetPoint(ids[k], corners[k].data());
+    const Eigen::Vector3d centre = (corners[0] + corners[1] + corners[2]) / 3;
+    if ((centre.head<2>() - Eigen::Vector2d(2, -1)).norm() < 4) continue;
+    kept->InsertNextCell(count, ids);
+    keptTriangles.push_back(corners);
+  }
+  plane->SetPolys(kept);
+  const TargetSurface reference(plane);
+  // Off the grid lines (0.37 mm steps from -12.9): no foot on a triangle's edge, where inside and outside meet.
+  const std::vector<Eigen::Vector3d> model = gridPoints(-12.9, 12.9, -12.9, 12.9, 0.37, 0.2);
+  const auto footInSomeTriangle = [&](const Eigen::Vector3d& point) {
+    for (const auto& t : keptTriangles) {
+      const Eigen::Vector2d a = t[0].head<2>(), b = t[1].head<2>(), c = t[2].head<2>(), p = point.head<2>();
+      const auto side = [](const Eigen::Vector2d& o, const Eigen::Vector2d& d, const Eigen::Vector2d& q) {
+        return (d.x() - o.x()) * (q.y() - o.y()) - (d.y() - o.y()) * (q.x() - o.x());
+      };
+      const double s0 = side(a, b, p), s1 = side(b, c, p), s2 = side(c, a, p);
+      if ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0)) return true;
+    }
+    return false;
+  };
+  std::size_t beyond = 0;
+  for (const Eigen::Vector3d& point : model) beyond += !footInSomeTriangle(point);
+  ASSERT_GT(beyond, 1000u);  // over the hole (about 50 mm^2) and the 3 mm band around the outline
+  ASSERT_LT(beyond, model.size() / 2);
+
+  const ModelEvaluation all = evaluateModel(model, reference, nullptr);
+  EXPECT_EQ(all.distances.count, model.size());
+  EXPECT_EQ(all.pointsBeyondReferenceEdge, 0u);
+  EXPECT_GT(all.distances.rmseMm, 0.5);  // the gaps' points count their distance to the rim
+
+  EvaluationOptions options;
+  options.excludeBeyondReferenceEdge = true;
+  const ModelEvaluation scored = evaluateModel(model, reference, nullptr, options);
+  EXPECT_EQ(scored.pointsBeyondReferenceEdge, beyond);
+  EXPECT_EQ(scored.distances.count, model.size() - beyond);
+  EXPECT_NEAR(scored.distances.rmseMm, 0.2, 1e-9);
+  EXPECT_NEAR(scored.distances.maxMm, 0.2, 1e-9);
+  std::printf("partial reference: %zu of %zu points beyond its edge; rmse %.4f mm with them, %.4f without\n", beyond,
+              model.size(), all.distances.rmseMm, scored.distances.rmseMm);
+
+  // A model wholly beyond the edge: nothing to score is an error, not an empty result.
+  const std::vector<Eigen::Vector3d> outside = gridPoints(11, 12, 11, 12, 0.5, 0.2);
+  EXPECT_THROW(evaluateModel(outside, reference, nullptr, options), Error);
 }
 
 TEST(ModelEvaluation, HalfOfAPlaneSampledCoversHalfOfItPlusTheRadius) {
