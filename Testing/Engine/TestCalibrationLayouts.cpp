@@ -281,6 +281,12 @@ TEST(CalibrationLayouts, MatrixSizeBeyondItsDataIsRefusedBeforeAllocating) {
   writeText(path, "K1: {rows: 3}\nD1: [1, 2, 3, 4]\nK2: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\nD2: [1, 2, 3, 4]\nR: x\nT: [1, 2, 3]\n");
   EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); }).find("cannot read stereo calibration"),
             std::string::npos);
+  // A ROS-style {rows, cols, data} whose rows is beyond int's range: undefined behaviour in the cast before the
+  // check (found by fuzz_calibration_pair: corpus/fuzz_calibration_pair/crash-0ece9dea*).
+  writeText(path, "K1: {rows: 7.8e109, cols: 3, data: [1, 2, 3]}\n");
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); })
+                .find("key 'K1.rows' must be a whole number from 1 to 1000000, not 7.8e+109"),
+            std::string::npos);
   // OpenCV's parser lets an empty key out as std::length_error, not cv::Exception (found by fuzz_params).
   writeText(path, "%YAML:1.0\n---\nK1:\n   :\n");
   EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); })

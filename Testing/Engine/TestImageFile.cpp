@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -99,6 +100,25 @@ TEST(ImageFile, TruncatedJpegAndHugeImagesAreRefused) {
   std::ofstream(huge, std::ios::binary).write(reinterpret_cast<const char*>(png.data()),
                                               static_cast<std::streamsize>(png.size()));
   expectError([&] { loadImage(huge); }, "its header declares 20000x20000 pixels, more than the 67 megapixels");
+
+  // The same for a BMP (fuzz_image: OpenCV allocated 2.4 GB for one before finding its data missing); a BMP within the
+  // limit still reads, whichever way its rows run (a negative height: top-down).
+  std::vector<uchar> bmp;
+  ASSERT_TRUE(cv::imencode(".bmp", image, bmp));
+  const std::string bmpPath = outputPath("image.bmp");
+  const auto writeBmp = [&](std::int32_t width, std::int32_t height) {
+    std::vector<uchar> bytes = bmp;
+    for (int i = 0; i < 4; ++i) {
+      bytes[18 + i] = static_cast<uchar>(static_cast<std::uint32_t>(width) >> (8 * i));
+      bytes[22 + i] = static_cast<uchar>(static_cast<std::uint32_t>(height) >> (8 * i));
+    }
+    std::ofstream(bmpPath, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                                   static_cast<std::streamsize>(bytes.size()));
+  };
+  writeBmp(160, 120);
+  EXPECT_EQ(loadImage(bmpPath).size(), image.size());
+  writeBmp(30000, -30000);
+  expectError([&] { loadImage(bmpPath); }, "its header declares 30000x30000 pixels, more than the 67 megapixels");
 }
 
 }  // namespace

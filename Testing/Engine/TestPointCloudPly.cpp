@@ -214,6 +214,22 @@ TEST(PointCloudPly, BadFilesGiveErrors) {
   writeBytes(rows, header + "0 0 50\r\n1 0 50 \r\n0\t1 51\r\n3 0 1 2");  // CR LF, spaces, no final line end
   EXPECT_EQ(readPlyWholeFile(rows).size(), 3u);
 
+  // Header lines hold exactly their words and no control byte (VTK 9.1's PLY reader freed memory twice or read out
+  // of bounds on such headers that a looser reading let through: fuzz_surface_ply).
+  const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+  const auto headerError = [&](const std::string& head, const std::string& expected) {
+    writeBytes(rows, "ply\nformat ascii 1.0\n" + head + "end_header\n0 0 1\n");
+    expectError(rows, expected);
+  };
+  headerError("element vertex 1ply\n" + xyz, "malformed line 'element vertex 1ply'");
+  headerError("element vertex 1 2\n" + xyz, "malformed line 'element vertex 1 2'");
+  headerError("element vertex 1\nproperty float x y\nproperty float y\nproperty float z\n",
+              "malformed line 'property float x y'");
+  headerError("element vertex 1\n" + xyz + "element vertex 1\n" + xyz, "element 'vertex' is declared twice");
+  headerError(std::string("element ver\0tex 1\n", 18) + xyz, "header line 3 holds a control byte");
+  writeBytes(rows, "ply\nformat ascii 1.0 extra\nelement vertex 1\n" + xyz + "end_header\n0 0 1\n");
+  expectError(rows, "malformed line 'format ascii 1.0 extra'");
+
   ColoredPointCloud mismatched = randomCloud(3, true);
   mismatched.normals.pop_back();
   EXPECT_THROW(writePly(outputPath("mismatched.ply"), mismatched), Error);

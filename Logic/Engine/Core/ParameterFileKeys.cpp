@@ -35,9 +35,9 @@ void requireKnownKeys(const cv::FileNode& given, const cv::FileNode& known, cons
   }
 }
 
-void requireWellFormedYaml(const std::string& text, const std::string& context) {
+YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& context, const std::string& invalid) {
   const std::size_t start = text.find_first_not_of(" \t\r\n");
-  if (start == std::string::npos || text[start] == '<') return;  // empty (the callers say so) or XML
+  if (start == std::string::npos || text[start] == '<') return {};  // empty (the callers say so) or XML
   // OpenCV's "%YAML:1.0" is not a YAML directive yaml-cpp knows: the rest of the file is plain YAML.
   const std::size_t body = text.compare(start, 5, "%YAML") == 0 ? text.find('\n', start) : start;
   // OpenCV's parser also loops on a line that starts with '-' followed by neither a space (a list item), a number
@@ -53,13 +53,17 @@ void requireWellFormedYaml(const std::string& text, const std::string& context) 
                       line.compare(first, 3, "---") == 0;
     if (!fine) throw Error(context + "line " + std::to_string(number) + " starts with '-' but is no list item or number");
   }
-  YAML::Node root;
   try {
-    root = YAML::Load(body == std::string::npos ? std::string() : text.substr(body));
+    return YAML::Load(body == std::string::npos ? std::string() : text.substr(body));
   } catch (const YAML::Exception& error) {
-    throw Error(context + "not a valid YAML/XML file (" + error.msg + " at line " + std::to_string(error.mark.line + 1) +
-                ")");
+    throw Error(context + invalid + " (" + error.msg + " at line " + std::to_string(error.mark.line + 1) + ")");
   }
+}
+
+void requireWellFormedYaml(const std::string& text, const std::string& context) {
+  const std::size_t start = text.find_first_not_of(" \t\r\n");
+  if (start == std::string::npos || text[start] == '<') return;  // empty (the callers say so) or XML
+  const YAML::Node root = requireYamlOpenCvCanRead(text, context);
   require(root.IsMap() && root.size() > 0,
           context + "the file holds no parameter node (such as 'stereo:' or 'tracking:', see Resources/Presets)");
 }

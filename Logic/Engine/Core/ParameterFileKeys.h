@@ -3,6 +3,7 @@
 /// @brief Parameter files are strict: a misspelt node or key is an error naming it and the nearest known name, never
 /// silently ignored. The known names come from the parameter structs' own write() (one source of truth).
 #include <opencv2/core.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include <string>
 
@@ -18,6 +19,12 @@ void requireKnownKeys(const cv::FileNode& given, const cv::FileNode& known, cons
 /// own YAML parser never returns on some malformed texts (" L:0\n-a--", found by fuzz_params), so a text goes to
 /// it only once a careful parser has read it. XML texts (starting with '<') are left to OpenCV.
 void requireWellFormedYaml(const std::string& text, const std::string& context);
+/// The same guard for any OpenCV YAML text (calibration files too): throws Error (`context`, then `invalid` and
+/// yaml-cpp's reason, or the line OpenCV would loop on) unless
+/// yaml-cpp reads it (an OpenCV "%YAML:1.0" first line skipped) and no line is one OpenCV 4.6 loops on; returns what
+/// yaml-cpp read (a null node for an empty or XML text, which OpenCV reads alone).
+YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& context,
+                                    const std::string& invalid = "not a valid YAML/XML file");
 
 /// Opens a parameters file (OpenCV YAML/XML) for reading; an empty, missing or malformed file is an Error that says so
 /// (never OpenCV's assertion text).

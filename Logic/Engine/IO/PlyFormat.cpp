@@ -80,11 +80,32 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& context) {
   require(nextLine() == "ply", context + "not a PLY file (it must start with 'ply')");
   PlyHeader header;
   bool sawFormat = false;
+  int lineNumber = 1;
   for (std::string line = nextLine(); line != "end_header"; line = nextLine()) {
+    ++lineNumber;
+    // Header lines are text, and each keyword's line holds exactly its words: VTK 9.1's PLY reader freed memory twice
+    // or read out of bounds on element lines such as "element ver4ex 4ply" or names with control bytes
+    // (fuzz_surface_ply), which a looser reading let through.
+    const auto control = std::find_if(line.begin(), line.end(), [](char c) {
+      const auto byte = static_cast<unsigned char>(c);
+      return (byte < 0x20 && c != '\t') || byte == 0x7f;
+    });
+    require(control == line.end(), context + "header line " + std::to_string(lineNumber) + " holds a control byte");
     std::istringstream words(line);
     std::string keyword;
     words >> keyword;
+    std::vector<std::string> rest;
+    if (keyword != "comment" && keyword != "obj_info") {
+      for (std::string word; words >> word;) rest.push_back(word);
+      words.clear();
+      words.str(line);
+      words >> keyword;
+    }
+    const auto requireWords = [&](std::size_t count) {
+      require(rest.size() == count, context + "malformed line '" + line + "'");
+    };
     if (keyword == "format") {
+      requireWords(2);
       std::string name;
       words >> name;
       if (name == "ascii") header.format = PlyFormat::Ascii;
@@ -93,10 +114,13 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& context) {
       else throw Error(context + "unknown format '" + name + "'");
       sawFormat = true;
     } else if (keyword == "element") {
+      requireWords(2);
       PlyElement element;
       long long count = -1;
       words >> element.name >> count;
-      require(!words.fail() && count >= 0, context + "malformed line '" + line + "'");
+      require(!words.fail() && count >= 0 && rest[1].find_first_not_of("0123456789") == std::string::npos,
+              context + "malformed line '" + line + "'");
+      require(header.find(element.name) == nullptr, context + "element '" + element.name + "' is declared twice");
       element.count = static_cast<std::size_t>(count);
       header.elements.push_back(element);
     } else if (keyword == "property") {
@@ -104,6 +128,7 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::string& context) {
       PlyProperty property;
       std::string type;
       words >> type;
+      requireWords(type == "list" ? 4 : 2);
       if (type == "list") {
         std::string countType, valueType;
         words >> countType >> valueType >> property.name;

@@ -1,11 +1,13 @@
 #include "IO/Calibration/CalibrationDocument.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterFileKeys.h"
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 namespace tissuemosaic {
 namespace {
@@ -90,6 +92,10 @@ CalibrationDocument CalibrationDocument::load(const std::string& path) {
   CalibrationDocument document;
   document.path = path;
   if (writtenByFileStorage(path)) {
+    // OpenCV 4.6's YAML parser never returns on some malformed texts (fuzz_calibration): yaml-cpp reads them first.
+    std::ifstream file(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    parameters::requireYamlOpenCvCanRead(text, "", "not a valid OpenCV YAML/XML file");
     cv::FileStorage storage;
     try {
       storage.open(path, cv::FileStorage::READ);
@@ -150,9 +156,16 @@ cv::Mat readMatrix(const YAML::Node& node, const std::string& key) {
     require(static_cast<bool>(node["data"]), notMatrix + " (a map without 'data')");
     cv::Mat m = readMatrix(node["data"], key);
     if (node["rows"] && node["cols"]) {
-      const int rows = static_cast<int>(toNumber(node["rows"], key + ".rows"));
-      const int cols = static_cast<int>(toNumber(node["cols"], key + ".cols"));
-      require(rows > 0 && cols > 0 && static_cast<std::size_t>(rows) * cols == m.total(),
+      // Checked as doubles first: a count beyond int's range was undefined behaviour in the cast (fuzz_calibration_pair).
+      const auto dimension = [&](const char* part) {
+        const double value = toNumber(node[part], key + "." + part);
+        require(value >= 1 && value <= 1e6 && value == std::floor(value),
+                "key '" + key + "." + part + "' must be a whole number from 1 to 1000000, not " + cv::format("%g", value));
+        return static_cast<int>(value);
+      };
+      const int rows = dimension("rows");
+      const int cols = dimension("cols");
+      require(static_cast<std::size_t>(rows) * cols == m.total(),
               "key '" + key + "' says " + std::to_string(rows) + "x" + std::to_string(cols) + " but holds " +
                   std::to_string(m.total()) + " values");
       m = m.reshape(1, rows);
