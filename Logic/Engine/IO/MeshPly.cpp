@@ -84,12 +84,11 @@ TriangleMesh readMeshPly(const std::string& path) {
           values[p] = reader.read(property.valueType);
           continue;
         }
-        const double count = reader.read(property.countType);
-        if (!(count >= 0 && count == std::floor(count))) fail("a list has an invalid length");
+        const std::size_t count = reader.readListLength(property.countType);
         const bool indices = isFace && (property.name == "vertex_indices" || property.name == "vertex_index");
         if (indices && count != 3) fail("face " + std::to_string(row) + " is not a triangle");
         cv::Vec3i triangle;
-        for (long long k = 0; k < static_cast<long long>(count); ++k) {
+        for (std::size_t k = 0; k < count; ++k) {
           const double value = reader.read(property.valueType);
           if (!indices) continue;
           if (!(value >= 0 && value < static_cast<double>(vertexCount))) fail("a face refers to a missing vertex");

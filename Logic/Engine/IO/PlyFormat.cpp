@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -197,6 +198,14 @@ double PlyBodyReader::read(PlyScalar type) {
     case PlyScalar::Float64: return decode<double>(raw);
   }
   return 0;
+}
+
+std::size_t PlyBodyReader::readListLength(PlyScalar countType) {
+  const double count = read(countType);
+  // Every value takes at least a byte: a longer list cannot be in the file (and would not fit a size_t).
+  if (!(count >= 0 && count == std::floor(count) && count <= static_cast<double>(bytes_.size())))
+    throw Error(context_ + "a list has an invalid length");
+  return static_cast<std::size_t>(count);
 }
 
 double PlyBodyReader::readAscii() {

@@ -52,6 +52,8 @@ public:
                 bool rowsOnePerLine = false);
 
   double read(PlyScalar type);
+  /// A list property's length: a whole number, not negative (else Error "a list has an invalid length").
+  std::size_t readListLength(PlyScalar countType);
   void beginRow(const std::string& element, std::size_t row);
   void endRow();
   std::size_t bytesLeft() const { return bytes_.size() - position_; }

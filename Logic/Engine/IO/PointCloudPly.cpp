@@ -121,9 +121,8 @@ ColoredPointCloud readPlyFile(const std::string& path, bool wholeFile) {
           values[p] = reader.read(property.valueType);
           continue;
         }
-        const double count = reader.read(property.countType);
-        if (!(count >= 0 && count == std::floor(count))) throw Error(context + "a list has an invalid length");
-        for (long long k = 0; k < static_cast<long long>(count); ++k) {
+        const std::size_t count = reader.readListLength(property.countType);
+        for (std::size_t k = 0; k < count; ++k) {
           const double value = reader.read(property.valueType);
           if (isFace && static_cast<int>(p) == faceIndices &&
               !(value >= 0 && value < static_cast<double>(vertex.count) && value == std::floor(value))) {
