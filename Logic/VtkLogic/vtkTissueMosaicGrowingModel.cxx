@@ -21,16 +21,24 @@ namespace tissuemosaic {
 
 namespace {
 
-/// Resizes and copies n packed tuples in. SetNumberOfValues grows the buffer to more than twice its old capacity
-/// (realloc: kept memory is not copied again), so a model growing by a key frame's points at a time reallocates a
-/// few times per scan; SetNumberOfTuples would allocate exactly n afresh at every growth, and fault in every page
-/// of the whole model again on the GUI thread.
+/// Sets the array's count to `values` without giving memory back, and returns its data. VTK's SetNumberOfValues
+/// squeezes the buffer (a realloc to the exact size) whenever the count falls within the capacity, so the next
+/// growth reallocates again (and with an allocator that moves on every realloc, such as ASan's, every update moved
+/// the whole model: ReconstructionGrowingModel.AppendsInPlaceAndRefreshesEarlierPoints). Reset keeps the memory;
+/// WritePointer grows it to more than twice its capacity only when needed, by realloc, so the contents stay.
+template <class Array>
+typename Array::ValueType* setCountKeepingCapacity(Array* array, vtkIdType values) {
+  array->Reset();
+  return values > 0 ? array->WritePointer(0, values) : array->GetPointer(0);
+}
+
+/// Resizes (keeping the capacity) and copies n packed tuples in: a model growing by a key frame's points at a time
+/// reallocates a few times per scan, never the whole model's pages again at every key frame on the GUI thread.
 template <class Array>
 void copyInto(Array* array, const void* data, vtkIdType n) {
-  array->SetNumberOfValues(n * array->GetNumberOfComponents());
-  const std::size_t bytes = static_cast<std::size_t>(n) * static_cast<std::size_t>(array->GetNumberOfComponents()) *
-                            sizeof(typename Array::ValueType);
-  if (n > 0) std::memcpy(array->GetPointer(0), data, bytes);
+  const vtkIdType values = n * array->GetNumberOfComponents();
+  typename Array::ValueType* target = setCountKeepingCapacity(array, values);
+  if (n > 0) std::memcpy(target, data, static_cast<std::size_t>(values) * sizeof(typename Array::ValueType));
 }
 
 vtkFloatArray* floatPoints(vtkPolyData* polyData) {
@@ -77,8 +85,8 @@ GrowingModelUpdate updateGrowingModel(vtkPolyData* polyData, const ColoredPointC
   // Vertex cell i is point i: offsets 0..n, connectivity 0..n-1. Only the new tail is written.
   auto* offsets = vtkTypeInt64Array::SafeDownCast(verts->GetOffsetsArray());
   auto* connectivity = vtkTypeInt64Array::SafeDownCast(verts->GetConnectivityArray());
-  offsets->SetNumberOfValues(n + 1);
-  connectivity->SetNumberOfValues(n);
+  setCountKeepingCapacity(offsets, n + 1);
+  setCountKeepingCapacity(connectivity, n);
   if (n > before) {
     std::iota(offsets->GetPointer(before), offsets->GetPointer(n + 1), vtkTypeInt64(before));
     std::iota(connectivity->GetPointer(before), connectivity->GetPointer(n), vtkTypeInt64(before));
