@@ -174,7 +174,11 @@ void requireLegacyVtkSectionsComplete(const std::string& path) {
   std::string line;
   for (int i = 0; i < 3 && std::getline(file, line); ++i) {
   }
-  if (line.rfind("ASCII", 0) != 0) return;  // binary legacy files: VTK reads counted blocks
+  // VTK takes the format word in any case ("AScII" too: fuzz_surface_vtk); binary legacy files: counted blocks.
+  std::string format = line.substr(0, 5);
+  std::transform(format.begin(), format.end(), format.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (format != "ascii") return;
   std::vector<std::string> tokens;
   for (std::string token; file >> token;) tokens.push_back(token);
   const auto fail = [&](const std::string& why) {
