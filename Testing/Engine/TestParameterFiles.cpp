@@ -70,13 +70,23 @@ TEST(ParameterFiles, ParserFailuresOtherThanCvExceptionAreErrors) {
 // Found by fuzz_params (corpus/fuzz_params/timeout-6a984fd7*, 272 bytes, minimised to this): OpenCV 4.6's YAML
 // parser never returned, so `stereo --params` hung. yaml-cpp reads the text first.
 TEST(ParameterFiles, TextsThatHangOpenCvsParserAreErrors) {
-  // The second is a valid YAML map for yaml-cpp (the "-~--" line continues a scalar) but still hung OpenCV.
-  for (const std::string text : {"%YAML:1.0\n L:0\n-a--\n", "%YAML:1.0\n---\n# A\n   ransacConfidence: 0.\n-~--\n"}) {
+  // The second is a valid YAML map for yaml-cpp (the "-~--" line continues a scalar) but still hung OpenCV; so did
+  // the third's "-." lines and the fourth's NUL byte (fuzz_params, corpus/fuzz_params/timeout-*).
+  for (const std::string text :
+       {std::string("%YAML:1.0\n L:0\n-a--\n"), std::string("%YAML:1.0\n---\n# A\n   ransacConfidence: 0.\n-~--\n"),
+        std::string("%YAML:1.0\n   outlierSmoothness: xP.52nul\n-.\n-.\n# Faster and cas|er and co:1-0-\n"),
+        std::string("%YAML:1.0\nstereo:\n   Y\x06\0L: 1.0\n", 27)}) {
     const std::string path = writeFile("hangs-opencv.yml", text);
     EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(path); }).find("cannot read parameters file '" + path + "': "),
               std::string::npos);
     EXPECT_NE(errorOf([&] { ReconstructionParameters::parse(text); }).find("cannot parse parameters: "), std::string::npos);
   }
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::parse(std::string("stereo:\n  a\0b: 1\n", 16)); })
+                .find("not a valid YAML/XML file (line 2 holds a control byte)"),
+            std::string::npos);
+  const std::string negative = writeFile("negative.yml", "%YAML:1.0\nstereo:\n  minDisparityPx: -.5e1\n");
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(negative); }).find("minDisparityPx"), std::string::npos)
+      << "a number such as -.5e1 is read, and refused only for its value (not an integer)";
   const std::string broken = writeFile("broken.yml", "%YAML:1.0\n---\nstereo: [1, 2\n");
   EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(broken); }).find("not a valid YAML/XML file ("), std::string::npos);
 }

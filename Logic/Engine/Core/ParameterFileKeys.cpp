@@ -3,6 +3,7 @@
 #include "Core/EditDistance.h"
 #include "Core/Error.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <yaml-cpp/yaml.h>
 #include <fstream>
@@ -42,6 +43,14 @@ YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& 
   const std::size_t body = text.compare(start, 5, "%YAML") == 0 ? text.find('\n', start) : start;
   // OpenCV's parser also loops on a line that starts with '-' followed by neither a space (a list item), a number
   // nor "--" (a document start), such as "-~--" (found by fuzz_params), which yaml-cpp reads as part of a scalar.
+  // Control bytes (a NUL among them) are no YAML text, and OpenCV's parser looped on some (fuzz_params).
+  const auto control = std::find_if(text.begin(), text.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r';
+  });
+  if (control != text.end()) {
+    const long line = 1 + std::count(text.begin(), control, '\n');
+    throw Error(context + invalid + " (line " + std::to_string(line) + " holds a control byte)");
+  }
   std::istringstream lines(text);
   int number = 0;
   for (std::string line; std::getline(lines, line);) {
@@ -49,7 +58,10 @@ YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& 
     const std::size_t first = line.find_first_not_of(" \t");
     if (first == std::string::npos || line[first] != '-' || first + 1 >= line.size()) continue;
     const char next = line[first + 1];
-    const bool fine = next == ' ' || next == '\t' || next == '\r' || next == '.' || (next >= '0' && next <= '9') ||
+    const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+    // "-." alone hung it too (fuzz_params): a '.' must lead a number's digits.
+    const bool fine = next == ' ' || next == '\t' || next == '\r' || digit(next) ||
+                      (next == '.' && first + 2 < line.size() && digit(line[first + 2])) ||
                       line.compare(first, 3, "---") == 0;
     if (!fine) throw Error(context + "line " + std::to_string(number) + " starts with '-' but is no list item or number");
   }
