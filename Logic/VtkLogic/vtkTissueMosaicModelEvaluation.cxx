@@ -174,7 +174,7 @@ ModelEvaluation evaluateModel(const std::vector<Eigen::Vector3d>& modelPoints, c
   distances.reserve(placed.size());
   for (const Eigen::Vector3d& point : placed) {
     const TargetSurface::Closest closest = reference.closest(point);
-    if (options.excludeBeyondReferenceEdge && closest.onSurfaceEdge) {
+    if (options.excludeBeyondReferenceEdge && reference.onSurfaceEdge(closest)) {
       ++evaluation.pointsBeyondReferenceEdge;
       continue;
     }

@@ -51,7 +51,7 @@ struct EvaluationOptions {
   /// true first pose): the ATE is measured without alignment and the model is not moved.
   bool alignTrajectories = true;
   /// Leave out of the distances the model points whose closest reference point lies on the reference's edge
-  /// (TargetSurface::Closest::onSurfaceEdge): points beyond a partial reference's outline or over a hole in it (a
+  /// (TargetSurface::onSurfaceEdge): points beyond a partial reference's outline or over a hole in it (a
   /// synthetic scan's static_surface.ply has one where the tissue breathes), where the distance measures the gap,
   /// not the model's error. They are counted in ModelEvaluation::pointsBeyondReferenceEdge.
   bool excludeBeyondReferenceEdge = false;

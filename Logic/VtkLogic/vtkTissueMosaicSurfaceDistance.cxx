@@ -122,32 +122,35 @@ TargetSurface::Closest TargetSurface::closest(const Eigen::Vector3d& queryLps) c
   result.normal = Eigen::Vector3d(normal[0], normal[1], normal[2]).normalized();
   result.distanceMm = std::sqrt(distance2);
   result.signedDistanceMm = result.normal.dot(queryLps - result.pointLps) < 0 ? -result.distanceMm : result.distanceMm;
+  result.cellId = cellId;
+  return result;
+}
+
+bool TargetSurface::onSurfaceEdge(const Closest& closest) const {
   const vtkIdType* ids = nullptr;
   vtkIdType count = 0;
-  if (cellId >= 0) triangles_->GetCellPoints(cellId, count, ids);
+  if (closest.cellId >= 0) triangles_->GetCellPoints(closest.cellId, count, ids);
   const auto onEdge = [&](vtkIdType point) { return vertexOnEdge_[static_cast<std::size_t>(point)] != 0; };
-  if (count == 3 && (onEdge(ids[0]) || onEdge(ids[1]) || onEdge(ids[2]))) {
-    // Where on its triangle the closest point lies: on edge k when the barycentric weight of the vertex opposite it
-    // is zero (to rounding), on vertex k when its own weight is one.
-    Eigen::Vector3d v[3];
-    for (int k = 0; k < 3; ++k) triangles_->GetPoint(ids[k], v[k].data());
-    const Eigen::Vector3d e0 = v[1] - v[0], e1 = v[2] - v[0], p = result.pointLps - v[0];
-    const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = p.dot(e0), d21 = p.dot(e1);
-    const double denominator = d00 * d11 - d01 * d01;
-    if (denominator > 0) {
-      const double w1 = (d11 * d20 - d01 * d21) / denominator, w2 = (d00 * d21 - d01 * d20) / denominator;
-      const double weight[3] = {1 - w1 - w2, w1, w2};
-      constexpr double kTolerance = 1e-6;
-      const uint8_t edges = edgeOfSurface_[static_cast<std::size_t>(cellId)];
-      for (int k = 0; k < 3 && !result.onSurfaceEdge; ++k) {
-        // Edge k runs from vertex k to k + 1: the weight of vertex k + 2 is zero on it.
-        const bool onEdgeK = std::abs(weight[(k + 2) % 3]) <= kTolerance;
-        const bool atVertexK = std::abs(weight[k] - 1) <= kTolerance;
-        result.onSurfaceEdge = (onEdgeK && (edges >> k & 1)) || (atVertexK && onEdge(ids[k]));
-      }
-    }
+  if (count != 3 || !(onEdge(ids[0]) || onEdge(ids[1]) || onEdge(ids[2]))) return false;
+  // Where on its triangle the closest point lies: on edge k when the barycentric weight of the vertex opposite it is
+  // zero (to rounding), on vertex k when its own weight is one.
+  Eigen::Vector3d v[3];
+  for (int k = 0; k < 3; ++k) triangles_->GetPoint(ids[k], v[k].data());
+  const Eigen::Vector3d e0 = v[1] - v[0], e1 = v[2] - v[0], p = closest.pointLps - v[0];
+  const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = p.dot(e0), d21 = p.dot(e1);
+  const double denominator = d00 * d11 - d01 * d01;
+  if (!(denominator > 0)) return false;
+  const double w1 = (d11 * d20 - d01 * d21) / denominator, w2 = (d00 * d21 - d01 * d20) / denominator;
+  const double weight[3] = {1 - w1 - w2, w1, w2};
+  constexpr double kTolerance = 1e-6;
+  const uint8_t edges = edgeOfSurface_[static_cast<std::size_t>(closest.cellId)];
+  for (int k = 0; k < 3; ++k) {
+    // Edge k runs from vertex k to k + 1: the weight of vertex k + 2 is zero on it.
+    const bool onEdgeK = std::abs(weight[(k + 2) % 3]) <= kTolerance;
+    const bool atVertexK = std::abs(weight[k] - 1) <= kTolerance;
+    if ((onEdgeK && (edges >> k & 1)) || (atVertexK && onEdge(ids[k]))) return true;
   }
-  return result;
+  return false;
 }
 
 std::vector<double> distancesToSurface(const TargetSurface& surface, const std::vector<Eigen::Vector3d>& pointsLps,

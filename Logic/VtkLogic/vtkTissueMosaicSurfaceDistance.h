@@ -31,11 +31,13 @@ public:
     Eigen::Vector3d normal;         ///< unit normal of the triangle holding it
     double distanceMm = 0;          ///< |query - pointLps|
     double signedDistanceMm = 0;    ///< distanceMm, negative when the query lies behind the triangle's normal
-    /// The closest point lies on the surface's edge (an edge of one triangle only, or a vertex on one): the query is
-    /// beyond the surface's outline or over a hole in it, where its distance measures the gap, not its error.
-    bool onSurfaceEdge = false;
+    vtkIdType cellId = -1;          ///< the triangle holding it
   };
   Closest closest(const Eigen::Vector3d& queryLps) const;
+  /// Whether closest.pointLps lies on the surface's edge (an edge of one triangle only, or a vertex on one): the query
+  /// is beyond the surface's outline or over a hole in it, where its distance measures the gap, not its error. Kept
+  /// out of closest(), which ICP calls for every point at every step.
+  bool onSurfaceEdge(const Closest& closest) const;
 
   vtkPolyData* triangles() const;
 
