@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -64,15 +65,11 @@ YAML::Node fromFileNode(const cv::FileNode& node) {
 }
 
 /// OpenCV writes "%YAML:1.0", which YAML parsers refuse, and XML; everything else goes to yaml-cpp (YAML and JSON).
-bool writtenByFileStorage(const std::string& path) {
-  std::ifstream file(path);
-  std::string head;
-  char c;
-  while (head.size() < 16 && file.get(c)) {
-    if (head.empty() && std::isspace(static_cast<unsigned char>(c))) continue;
-    head += c;
-  }
-  return head.rfind("%YAML:", 0) == 0 || head.rfind("<?xml", 0) == 0 || head.rfind("<opencv_storage", 0) == 0;
+bool writtenByFileStorage(const std::string& text) {
+  const std::size_t start = text.find_first_not_of(" \t\r\n\f\v");
+  if (start == std::string::npos) return false;
+  const auto startsWith = [&](const char* prefix) { return text.compare(start, std::strlen(prefix), prefix) == 0; };
+  return startsWith("%YAML:") || startsWith("<?xml") || startsWith("<opencv_storage");
 }
 
 double toNumber(const YAML::Node& value, const std::string& key) {
@@ -91,14 +88,16 @@ CalibrationDocument CalibrationDocument::load(const std::string& path) {
   require(std::filesystem::is_regular_file(path, ec), "file does not exist");
   CalibrationDocument document;
   document.path = path;
-  if (writtenByFileStorage(path)) {
+  // Read once: the format test, the guard and the parser all take this text.
+  std::ifstream file(path, std::ios::binary);
+  require(file.good(), "the file is not readable");
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (writtenByFileStorage(text)) {
     // OpenCV 4.6's YAML parser never returns on some malformed texts (fuzz_calibration): yaml-cpp reads them first.
-    std::ifstream file(path, std::ios::binary);
-    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
     parameters::requireYamlOpenCvCanRead(text, "", "not a valid OpenCV YAML/XML file");
     cv::FileStorage storage;
     try {
-      storage.open(path, cv::FileStorage::READ);
+      storage.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
     } catch (const cv::Exception& e) {
       throw Error("not a valid OpenCV YAML/XML file (" + e.err + ")");
     } catch (const std::exception& e) {  // OpenCV's parser lets some failures out as std::length_error
@@ -112,7 +111,7 @@ CalibrationDocument CalibrationDocument::load(const std::string& path) {
     }
   } else {
     try {
-      document.root = YAML::LoadFile(path);
+      document.root = YAML::Load(text);
     } catch (const YAML::Exception& e) {
       throw Error("not a valid YAML or JSON file (" + std::string(e.what()) + ")");
     }
