@@ -13,6 +13,7 @@
 
 #include <csignal>
 #include <pthread.h>
+#include <sys/socket.h>
 
 namespace tissuemosaic::igtlink {
 namespace {
@@ -33,8 +34,36 @@ constexpr int kLargestClientMessageBytes = 64 << 20;  ///< beyond: not an OpenIG
 
 }  // namespace
 
+namespace {
+/// OpenIGTLink's ServerSocket::CreateServer binds without SO_REUSEADDR (its guard, VTK_HAVE_SO_REUSEADDR, is a VTK
+/// macro that OpenIGTLink never defines on Linux). A server that closed its clients leaves their connections in
+/// TCP's TIME_WAIT for a minute, and until then a new server on the same port (the next scan, or the app's server
+/// turned off and on) was refused as "in use". With SO_REUSEADDR the port is free again at once; a port another
+/// server listens on is still refused.
+class ReusableServerSocket : public igtl::ServerSocket {
+ public:
+  typedef ReusableServerSocket Self;
+  typedef igtl::SmartPointer<Self> Pointer;
+  igtlNewMacro(Self);
+
+  /// Listens on `port` (0: any free port). False when the port cannot be bound.
+  bool listenOn(int port) {
+    CloseSocket();
+    m_SocketDescriptor = CreateSocket();
+    if (m_SocketDescriptor < 0) return false;
+    const int reuse = 1;
+    if (setsockopt(m_SocketDescriptor, SOL_SOCKET, SO_REUSEADDR, &reuse, sizeof reuse) != 0 ||
+        BindSocket(m_SocketDescriptor, port) != 0 || Listen(m_SocketDescriptor) != 0) {
+      CloseSocket();
+      return false;
+    }
+    return true;
+  }
+};
+}  // namespace
+
 struct IgtLinkServer::Listener {
-  igtl::ServerSocket::Pointer socket = igtl::ServerSocket::New();
+  ReusableServerSocket::Pointer socket = ReusableServerSocket::New();
 };
 
 struct IgtLinkServer::Client {
@@ -76,7 +105,7 @@ bool receiveExactly(IgtLinkServer::Client& client, void* data, int length) {
 
 IgtLinkServer::IgtLinkServer(int port, Options options) : options_(options), listener_(std::make_unique<Listener>()) {
   require(port >= 0 && port <= 65535, "OpenIGTLink port " + std::to_string(port) + " is not in 0..65535");
-  require(listener_->socket->CreateServer(port) == 0,
+  require(listener_->socket->listenOn(port),
           "cannot start the OpenIGTLink server on port " + std::to_string(port) +
               ": the port is in use (another server, or Slicer in server mode?) or not allowed");
   port_ = listener_->socket->GetServerPort();

@@ -229,6 +229,21 @@ TEST(IgtLink, PortInUseIsAClearError) {
   }
 }
 
+TEST(IgtLink, ThePortIsFreeAgainAsSoonAsAServerWithClientsEnds) {
+  // The server closes its clients' connections first, which leaves them in TCP's TIME_WAIT for a minute: the next
+  // scan on the same port must start at once all the same.
+  int port = 0;
+  igtl::ClientSocket::Pointer client;  // outlives the server, which closes the connection first
+  {
+    IgtLinkServer first(0);
+    port = first.port();
+    client = connectTo(first);
+    first.send(packTransform(kCameraTransformName, pose(0, 1), 11.0), false);
+    EXPECT_EQ(receive(client).type, "TRANSFORM");
+  }
+  EXPECT_NO_THROW(IgtLinkServer again(port));
+}
+
 cv::Mat eye(int index, bool right) {
   cv::Mat image(48, 64, CV_8UC3, cv::Scalar(10 + index, right ? 200 : 50, 90));
   cv::circle(image, cv::Point(right ? 20 : 40, 24), 8, cv::Scalar(255, 255, 255), -1);
