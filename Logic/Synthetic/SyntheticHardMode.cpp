@@ -13,6 +13,7 @@ void SyntheticHardModeOptions::validate(int frames) const {
   };
   range("breathing amplitude (mm)", breathingAmplitudeMm, 0.0, 10.0);
   range("breathing period (s)", breathingPeriodS, 0.5, 60.0);
+  range("breathing radius (mm)", breathingRadiusMm, 5.0, 500.0);
   range("instruments", instruments, 0, 4);
   if (cameraOut()) {
     require(cameraOutStart >= 1 && cameraOutEnd > cameraOutStart && cameraOutEnd < frames,

@@ -11,6 +11,10 @@ struct SyntheticHardModeOptions {
   /// Largest displacement (mm, toward the scope) of the breathing part of the surface, at its centre; 0: none.
   double breathingAmplitudeMm = 0;
   double breathingPeriodS = 4.0;  ///< one breath
+  /// Radius (mm, on the tissue) of the breathing part: it rises by the full amplitude over its inner 10/18 and
+  /// tapers to zero at this radius. The default (18 mm) is a quarter to a third of a 960x540 view at 70-100 mm;
+  /// 60 mm or more makes the whole view breathe, as a scope held still over the abdomen sees it.
+  double breathingRadiusMm = 18.0;
   int instruments = 0;            ///< rigid instruments (shaft and jaws) that enter, move over the tissue and leave
   /// Frames [cameraOutStart, cameraOutEnd) show no tissue (the scope withdrawn: smoke, dark, a smeared lens); at
   /// cameraOutEnd the camera is back about 10 mm and 10 degrees from where it left. cameraOutStart < 0: none.

@@ -32,7 +32,7 @@ constexpr double degree = pi / 180.0;
 /// Smoke (--smoke): the most a pixel moves toward the smoke's colour where the haze is densest.
 constexpr double kSmokeStrength = 0.45;
 /// The breathing part of the surface: full amplitude within the inner radius, none beyond the outer (SurfaceSwell).
-constexpr double kBreathingInnerRadiusMm = 10.0, kBreathingOuterRadiusMm = 18.0;
+constexpr double kBreathingInnerShare = 10.0 / 18.0;  ///< the flat top's share of the breathing radius
 
 void requireRange(double value, double low, double high, const std::string& name) {
   parameters::requireRange("synthetic scan", name.c_str(), value, low, high);
@@ -345,7 +345,7 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
     cv::Vec3d centre;
     require(s.viewCentreMm(at, centre), "synthetic scan: no tissue at the centre of the view for the breathing");
     s.breathing = SyntheticBreathing(hard.breathingAmplitudeMm, hard.breathingPeriodS, {centre[0], centre[1]},
-                                     kBreathingInnerRadiusMm, kBreathingOuterRadiusMm);
+                                     kBreathingInnerShare * hard.breathingRadiusMm, hard.breathingRadiusMm);
     require(s.surface->swollen(s.breathing.peakSwell()).maxSlope(s.domainMm) * maxTangent < 0.98,
             "synthetic scan: the breathing makes the surface too steep for these views; lower --breathing-mm");
   }

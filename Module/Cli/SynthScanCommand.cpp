@@ -37,9 +37,9 @@ nearest frames get several times the light of the farthest); --focal-px, --basel
 scope and so the disparities (f B / Z - doffs). With --doffs-px the frames are not what rig.yml's rectification
 gives: use the printed geometry options instead of --calib rig.yml --rectified.
 Hard mode (real surgery, each with its ground truth; deterministic from the seed): --breathing-mm makes part of the
-tissue (a disc of 18 mm radius, flat over its inner 10 mm) rise toward the scope and fall back once per breath
-(depth_NNNNNN.pfm follows it; groundtruth/static_surface.ply is the part of surface.ply that never moves);
---instruments adds rigid instruments (groundtruth/instrument_mask_NNNNNN.png: 255 where one covers the left pixel;
+tissue (a disc of --breathing-radius-mm, 18 mm by default, flat over its inner 10/18) rise toward the scope and fall
+back once per breath (depth_NNNNNN.pfm follows it; groundtruth/static_surface.ply is the part of surface.ply that
+never moves); --instruments adds rigid instruments (groundtruth/instrument_mask_NNNNNN.png: 255 where one covers the left pixel;
 groundtruth/instruments.ply: their surfaces at every frame, for `tissuemosaic eval --reference ... --coverage-radius-mm
 0`, whose share_within_1mm is the share of a model's points within 1 mm of an instrument); --camera-out S:E shows no
 tissue in frames S to E-1 (no line in trajectory.txt), and the camera is back at frame E about 10 mm and 10 degrees
@@ -137,6 +137,9 @@ void setupSynthScan(CLI::App& synth) {
       ->capture_default_str()->type_name("MM")->group(hardMode);
   command->add_option("--breathing-period-s", hard.breathingPeriodS, "one breath, s")
       ->capture_default_str()->type_name("S")->group(hardMode);
+  command->add_option("--breathing-radius-mm", hard.breathingRadiusMm,
+                      "radius of the breathing part on the tissue (flat over its inner 10/18); 60 or more: the whole view")
+      ->capture_default_str()->type_name("MM")->group(hardMode);
   command->add_option("--instruments", hard.instruments,
                       "rigid instruments (steel shaft, serrated jaws) that enter, move over the tissue and leave")
       ->capture_default_str()->type_name("N")->group(hardMode);

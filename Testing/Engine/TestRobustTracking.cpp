@@ -116,6 +116,36 @@ TEST(RobustTracking, AStillCameraOverBreathingTissueStaysStill) {
   EXPECT_GT(plainDeg, kStillDeg) << "the bound should fail without the motion handling";
 }
 
+TEST(RobustTracking, AStillCameraOverAWholeViewThatBreathesFollowsTheBreathWithinBoundsAndReturns) {
+  // The in-vivo case of a scope held still over the abdomen: the whole view breathes (rigidly in its middle, bending
+  // toward the edges) while instruments work over it, so that almost no tissue in view stands still and nothing
+  // tells the camera's motion from the tissue's. The estimate follows the breath (measured: up to 5.0 mm and
+  // 3.0 deg at its peak, 480x270); what must hold is that it stays within the held-out in-vivo bar's 5 degrees
+  // with room, every frame is tracked, and it comes back with the breath instead of drifting.
+  synthetic::SyntheticScanOptions options = smallHardScan();
+  options.frames = 60;  // one breath
+  options.minSpeedMmPerS = options.maxSpeedMmPerS = 0;
+  options.maxTiltDeg = options.maxRollDeg = 0;
+  options.minWorkingDistanceMm = options.maxWorkingDistanceMm = 80;
+  options.hardMode.breathingAmplitudeMm = 3;
+  options.hardMode.breathingPeriodS = 2;
+  options.hardMode.breathingRadiusMm = 40;  // the view is about 77 x 43 mm at 80 mm: only its corners stand still
+  options.hardMode.instruments = 2;
+  const synthetic::SyntheticScan scan(options);
+  const PipelineRun run = reconstruct(scan, ReconstructionParameters{});
+  double mm = 0, deg = 0;
+  largestMotion(run, mm, deg);
+  const Eigen::Matrix4d start = run.frames.front().T_world_camera, end = run.frames.back().T_world_camera;
+  const double endMm = (end.block<3, 1>(0, 3) - start.block<3, 1>(0, 3)).norm(), endDeg = rotationDeg(start, end);
+  std::printf("still camera, whole view breathing 3 mm with 2 instruments: estimated motion at most %.3f mm, "
+              "%.3f deg; after the breath %.3f mm, %.3f deg\n", mm, deg, endMm, endDeg);
+  for (const FrameResult& f : run.frames) ASSERT_TRUE(f.tracked) << "frame " << f.frameIndex << ": " << f.trackingMessage;
+  EXPECT_LE(deg, 4.0);
+  EXPECT_LE(mm, 6.5);
+  EXPECT_LE(endMm, 0.5);
+  EXPECT_LE(endDeg, 0.3);
+}
+
 TEST(RobustTracking, FramesWithoutTissueAreLostAndTheCameraIsRelocalised) {
   synthetic::SyntheticScanOptions options = smallHardScan();
   options.frames = 46;

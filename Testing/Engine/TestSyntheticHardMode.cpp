@@ -64,6 +64,19 @@ TEST(SyntheticHardMode, BreathingMovesOnlyItsPartAndTheDepthFollowsIt) {
   EXPECT_EQ(breathing.peakDisplacementMm(shape.centreXMm + shape.outerRadiusMm + 0.01, shape.centreYMm), 0.0);
   EXPECT_TRUE(breathing.isStatic(shape.centreXMm, shape.centreYMm + shape.outerRadiusMm));
   EXPECT_FALSE(breathing.isStatic(shape.centreXMm, shape.centreYMm + shape.innerRadiusMm));
+  EXPECT_DOUBLE_EQ(shape.outerRadiusMm, 18.0);  // the default radius
+  EXPECT_DOUBLE_EQ(shape.innerRadiusMm, 10.0);
+
+  // --breathing-radius-mm: the same shape, wider. At 30 mm from the centre the default disc stands still, a 40 mm
+  // one still moves.
+  SyntheticScanOptions wide = options;
+  wide.hardMode.breathingRadiusMm = 40;
+  const SyntheticScan wideScan(wide);
+  const SurfaceSwell& wideShape = wideScan.breathing().shape();
+  EXPECT_DOUBLE_EQ(wideShape.outerRadiusMm, 40.0);
+  EXPECT_NEAR(wideShape.innerRadiusMm, 40.0 * 10.0 / 18.0, 1e-12);
+  EXPECT_TRUE(breathing.isStatic(shape.centreXMm + 30, shape.centreYMm));
+  EXPECT_FALSE(wideScan.breathing().isStatic(wideShape.centreXMm + 30, wideShape.centreYMm));
 
   // Frame 15 (t = 0.5 s: the peak): every ground-truth depth pixel lies on the swollen surface, and where the swell
   // is, that is up to 2 mm nearer the scope than the surface at rest.
@@ -223,5 +236,8 @@ TEST(SyntheticHardMode, RejectsInvalidOptions) {
   EXPECT_THROW(SyntheticScan{options}, Error);
   options = hardScan();
   options.hardMode.breathingPeriodS = 0;
+  EXPECT_THROW(SyntheticScan{options}, Error);
+  options = hardScan();
+  options.hardMode.breathingRadiusMm = 1;
   EXPECT_THROW(SyntheticScan{options}, Error);
 }
