@@ -36,5 +36,15 @@ function(tm_sanitize_add_defaults directory)
     tm_sanitize_add_defaults(${subdirectory})
   endforeach()
 endfunction()
+# Mesa's GL driver, kept loaded in every executable of this build (SanitizerDefaults.cpp says why). Empty where the
+# machine has none: nothing is loaded then.
+find_file(TM_SANITIZE_GL_DRIVER swrast_dri.so
+          PATHS /usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/dri /usr/lib64/dri /usr/lib/dri NO_DEFAULT_PATH
+          DOC "Mesa's software GL driver, kept loaded under LeakSanitizer")
+if(NOT TM_SANITIZE_GL_DRIVER)
+  set(TM_SANITIZE_GL_DRIVER_PATH "")
+else()
+  set(TM_SANITIZE_GL_DRIVER_PATH "${TM_SANITIZE_GL_DRIVER}")
+endif()
 configure_file(${CMAKE_CURRENT_LIST_DIR}/SanitizerDefaults.cpp.in ${PROJECT_BINARY_DIR}/SanitizerDefaults.cpp @ONLY)
 cmake_language(DEFER CALL tm_sanitize_add_defaults ${PROJECT_SOURCE_DIR})
