@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 
 namespace tissuemosaic {
 namespace {
@@ -58,6 +59,27 @@ TEST(ParameterFiles, EveryWrittenKeyReadsBackAndEmptyFilesAreNamed) {
 
 // Found by fuzz_params (Testing/Fuzz/corpus/fuzz_params/crash-*): OpenCV's YAML parser lets an empty key out as
 // std::length_error, which is not an Error (the CLI printed "basic_string::_M_create").
+TEST(ParameterFiles, YamlWithOrWithoutItsHeaderXmlAndJsonAreRead) {
+  // A file is read once and OpenCV parses its text from memory, where it tells YAML by the "%YAML" line alone.
+  const std::string yamlBody = "# a comment first\nstereo:\n  znccWindowPx: 9\ntracking:\n  keyFrameMinInliers: 40\n";
+  const std::map<std::string, std::string> texts = {
+      {"plain.yml", yamlBody},
+      {"header.yml", "%YAML:1.0\n---\n" + yamlBody},
+      {"document.yaml", "---\n" + yamlBody},
+      {"params.xml", "<?xml version=\"1.0\"?>\n<opencv_storage><stereo><znccWindowPx>9</znccWindowPx></stereo>"
+                     "<tracking><keyFrameMinInliers>40</keyFrameMinInliers></tracking></opencv_storage>\n"},
+      {"params.json", "{\"stereo\": {\"znccWindowPx\": 9}, \"tracking\": {\"keyFrameMinInliers\": 40}}\n"}};
+  for (const auto& [name, text] : texts) {
+    const ReconstructionParameters fromFile = ReconstructionParameters::readFile(writeFile(name, text));
+    EXPECT_EQ(fromFile.stereo.znccWindowPx, 9) << name;
+    EXPECT_EQ(fromFile.tracking.keyFrameMinInliers, 40) << name;
+    EXPECT_EQ(StereoParameters::readFile(writeFile(name, text)).znccWindowPx, 9) << name;
+    EXPECT_EQ(ReconstructionParameters::parse(text).stereo.znccWindowPx, 9) << name;
+  }
+  EXPECT_NE(errorOf([] { ReconstructionParameters::parse(" \n"); }).find("cannot parse parameters: the text is empty"),
+            std::string::npos);
+}
+
 TEST(ParameterFiles, ParserFailuresOtherThanCvExceptionAreErrors) {
   const std::string text = "%YAML:1.0\n---\nstereo:\n   minDisparityPx: -20\n   :\n   refineAlpha: 0.1\n";
   const std::string path = writeFile("empty-key.yml", text);

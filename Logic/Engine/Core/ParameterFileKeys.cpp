@@ -80,28 +80,39 @@ void requireWellFormedYaml(const std::string& text, const std::string& context) 
           context + "the file holds no parameter node (such as 'stereo:' or 'tracking:', see Resources/Presets)");
 }
 
+cv::FileStorage openParameterText(const std::string& text, const std::string& context, const std::string& invalid) {
+  const std::size_t start = text.find_first_not_of(" \t\r\n");
+  require(start != std::string::npos,
+          context + "the text is empty (it should hold nodes such as 'stereo:' or 'tracking:', see Resources/Presets)");
+  requireWellFormedYaml(text, context);
+  // From memory OpenCV tells YAML by its "%YAML" line alone (a file it tells by its name): a YAML text without one
+  // gets it, which its parser takes as the header it is.
+  const bool tagged = text[start] == '<' || text[start] == '{' || text.compare(start, 5, "%YAML") == 0;
+  cv::FileStorage storage;
+  try {
+    storage.open(tagged ? text : "%YAML:1.0\n" + text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  } catch (const cv::Exception& error) {
+    // error.err, not what(): OpenCV's source file and line mean nothing to a user.
+    throw Error(context + invalid + " (" + error.err + ")");
+  } catch (const std::exception& error) {
+    // OpenCV's parser lets some of its own failures out as std::length_error (an empty key: "   :").
+    throw Error(context + invalid + " (" + error.what() + ")");
+  }
+  require(storage.isOpened(), context + invalid);
+  require(storage.root().isMap() && storage.root().size() > 0,
+          context + "the file holds no parameter node (such as 'stereo:' or 'tracking:', see Resources/Presets)");
+  return storage;
+}
+
 cv::FileStorage openParameterFile(const std::string& path) {
   const std::string context = "cannot read parameters file '" + path + "': ";
   require(std::filesystem::is_regular_file(path), "cannot open parameters file '" + path + "': file does not exist");
   std::ifstream file(path, std::ios::binary);
+  require(file.good(), context + "the file is not readable");
   const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   require(text.find_first_not_of(" \t\r\n") != std::string::npos,
           context + "the file is empty (it should hold nodes such as 'stereo:' or 'tracking:', see Resources/Presets)");
-  requireWellFormedYaml(text, context);
-  cv::FileStorage storage;
-  try {
-    storage.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception& error) {
-    // error.err, not what(): OpenCV's source file and line mean nothing to a user.
-    throw Error(context + "not a valid YAML/XML file (" + error.err + ")");
-  } catch (const std::exception& error) {
-    // OpenCV's parser lets some of its own failures out as std::length_error (an empty key: "   :").
-    throw Error(context + "not a valid YAML/XML file (" + error.what() + ")");
-  }
-  require(storage.isOpened(), context + "not a valid YAML/XML file");
-  require(storage.root().isMap() && storage.root().size() > 0,
-          context + "the file holds no parameter node (such as 'stereo:' or 'tracking:', see Resources/Presets)");
-  return storage;
+  return openParameterText(text, context, "not a valid YAML/XML file");
 }
 
 }  // namespace tissuemosaic::parameters

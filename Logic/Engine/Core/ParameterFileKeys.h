@@ -27,7 +27,10 @@ YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& 
                                     const std::string& invalid = "not a valid YAML/XML file");
 
 /// Opens a parameters file (OpenCV YAML/XML) for reading; an empty, missing or malformed file is an Error that says so
-/// (never OpenCV's assertion text).
+/// (never OpenCV's assertion text). The file is read once: the guard above and OpenCV both take its text.
 cv::FileStorage openParameterFile(const std::string& path);
+/// The same for a parameters text in memory (a preset, a file's contents): OpenCV YAML with or without its
+/// "%YAML:1.0" line, XML or JSON. Errors start with `context`; a text no parser reads says `invalid` and why.
+cv::FileStorage openParameterText(const std::string& text, const std::string& context, const std::string& invalid);
 
 }  // namespace tissuemosaic::parameters

@@ -74,16 +74,8 @@ ReconstructionParameters ReconstructionParameters::readFile(const std::string& p
 }
 
 ReconstructionParameters ReconstructionParameters::parse(const std::string& yamlText) {
-  parameters::requireWellFormedYaml(yamlText, "cannot parse parameters: ");
-  cv::FileStorage storage;
-  try {
-    storage.open(yamlText, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  } catch (const cv::Exception& error) {
-    throw Error("cannot parse parameters: not valid YAML/XML (" + error.err + ")");
-  } catch (const std::exception& error) {  // OpenCV's parser lets some failures out as std::length_error
-    throw Error("cannot parse parameters: not valid YAML/XML (" + std::string(error.what()) + ")");
-  }
-  require(storage.isOpened(), "cannot parse parameters");
+  const cv::FileStorage storage =
+      parameters::openParameterText(yamlText, "cannot parse parameters: ", "not valid YAML/XML");
   try {
     return readStorage(storage);
   } catch (const Error& error) {
