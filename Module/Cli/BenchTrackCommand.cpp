@@ -74,14 +74,14 @@ void runBenchTrack(const BenchTrackOptions& settings) {
     const TrackResult result = tracker.track(frame.leftRectified, disparity);
     lost += !result.tracked;
     if (k < 2) continue;  // warm-up (and the first frame has nothing to match)
-    stages.add("orb_voting", result.orbVotingMs);
-    stages.add("pnp", result.pnpMs);
-    stages.add("tracking", result.orbVotingMs + result.pnpMs);
+    stages.add("orb_voting", result.timesMs.orbVoting);
+    stages.add("pnp", result.timesMs.pnp);
+    stages.add("tracking", result.timesMs.orbVoting + result.timesMs.pnp);
     stages.add("stereo", stereoMs.total());
-    orbVotingParts.add("extract_and_lift", result.extractMs);
-    orbVotingParts.add("match", result.matchMs);
-    orbVotingParts.add("subpixel", result.subPixelMs);
-    orbVotingParts.add("vote", result.voteMs);
+    orbVotingParts.add("extract_and_lift", result.timesMs.extract);
+    orbVotingParts.add("match", result.timesMs.match);
+    orbVotingParts.add("subpixel", result.timesMs.subPixel);
+    orbVotingParts.add("vote", result.timesMs.vote);
   }
   std::fprintf(stderr, "\n");
   if (profiling::enabled()) {

@@ -127,8 +127,8 @@ void runTrack(const TrackOptions& options) {
     loadMs.push_back(ms(t0, t1));
     rectifyMs.push_back(ms(t1, t2));
     stereoMs.push_back(ms(t2, t3));
-    orbMs.push_back(result.orbVotingMs);
-    if (!result.initial) pnpMs.push_back(result.pnpMs);
+    orbMs.push_back(result.timesMs.orbVoting);
+    if (!result.initial) pnpMs.push_back(result.timesMs.pnp);
     totalMs.push_back(ms(t0, t4));
 
     TimedPose pose;

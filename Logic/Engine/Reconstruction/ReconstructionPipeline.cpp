@@ -220,12 +220,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
           const std::string lostReason = track.failureReason;
           const TrackResult lostTrack = track;
           track = s.tracker.acceptRelocalisation(found.T_world_camera, found.inliers);
-          track.orbVotingMs = lostTrack.orbVotingMs;
-          track.pnpMs = lostTrack.pnpMs;
-          track.extractMs = lostTrack.extractMs;
-          track.matchMs = lostTrack.matchMs;
-          track.subPixelMs = lostTrack.subPixelMs;
-          track.voteMs = lostTrack.voteMs;
+          track.timesMs = lostTrack.timesMs;  // the time went into the failed attempt
           result.trackingMessage = "relocalised against key frame " + std::to_string(found.keyFrame) + " (" +
                                    std::to_string(found.inliers) + " inliers) after: " + lostReason;
         } else {
@@ -235,9 +230,9 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
       }
     }
   }
-  result.timesMs.orbVoting = track.orbVotingMs;
-  result.timesMs.pnp = track.pnpMs;
-  result.trackingPartsMs = {track.extractMs, track.matchMs, track.subPixelMs, track.voteMs};
+  result.timesMs.orbVoting = track.timesMs.orbVoting;
+  result.timesMs.pnp = track.timesMs.pnp;
+  result.trackingPartsMs = {track.timesMs.extract, track.timesMs.match, track.timesMs.subPixel, track.timesMs.vote};
   result.tracked = track.tracked;
   result.status = !track.tracked ? FrameStatus::Lost : (track.relocalised ? FrameStatus::Relocalised : FrameStatus::Tracked);
   result.keyFrame = track.tracked && track.keyFrame;

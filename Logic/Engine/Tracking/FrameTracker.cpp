@@ -204,7 +204,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
   const auto start = std::chrono::steady_clock::now();
   s.lastFeatures = s.detect(leftRectified);
   s.lastScores.assign(s.lastFeatures.keypoints.size(), 0.0f);
-  result.extractMs = millisecondsSince(start);
+  result.timesMs.extract = millisecondsSince(start);
   s.lastTracked = false;
   const StereoFeatures& features = s.lastFeatures;
   result.features = static_cast<int>(features.keypoints.size());
@@ -219,12 +219,12 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
     liftFeatures(s.lastFeatures, disparity, s.geometry);
     result.featuresWithDepth = s.lastFeatures.withDepth;
     const double liftMs = millisecondsSince(liftStart);
-    result.extractMs += liftMs;
-    result.orbVotingMs += liftMs;
+    result.timesMs.extract += liftMs;
+    result.timesMs.orbVoting += liftMs;
   };
 
   if (s.reference.frameIndex < 0) {  // the first frame defines the start
-    result.orbVotingMs = millisecondsSince(start);
+    result.timesMs.orbVoting = millisecondsSince(start);
     liftWithDisparity();
     result.tracked = result.initial = result.keyFrame = true;
     result.T_world_camera = s.T_world_start;
@@ -242,7 +242,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
   std::vector<std::vector<cv::DMatch>> knn;
   if (!s.reference.descriptors.empty() && !features.descriptors.empty())
     knn = s.match(s.reference.descriptors, features.descriptors, 1 + fp.candidatesPerFeature);
-  result.matchMs = millisecondsSince(partStart);
+  result.timesMs.match = millisecondsSince(partStart);
   partStart = std::chrono::steady_clock::now();
   // The primary match and the candidates within the Hamming limit, then (optionally) all of them refined to
   // sub-pixel accuracy in one call. A match whose window does not lock onto the reference window is dropped: it is
@@ -314,11 +314,11 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
     candidates.push_back(m.candidates);
   }
   result.matches = static_cast<int>(points.size());
-  result.subPixelMs = millisecondsSince(partStart);
+  result.timesMs.subPixel = millisecondsSince(partStart);
   partStart = std::chrono::steady_clock::now();
   const HistogramVote vote = histogramVote(fromPx, pixels, fp.voteBinPx);
-  result.voteMs = millisecondsSince(partStart);
-  result.orbVotingMs = millisecondsSince(start);
+  result.timesMs.vote = millisecondsSince(partStart);
+  result.timesMs.orbVoting = millisecondsSince(start);
 
   const auto lost = [&](const std::string& why) {
     liftWithDisparity();
@@ -341,7 +341,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
   // matching noise): points a little off, which the scene moved, would bend the pose toward their own motion.
   double fitPx = tp.dynamicResidualPx;
   pnp = polishOnFittingMatches(points, pixels, candidates, intrinsics, pnp, tp.dynamicResidualPx, tp.minInliers, &fitPx);
-  result.pnpMs = millisecondsSince(pnpStart);
+  result.timesMs.pnp = millisecondsSince(pnpStart);
   if (!pnp.success) return lost(pnp.failureReason);
   result.inliers = static_cast<int>(pnp.inlierIndices.size());
   result.rmsErrorPx = pnp.rmsInlierErrorPx;

@@ -52,6 +52,15 @@ struct FrameTrackerOptions {
   void validate() const;
 };
 
+/// Where a track() call's time went (ms); one struct, so that a result that replaces another (a relocalisation
+/// after a failed track) carries the failed attempt's times over whole.
+struct TrackTimesMs {
+  double orbVoting = 0;  ///< ORB detection, description, lifting, matching and histogram voting (not the disparity wait)
+  double pnp = 0;        ///< DynamicR1PPnP
+  /// orbVoting in parts: ORB and lifting, descriptor matching, sub-pixel refinement of the matches, voting.
+  double extract = 0, match = 0, subPixel = 0, vote = 0;
+};
+
 struct TrackResult {
   int frameIndex = 0;
   bool tracked = false;          ///< false: lost (see failureReason); T_world_camera is then not valid
@@ -65,10 +74,7 @@ struct TrackResult {
   int movingMatches = 0;         ///< matches of key-frame features that moved recently: kept out of the pose
   bool relocalised = false;      ///< tracked again after lost frames
   double rmsErrorPx = 0;         ///< inliers' reprojection error
-  double orbVotingMs = 0;        ///< ORB detection, description, lifting, matching and histogram voting (not the wait for the disparity)
-  double pnpMs = 0;              ///< DynamicR1PPnP
-  /// orbVotingMs in parts: ORB and lifting, descriptor matching, sub-pixel refinement of the matches, voting.
-  double extractMs = 0, matchMs = 0, subPixelMs = 0, voteMs = 0;
+  TrackTimesMs timesMs;
   std::string failureReason;     ///< empty when tracked
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
