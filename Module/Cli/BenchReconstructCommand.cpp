@@ -193,7 +193,8 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   int worstKeyFrame = -1, keyFramesScored = 0;
   // The true disparities of the key frames: whether the range searched held the scene.
   float trueDisparityMin = INFINITY, trueDisparityMax = -INFINITY;
-  std::vector<double> rangeMs;  // the automatic range's sparse matching, beside the stereo (0 for a given range)
+  // The automatic range's measurements (every few frames, beside the frames), and what frames waited for them.
+  std::vector<double> rangeMs, rangeWaitMs;
   const double frameIntervalS = scan.timeS(1) - scan.timeS(0);
   for (int k = 0; k < framesToProcess; ++k) {
     if (stream && k % chunk == 0) {  // the next chunk, rendered before any of it is processed
@@ -217,7 +218,8 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
     lost += !result.tracked;
     if (k > 0) {
       stereoParts.add(result.stereoPartsMs);
-      rangeMs.push_back(result.disparityRangeMs);
+      if (result.disparityRangeMs > 0) rangeMs.push_back(result.disparityRangeMs);
+      rangeWaitMs.push_back(result.disparityRangeWaitMs);
       trackingParts.add(result.trackingPartsMs);
     }
     if (result.keyFrame && k > 0) {
@@ -331,7 +333,8 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
               "\"stereo_parts_median_ms\": %s,\n \"stereo_parts_mean_ms\": %s,\n \"stereo_parts_p99_ms\": %s,\n "
               "\"tracking_parts_median_ms\": %s,\n \"tracking_parts_mean_ms\": %s,\n \"tracking_parts_p99_ms\": %s,\n "
               "\"refinement_matching\": {\"key_frames_matched\": %d, "
-              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"disparity_range\": %s, \"disparity_range_median_ms\": %.3f,\n \"timing\": %s}\n",
+              "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"disparity_range\": %s, \"disparity_range_median_ms\": %.3f, "
+              "\"disparity_range_wait_p99_ms\": %.3f,\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, framesToProcess,
               lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
               usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), searched.minPx, searched.maxPx, trueDisparityMin, trueDisparityMax, shareBeyond(1), shareBeyond(5),
@@ -344,7 +347,8 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
               trackingParts.json(percentile99).c_str(),
               keyFramesMatched, keyFramesGuided, intermediateFrames,
               intermediateFramesGuided, keyFramesJson.c_str(),
-              disparityRangeJson(pipeline.disparityRangeHistory()).c_str(), median(rangeMs), timing.toJson().c_str());
+              disparityRangeJson(pipeline.disparityRangeHistory()).c_str(), median(rangeMs), percentile99(rangeWaitMs),
+              timing.toJson().c_str());
 }
 
 }  // namespace

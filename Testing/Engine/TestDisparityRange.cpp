@@ -262,6 +262,15 @@ TEST(DisparityRangeEstimator, FollowsWithHysteresis) {
   // such a frame once asked for -456..569 px and stopped the scan), nor a span far wider than the range.
   EXPECT_EQ(estimator.followingRange(start, evenSample(-456, 569, 200)), start);
   EXPECT_EQ(estimator.followingRange(start, evenSample(-100, 150, 200)), start);
+
+  // The tissue coming closer by 4 px since the sample before: the high end is predicted that much further for the
+  // next frame, and 5/3 as far when the sample serves the frames 3 to 5 after its own (every third frame measured).
+  const DisparitySample before = evenSample(60, 100, 200), now = evenSample(64, 104, 200);
+  const DisparityRange nextFrame = estimator.followingRange(start, now, &before);
+  const DisparityRange threeAhead = estimator.followingRange(start, now, &before, 5.0 / 3.0);
+  EXPECT_EQ(nextFrame, estimator.wantedRange(evenSample(64, 108, 200)));
+  EXPECT_GT(threeAhead.maxPx, nextFrame.maxPx);
+  EXPECT_GE(threeAhead.maxPx, 104 + 4 * 5.0 / 3.0 + 0.5 * 6.6);
 }
 
 TEST(DisparityRangeFollower, RangeChangesOnlyBetweenFrames) {

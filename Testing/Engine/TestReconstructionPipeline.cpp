@@ -7,6 +7,7 @@
 #include "Core/Error.h"
 #include "Reconstruction/ReconstructionPipeline.h"
 #include "Reconstruction/TimingTable.h"
+#include "Stereo/DisparityRangeEstimator.h"
 
 #include <gtest/gtest.h>
 
@@ -69,6 +70,55 @@ TEST(ReconstructionPipeline, ShortSyntheticScanMeetsTheAccuracyBar) {
   for (std::size_t i = 1; i < names.size(); ++i) EXPECT_GT(key[i], 0.0) << names[i];
   EXPECT_EQ(other[5], 0.0);  // refinement
   EXPECT_EQ(other[6], 0.0);  // TSDF
+}
+
+TEST(ReconstructionPipeline, TheAutomaticRangeIsMeasuredEveryFewFramesBesideThemTheSameOnEveryRun) {
+  // Every third frame is measured on a thread of its own and decides the range from three frames later on: no frame
+  // waits for a measurement in the normal course, and the ranges depend on the frames alone.
+  synthetic::SyntheticScanOptions options;
+  options.width = 320;
+  options.height = 180;
+  options.frames = 14;
+  options.supersampling = 1;
+  options.distanceProfile = synthetic::WorkingDistanceProfile::Approaching;  // the range has to follow
+  options.minWorkingDistanceMm = 60;
+  options.maxWorkingDistanceMm = 100;
+  options.fps = 10;
+  const synthetic::SyntheticScan scan(options);
+  ReconstructionParameters parameters;
+  ASSERT_EQ(parameters.stereo.disparityRangeMode, DisparityRangeMode::Automatic);
+  const DisparityRangeEstimatorOptions estimator;
+  ASSERT_EQ(estimator.sampleEveryFrames, 3);
+  std::vector<std::vector<DisparityRange>> runs;
+  for (int run = 0; run < 2; ++run) {
+    ReconstructionPipeline pipeline(scan.geometry(), parameters, Device::Cpu, scan.T_world_camera(0));
+    std::vector<DisparityRange> ranges;
+    for (int k = 0; k < scan.frameCount(); ++k) {
+      const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
+      const FrameResult result = pipeline.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+      ranges.push_back(result.disparityRange);
+      // Measured: frame 0 before its stereo; frames 3, 6, 9 beside the frames after them, applied at 6, 9 and 12.
+      const bool applies = k == 0 || (k >= 6 && k % 3 == 0);
+      EXPECT_EQ(result.disparityRangeMs > 0, applies) << "frame " << k;
+      if (k > 0 && k % 3 != 0) EXPECT_EQ(result.disparityRange, ranges[k - 1]) << "frame " << k;
+      // The true disparities of the frame lie within its range.
+      double low = 1e9, high = -1e9;
+      for (int v = 0; v < frame.depthMm.rows; v += 4) {
+        for (int u = 0; u < frame.depthMm.cols; u += 4) {
+          const float z = frame.depthMm.at<float>(v, u);
+          if (!std::isfinite(z)) continue;
+          const double d = scan.geometry().focalPx * scan.geometry().baselineMm / z;
+          low = std::min(low, d);
+          high = std::max(high, d);
+        }
+      }
+      EXPECT_LE(result.disparityRange.minPx, low) << "frame " << k;
+      EXPECT_GE(result.disparityRange.maxPx, high) << "frame " << k;
+    }
+    runs.push_back(ranges);
+  }
+  EXPECT_EQ(runs[0], runs[1]);
+  EXPECT_NE(runs[0].front(), runs[0].back()) << "the approach should have moved the range";
 }
 
 TEST(ReconstructionPipeline, RefusesMismatchedFrames) {

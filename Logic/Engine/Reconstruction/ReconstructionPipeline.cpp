@@ -71,6 +71,11 @@ struct ReconstructionPipeline::Impl {
   // The workers come last, so that they stop before the members their tasks use are destroyed.
   BackgroundWorker worker;       ///< stereo beside tracking; the key frame's surface and ICP points beside matching
   BackgroundWorker modelWorker;  ///< samples the model beside the key frame's surface measurement
+  BackgroundWorker rangeWorker;  ///< the automatic range's measurements, each beside several frames
+  /// The measurement of an earlier frame (its sample and milliseconds), applied from frame rangeSampleDue on; last of
+  /// all, so that it is waited for before anything its task uses goes.
+  std::optional<PendingResult<std::pair<DisparitySample, double>>> rangeSample;
+  int rangeSampleDue = 0;
 
   Impl(const RectifiedGeometry& g, std::optional<StereoRectifier> r, const ReconstructionParameters& p, Device d,
        const Eigen::Matrix4d& T_world_start)
@@ -139,21 +144,33 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   result.timesMs.videoReading = millisecondsSince(start);
 
   // The frame's disparity range is set before its dense matching starts and stays for the whole frame. The automatic
-  // range measures the first frame now; every later frame's sparse matches are measured beside the stereo and the
-  // tracking, and decide the next frame's range.
+  // range measures the first frame now. Later, every N-th frame (sampleEveryFrames) is measured on a thread of its
+  // own beside the N frames after it, and decides the range from frame k + N on: no frame waits for a measurement,
+  // which costs more than a whole frame on the GPU, and the ranges depend on the frames alone, not on timing.
+  const int sampleEvery = s.disparityRange.sampleEveryFrames();
+  if (s.rangeSample && result.frameIndex >= s.rangeSampleDue) {
+    const auto waitStart = Clock::now();
+    const auto [sample, measuredMs] = s.rangeSample->get();
+    result.disparityRangeWaitMs = millisecondsSince(waitStart);
+    s.rangeSample.reset();
+    result.disparityRangeMs = measuredMs;
+    // The sample serves frames N..2N-1 after its own: predicted that far, as the tissue moved since the last one.
+    s.disparityRange.afterFrame(sample, (2.0 * sampleEvery - 1.0) / sampleEvery);
+  }
   const bool firstRange = !s.disparityRange.history().current;
   const auto rangeStart = Clock::now();
   result.disparityRange = s.disparityRange.beforeFrame(result.leftRectified, result.rightRectified);
   s.matcher.setDisparityRange(result.disparityRange);
   if (s.disparityRange.automatic() && firstRange) result.disparityRangeMs = millisecondsSince(rangeStart);
-  std::optional<PendingResult<DisparitySample>> rangeSample;
-  if (s.disparityRange.automatic() && !firstRange) {
-    rangeSample.emplace(s.modelWorker.run([&] {
+  if (s.disparityRange.automatic() && !firstRange && !s.rangeSample && result.frameIndex % sampleEvery == 0) {
+    // Copies: the caller may write its next frame into the same images while this frame is measured.
+    s.rangeSample.emplace(s.rangeWorker.run([&s, left = result.leftRectified.clone(),
+                                              right = result.rightRectified.clone()] {
       const auto measureStart = Clock::now();
-      DisparitySample sample = s.disparityRange.measure(result.leftRectified, result.rightRectified);
-      result.disparityRangeMs = millisecondsSince(measureStart);
-      return sample;
+      DisparitySample sample = s.disparityRange.measure(left, right);
+      return std::make_pair(std::move(sample), millisecondsSince(measureStart));
     }));
+    s.rangeSampleDue = result.frameIndex + sampleEvery;
   }
 
   // Stereo runs beside the tracking: matching and the pose need only the reference frame's depth, and the tracker
@@ -249,7 +266,6 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     result.pointsRemoved = s.fusion.updateMotion(s.matcher.lastDisparity(), result.T_world_camera, agreement);
     result.timesMs.agreement += millisecondsSince(motionStart);
   }
-  if (rangeSample) s.disparityRange.afterFrame(rangeSample->get());  // before the model worker's key-frame task
 
   if (result.tracked && !result.keyFrame) {
     s.refiner.addIntermediateFrame(result.frameIndex, s.tracker.lastFeatures(), result.T_world_camera);

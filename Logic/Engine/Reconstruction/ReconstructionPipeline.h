@@ -94,9 +94,12 @@ struct FrameResult {
   cv::Mat leftRectified, rightRectified;  ///< 8-bit BGR
   cv::Mat disparityPx;                    ///< CV_32F, NaN = none
   DisparityRange disparityRange;          ///< the range this frame was matched over
-  /// Automatic range: milliseconds of the sparse left-right matching (the first frame's before its stereo, on the
-  /// calling thread; later frames' beside the stereo and the tracking, for the next frame's range). 0 otherwise.
+  /// Automatic range: milliseconds of the sparse left-right matching: the first frame's, before its stereo on the
+  /// calling thread; later, every DisparityRangeEstimatorOptions::sampleEveryFrames-th frame is measured on a thread
+  /// of its own beside the frames after it, and its time is given on the frame that applies it. 0 otherwise.
   double disparityRangeMs = 0;
+  /// How long this frame waited for that measurement to end before it could apply it (0: it had ended).
+  double disparityRangeWaitMs = 0;
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 

@@ -110,6 +110,7 @@ void DisparityRangeEstimatorOptions::validate() const {
   requireRange("maxWidthFactor", maxWidthFactor, 1.0, 10.0);
   requireRange("maxWidthSlackPx", maxWidthSlackPx, 0.0, 1000.0);
   requireRange("maxSpanGrowth", maxSpanGrowth, 1.0, 1000.0);
+  requireRange("sampleEveryFrames", sampleEveryFrames, 1, 30);
 }
 
 namespace {
@@ -287,15 +288,15 @@ DisparityRange DisparityRangeEstimator::wantedRange(const DisparitySample& sampl
 }
 
 DisparityRange DisparityRangeEstimator::followingRange(const DisparityRange& current, const DisparitySample& sample,
-                                                      const DisparitySample* previous) const {
+                                                      const DisparitySample* previous, double predictedMoves) const {
   const DisparityRangeEstimatorOptions& o = impl_->options;
   if (sample.matches() < o.minMatches) return current;  // nothing to go by (smoke, a blurred frame): stay
   if (sample.highPx - sample.lowPx > o.maxSpanGrowth * current.count()) return current;  // not the tissue
-  // The next frame's ends: one frame's move further where the tissue moves (never less than this frame's). The
-  // median moves with the tissue, while an end can jump with a few wrong matches.
+  // The ends of the frames the range will serve: as far further as the tissue keeps moving by the last of them
+  // (never less than this frame's). The median moves with the tissue, while an end can jump with a few wrong matches.
   double low = sample.lowPx, high = sample.highPx;
   if (previous && previous->matches() >= o.minMatches) {
-    const double movePx = sample.medianPx - previous->medianPx;
+    const double movePx = (sample.medianPx - previous->medianPx) * predictedMoves;
     low += std::min(0.0, movePx);
     high += std::max(0.0, movePx);
   }

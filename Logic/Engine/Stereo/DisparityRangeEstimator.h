@@ -55,6 +55,10 @@ struct DisparityRangeEstimatorOptions {
   /// range the matcher cannot take, is not the tissue: the random matches of a view without tissue (the scope
   /// withdrawn: dark, smoke, blur). The range stays.
   double maxSpanGrowth = 3.0;       ///< ... plus this (never less than the wanted range plus one grid step)
+  /// A pipeline that measures beside its frames (ReconstructionPipeline) measures every this many frames, and the
+  /// sample decides the range from this many frames after its own on: the measurement (ORB on both views) costs
+  /// more than the rest of a frame on the GPU, and the tissue's distance changes little in a tenth of a second.
+  int sampleEveryFrames = 3;
 
   /// Throws Error naming the first option out of range.
   void validate() const;
@@ -100,15 +104,16 @@ public:
   /// frame, or two images that are not a rectified stereo pair, must not get a silent default.
   DisparityRange wantedRange(const DisparitySample& sample) const;
 
-  /// The range for the frame after the sample's, given the current one. The frame after is predicted: while the
-  /// tissue moves, the robust ends are expected one frame's move (of the median disparity since `previous`, the
-  /// sample of the frame before, when it has enough matches) further. The current range stays while it holds the predicted ends with
+  /// The range for the frames the sample decides, given the current one. Those frames are predicted: while the
+  /// tissue moves, the robust ends are expected `predictedMoves` times the move of the median disparity since
+  /// `previous` (the sample before, when it has enough matches) further: 1 when every frame is measured and decides
+  /// the next; (2N - 1) / N when every N-th is, and decides the N frames from N after its own. The current range stays while it holds the predicted ends with
   /// keepMarginFraction of the margin and is not wider than maxWidthFactor x span + maxWidthSlackPx (hysteresis:
   /// changes are rare and do not flap). Otherwise: the wanted range of the predicted ends, or, when the current one
   /// is wide enough and only misplaced, the current one moved over it (same count: the matcher keeps its
   /// workspace). A sample with fewer than minMatches matches keeps the current range.
   DisparityRange followingRange(const DisparityRange& current, const DisparitySample& sample,
-                                const DisparitySample* previous = nullptr) const;
+                                const DisparitySample* previous = nullptr, double predictedMoves = 1.0) const;
 
   const DisparityRangeEstimatorOptions& options() const;
   Device device() const;

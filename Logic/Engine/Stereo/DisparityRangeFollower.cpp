@@ -65,15 +65,19 @@ DisparitySample DisparityRangeFollower::measure(const cv::Mat& leftRectified, co
   return impl_->estimator->measure(leftRectified, rightRectified);
 }
 
-void DisparityRangeFollower::afterFrame(const DisparitySample& sample) {
+void DisparityRangeFollower::afterFrame(const DisparitySample& sample, double predictedMoves) {
   Impl& s = *impl_;
   if (!automatic() || !s.history.current) return;
-  s.next = s.estimator->followingRange(s.next.value_or(*s.history.current), sample, &s.previous);
+  s.next = s.estimator->followingRange(s.next.value_or(*s.history.current), sample, &s.previous, predictedMoves);
   s.previous = sample;
 }
 
 void DisparityRangeFollower::afterFrame(const cv::Mat& leftRectified, const cv::Mat& rightRectified) {
   if (automatic()) afterFrame(measure(leftRectified, rightRectified));
+}
+
+int DisparityRangeFollower::sampleEveryFrames() const {
+  return automatic() ? impl_->estimator->options().sampleEveryFrames : 1;
 }
 
 const DisparityRangeHistory& DisparityRangeFollower::history() const { return impl_->history; }

@@ -44,8 +44,12 @@ public:
   /// Automatic: the sparse disparities of a frame (may run beside the frame's dense matching, on another thread than
   /// beforeFrame and afterFrame, one call at a time). Otherwise an empty sample.
   DisparitySample measure(const cv::Mat& leftRectified, const cv::Mat& rightRectified);
-  /// Automatic: decides the next frame's range from this frame's sample. Otherwise nothing.
-  void afterFrame(const DisparitySample& sample);
+  /// Automatic: decides the range of the frames after the sample's (DisparityRangeEstimator::followingRange, with
+  /// its predictedMoves: 1 when every frame is measured). Otherwise nothing.
+  void afterFrame(const DisparitySample& sample, double predictedMoves = 1.0);
+  /// Automatic: how often a pipeline that measures beside its frames measures
+  /// (DisparityRangeEstimatorOptions::sampleEveryFrames); 1 otherwise.
+  int sampleEveryFrames() const;
   /// measure() then afterFrame(), for callers that do one thing at a time.
   void afterFrame(const cv::Mat& leftRectified, const cv::Mat& rightRectified);
 
