@@ -1,5 +1,7 @@
 #include "ImageFile.h"
 
+#include "ByteOrder.h"
+
 #include "Core/Error.h"
 
 #include <cstdint>
@@ -34,15 +36,11 @@ struct PixelSize {
 };
 
 std::uint32_t bigEndian(const Bytes& bytes, std::size_t at, int count) {
-  std::uint32_t value = 0;
-  for (int i = 0; i < count; ++i) value = value << 8 | bytes[at + i];
-  return value;
+  return unsignedFromBytes(bytes.data() + at, count, true);
 }
 
 std::int32_t littleEndianInt32(const Bytes& bytes, std::size_t at) {
-  std::uint32_t value = 0;
-  for (int i = 3; i >= 0; --i) value = value << 8 | bytes[at + i];
-  return static_cast<std::int32_t>(value);
+  return static_cast<std::int32_t>(unsignedFromBytes(bytes.data() + at, 4, false));
 }
 
 /// The size a PNG, JPEG or BMP header declares (before any pixel is decoded), when it can be found. (A BMP declaring
