@@ -32,9 +32,6 @@ constexpr int kReceivePollMs = 200;
 constexpr std::size_t kSendPieceBytes = 256 * 1024;
 constexpr int kLargestClientMessageBytes = 64 << 20;  ///< beyond: not an OpenIGTLink stream, the client is dropped
 
-}  // namespace
-
-namespace {
 /// OpenIGTLink's ServerSocket::CreateServer binds without SO_REUSEADDR (its guard, VTK_HAVE_SO_REUSEADDR, is a VTK
 /// macro that OpenIGTLink never defines on Linux). A server that closed its clients leaves their connections in
 /// TCP's TIME_WAIT for a minute, and until then a new server on the same port (the next scan, or the app's server
