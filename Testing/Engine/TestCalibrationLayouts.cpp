@@ -287,6 +287,21 @@ TEST(CalibrationLayouts, MatrixSizeBeyondItsDataIsRefusedBeforeAllocating) {
   EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); })
                 .find("key 'K1.rows' must be a whole number from 1 to 1000000, not 7.8e+109"),
             std::string::npos);
+  // An image size beyond int's range: undefined behaviour in the cast (found by fuzz_calibration in a Kalibr
+  // camchain's resolution: corpus/fuzz_calibration/crash-0ebfd525*); the same check serves every layout.
+  writeText(path, "cam0:\n  intrinsics: [801, 805, 322.5, 241]\n  distortion_model: none\n"
+                  "  resolution: [3.3e66, 480]\ncam1:\n  intrinsics: [801, 805, 322.5, 241]\n"
+                  "  distortion_model: none\n  resolution: [640, 480]\n"
+                  "  T_cn_cnm1: [[1, 0, 0, -5], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n");
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); })
+                .find("key 'resolution' must hold positive whole pixels (at most 100000)"),
+            std::string::npos);
+  writeText(path, "K1: [[800, 0, 320], [0, 800, 240], [0, 0, 1]]\nD1: [0, 0, 0, 0]\nK2: [[800, 0, 320], [0, 800, 240], "
+                  "[0, 0, 1]]\nD2: [0, 0, 0, 0]\nR: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\nT: [-5, 0, 0]\n"
+                  "imageSize: [640, 1e300]\n");
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); })
+                .find("key 'imageSize' must hold positive whole pixels (at most 100000)"),
+            std::string::npos);
   // OpenCV's parser lets an empty key out as std::length_error, not cv::Exception (found by fuzz_params).
   writeText(path, "%YAML:1.0\n---\nK1:\n   :\n");
   EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); })

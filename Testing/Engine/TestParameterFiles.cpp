@@ -97,7 +97,13 @@ TEST(ParameterFiles, TextsThatHangOpenCvsParserAreErrors) {
   for (const std::string text :
        {std::string("%YAML:1.0\n L:0\n-a--\n"), std::string("%YAML:1.0\n---\n# A\n   ransacConfidence: 0.\n-~--\n"),
         std::string("%YAML:1.0\n   outlierSmoothness: xP.52nul\n-.\n-.\n# Faster and cas|er and co:1-0-\n"),
-        std::string("%YAML:1.0\nstereo:\n   Y\x06\0L: 1.0\n", 27)}) {
+        std::string("%YAML:1.0\nstereo:\n   Y\x06\0L: 1.0\n", 27),
+        // A carriage return without a line feed ("-\r--", and "-\r" before other text, looped), and a second
+        // directive line ("%YAt(" looped once the header was put before a text without one):
+        // corpus/fuzz_params/timeout-8b10*, timeout-0fc1*, timeout-4cdf*.
+        std::string("%YAML:1.0\n---\nstereo:\n  a: 5\r\r0\n-\r--\r\r0\n"),
+        std::string("%YAML:1.0\n   censusLambda\xd2\xb5ongL:1.0\n-0\n-\r\xd3\xf5\xdc\xdf" "AD-Cead of the paper"),
+        std::string("%YAt( mieets the\n# a comment\n  armLongLimitGrey: 30.\n-1-\n")}) {
     const std::string path = writeFile("hangs-opencv.yml", text);
     EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(path); }).find("cannot read parameters file '" + path + "': "),
               std::string::npos);
@@ -105,6 +111,12 @@ TEST(ParameterFiles, TextsThatHangOpenCvsParserAreErrors) {
   }
   EXPECT_NE(errorOf([&] { ReconstructionParameters::parse(std::string("stereo:\n  a\0b: 1\n", 16)); })
                 .find("not a valid YAML/XML file (line 2 holds a control byte)"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::parse("stereo:\n  a: 1\n%TAG ! x\n"); })
+                .find("line 3 is a directive: only a first line '%YAML:1.0' is taken"),
+            std::string::npos);
+  // Windows line ends count as one: the line named is the file's own.
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::parse("stereo:\r\n  a: 1\r\n-x\r\n"); }).find("line 3 starts"),
             std::string::npos);
   const std::string negative = writeFile("negative.yml", "%YAML:1.0\nstereo:\n  minDisparityPx: -.5e1\n");
   EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(negative); }).find("minDisparityPx"), std::string::npos)

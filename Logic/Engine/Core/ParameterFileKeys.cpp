@@ -4,6 +4,7 @@
 #include "Core/Error.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <yaml-cpp/yaml.h>
 #include <fstream>
@@ -51,18 +52,46 @@ YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& 
     const long line = 1 + std::count(text.begin(), control, '\n');
     throw Error(context + invalid + " (line " + std::to_string(line) + " holds a control byte)");
   }
-  std::istringstream lines(text);
+  // Lines end at '\n' or "\r\n". A carriage return without a line feed is refused: OpenCV's parser looped on
+  // "-\r--" and on "-\r" before other text (fuzz_params).
+  std::string unixText;
+  unixText.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '\r') {
+      unixText += text[i];
+    } else if (i + 1 >= text.size() || text[i + 1] != '\n') {
+      const long line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(i), '\n');
+      throw Error(context + invalid + " (line " + std::to_string(line) +
+                  " holds a carriage return without a line feed)");
+    }
+  }
+  std::istringstream lines(unixText);
   int number = 0;
+  bool content = false;  // a line with more than blanks came before
   for (std::string line; std::getline(lines, line);) {
     ++number;
-    const std::size_t first = line.find_first_not_of(" \t");
+    // A '%' line other than the "%YAML" header first: OpenCV takes no other directive, and looped on some
+    // ("%YAt(" first, once the header was put before it: fuzz_params).
+    const std::size_t firstChar = line.find_first_not_of(" \t");
+    const bool header = !content && firstChar != std::string::npos && line.compare(firstChar, 5, "%YAML") == 0;
+    if (firstChar != std::string::npos) content = true;
+    if (firstChar != std::string::npos && line[firstChar] == '%' && !header) {
+      throw Error(context + invalid + " (line " + std::to_string(number) +
+                  " is a directive: only a first line '%YAML:1.0' is taken)");
+    }
+    const std::size_t first = firstChar;
     if (first == std::string::npos || line[first] != '-' || first + 1 >= line.size()) continue;
     const char next = line[first + 1];
-    const auto digit = [](char c) { return c >= '0' && c <= '9'; };
-    // "-." alone hung it too (fuzz_params): a '.' must lead a number's digits.
-    const bool fine = next == ' ' || next == '\t' || next == '\r' || digit(next) ||
-                      (next == '.' && first + 2 < line.size() && digit(line[first + 2])) ||
-                      line.compare(first, 3, "---") == 0;
+    // "-." alone hung it too, and "-.0--" (fuzz_params): what follows a '-' that is no list item's must be a whole
+    // number, to the end of its word.
+    const auto wholeNumber = [&] {
+      const std::size_t end = line.find_first_of(" \t#,]}", first);  // a number in a flow list ends at , ] }
+      const std::string word = line.substr(first, end == std::string::npos ? std::string::npos : end - first);
+      char* stop = nullptr;
+      std::strtod(word.c_str(), &stop);
+      return stop != word.c_str() && *stop == '\0';
+    };
+    const bool fine = next == ' ' || next == '\t' || line.compare(first, 3, "---") == 0 || wholeNumber();
     if (!fine) throw Error(context + "line " + std::to_string(number) + " starts with '-' but is no list item or number");
   }
   try {

@@ -39,5 +39,8 @@ CalibrationLayout matlabStereoParametersLayout();
 cv::Mat distortionRow(const cv::Mat& D);
 cv::Mat translationColumn(const cv::Mat& T, const std::string& key);
 cv::Size optionalImageSize(const YAML::Node& node);
+/// One side of an image size in pixels from a file: a positive whole number of at most 100 000 (an Error naming
+/// `key` otherwise; a value beyond int's range must not reach a cast: fuzz_calibration).
+int imageSidePx(double value, const std::string& key);
 
 }  // namespace tissuemosaic

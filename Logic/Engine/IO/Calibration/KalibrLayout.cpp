@@ -26,7 +26,7 @@ void readCamera(const YAML::Node& camera, const std::string& name, cv::Mat& K, c
     D = cv::Mat::zeros(1, 4, CV_64F);
   }
   const cv::Mat resolution = readMatrix(camera, "resolution", 1, 2, where);
-  size = {static_cast<int>(resolution.at<double>(0)), static_cast<int>(resolution.at<double>(1))};
+  size = {imageSidePx(resolution.at<double>(0), "resolution"), imageSidePx(resolution.at<double>(1), "resolution")};
 }
 
 }  // namespace

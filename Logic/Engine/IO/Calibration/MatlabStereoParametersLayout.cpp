@@ -54,7 +54,7 @@ void readCamera(const YAML::Node& camera, const std::string& name, cv::Mat& K, c
   size = {};
   if (camera["ImageSize"]) {
     const cv::Mat rowsColumns = readMatrix(camera, "ImageSize", 1, 2, where);
-    size = {static_cast<int>(rowsColumns.at<double>(1)), static_cast<int>(rowsColumns.at<double>(0))};
+    size = {imageSidePx(rowsColumns.at<double>(1), "ImageSize"), imageSidePx(rowsColumns.at<double>(0), "ImageSize")};
   }
 }
 

@@ -15,19 +15,22 @@ cv::Mat translationColumn(const cv::Mat& T, const std::string& key) {
   return T.reshape(1, 3).clone();
 }
 
+int imageSidePx(double value, const std::string& key) {
+  constexpr double kLargestSidePx = 100000;
+  require(value == std::floor(value) && value > 0 && value <= kLargestSidePx,
+          "key '" + key + "' must hold positive whole pixels (at most 100000)");
+  return static_cast<int>(value);
+}
+
 cv::Size optionalImageSize(const YAML::Node& node) {
-  auto wholePixels = [](double value, const std::string& key) {
-    require(value == std::floor(value) && value > 0, "key '" + key + "' must hold positive whole pixels");
-    return static_cast<int>(value);
-  };
   if (node["imageSize"]) {
     const cv::Mat size = readMatrix(node["imageSize"], "imageSize");
     require(size.total() == 2, "key 'imageSize' must be [width, height]");
-    return {wholePixels(size.at<double>(0), "imageSize"), wholePixels(size.at<double>(1), "imageSize")};
+    return {imageSidePx(size.at<double>(0), "imageSize"), imageSidePx(size.at<double>(1), "imageSize")};
   }
   if (node["image_width"] || node["image_height"]) {
-    return {wholePixels(readNumber(node, "image_width"), "image_width"),
-            wholePixels(readNumber(node, "image_height"), "image_height")};
+    return {imageSidePx(readNumber(node, "image_width"), "image_width"),
+            imageSidePx(readNumber(node, "image_height"), "image_height")};
   }
   return {};
 }
