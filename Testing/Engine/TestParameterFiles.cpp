@@ -103,7 +103,10 @@ TEST(ParameterFiles, TextsThatHangOpenCvsParserAreErrors) {
         // corpus/fuzz_params/timeout-8b10*, timeout-0fc1*, timeout-4cdf*.
         std::string("%YAML:1.0\n---\nstereo:\n  a: 5\r\r0\n-\r--\r\r0\n"),
         std::string("%YAML:1.0\n   censusLambda\xd2\xb5ongL:1.0\n-0\n-\r\xd3\xf5\xdc\xdf" "AD-Cead of the paper"),
-        std::string("%YAt( mieets the\n# a comment\n  armLongLimitGrey: 30.\n-1-\n")}) {
+        std::string("%YAt( mieets the\n# a comment\n  armLongLimitGrey: 30.\n-1-\n"),
+        // A second document, and a sequence item left of the mapping (corpus/fuzz_params/timeout-f45d*, -b182*).
+        std::string("%YAML:1.0\n key and more:1.0\n---\n- Arey: 20\n"),
+        std::string("%YAML:1.0\n   abs\xff\xff-armL%YAMLmitGrey: 20\n-0\n- the\n")}) {
     const std::string path = writeFile("hangs-opencv.yml", text);
     EXPECT_NE(errorOf([&] { ReconstructionParameters::readFile(path); }).find("cannot read parameters file '" + path + "': "),
               std::string::npos);
@@ -114,6 +117,12 @@ TEST(ParameterFiles, TextsThatHangOpenCvsParserAreErrors) {
             std::string::npos);
   EXPECT_NE(errorOf([&] { ReconstructionParameters::parse("stereo:\n  a: 1\n%TAG ! x\n"); })
                 .find("line 3 is a directive: only a first line '%YAML:1.0' is taken"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::parse("stereo:\n  znccWindowPx: 9\n---\ntracking: {}\n"); })
+                .find("line 3 starts a second document"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { ReconstructionParameters::parse("  stereo:\n    znccWindowPx: 9\ntracking: {}\n"); })
+                .find("line 3 is indented less than the first key"),
             std::string::npos);
   // Windows line ends count as one: the line named is the file's own.
   EXPECT_NE(errorOf([&] { ReconstructionParameters::parse("stereo:\r\n  a: 1\r\n-x\r\n"); }).find("line 3 starts"),

@@ -68,6 +68,7 @@ YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& 
   std::istringstream lines(unixText);
   int number = 0;
   bool content = false;  // a line with more than blanks came before
+  std::size_t rootIndent = std::string::npos;  // of the first key
   for (std::string line; std::getline(lines, line);) {
     ++number;
     // A '%' line other than the "%YAML" header first: OpenCV takes no other directive, and looped on some
@@ -78,6 +79,20 @@ YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& 
     if (firstChar != std::string::npos && line[firstChar] == '%' && !header) {
       throw Error(context + invalid + " (line " + std::to_string(number) +
                   " is a directive: only a first line '%YAML:1.0' is taken)");
+    }
+    // One document, whose lines are indented no less than its first key: OpenCV's parser looped on a second
+    // document and on a sequence item left of the mapping (yaml-cpp reads the first document only, and took the
+    // second text's lines as a scalar; Testing/Fuzz/open/fuzz_params before this).
+    const bool comment = firstChar != std::string::npos && line[firstChar] == '#';
+    if (firstChar != std::string::npos && !comment && !header) {
+      const bool documentStart = line.compare(firstChar, 3, "---") == 0;
+      if (rootIndent == std::string::npos) {
+        if (!documentStart) rootIndent = firstChar;
+      } else if (documentStart) {
+        throw Error(context + invalid + " (line " + std::to_string(number) + " starts a second document)");
+      } else if (firstChar < rootIndent) {
+        throw Error(context + invalid + " (line " + std::to_string(number) + " is indented less than the first key)");
+      }
     }
     const std::size_t first = firstChar;
     if (first == std::string::npos || line[first] != '-' || first + 1 >= line.size()) continue;
