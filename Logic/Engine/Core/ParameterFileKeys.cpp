@@ -73,29 +73,28 @@ YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& 
     ++number;
     // A '%' line other than the "%YAML" header first: OpenCV takes no other directive, and looped on some
     // ("%YAt(" first, once the header was put before it: fuzz_params).
-    const std::size_t firstChar = line.find_first_not_of(" \t");
-    const bool header = !content && firstChar != std::string::npos && line.compare(firstChar, 5, "%YAML") == 0;
-    if (firstChar != std::string::npos) content = true;
-    if (firstChar != std::string::npos && line[firstChar] == '%' && !header) {
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos) continue;  // a blank line
+    const bool header = !content && line.compare(first, 5, "%YAML") == 0;
+    content = true;
+    if (line[first] == '%' && !header) {
       throw Error(context + invalid + " (line " + std::to_string(number) +
                   " is a directive: only a first line '%YAML:1.0' is taken)");
     }
     // One document, whose lines are indented no less than its first key: OpenCV's parser looped on a second
     // document and on a sequence item left of the mapping (yaml-cpp reads the first document only, and took the
     // second text's lines as a scalar; Testing/Fuzz/open/fuzz_params before this).
-    const bool comment = firstChar != std::string::npos && line[firstChar] == '#';
-    if (firstChar != std::string::npos && !comment && !header) {
-      const bool documentStart = line.compare(firstChar, 3, "---") == 0;
+    if (line[first] != '#' && !header) {
+      const bool documentStart = line.compare(first, 3, "---") == 0;
       if (rootIndent == std::string::npos) {
-        if (!documentStart) rootIndent = firstChar;
+        if (!documentStart) rootIndent = first;
       } else if (documentStart) {
         throw Error(context + invalid + " (line " + std::to_string(number) + " starts a second document)");
-      } else if (firstChar < rootIndent) {
+      } else if (first < rootIndent) {
         throw Error(context + invalid + " (line " + std::to_string(number) + " is indented less than the first key)");
       }
     }
-    const std::size_t first = firstChar;
-    if (first == std::string::npos || line[first] != '-' || first + 1 >= line.size()) continue;
+    if (line[first] != '-' || first + 1 >= line.size()) continue;
     const char next = line[first + 1];
     // "-." alone hung it too, and "-.0--" (fuzz_params): what follows a '-' that is no list item's must be a whole
     // number, to the end of its word.
@@ -124,14 +123,12 @@ void requireWellFormedYaml(const std::string& text, const std::string& context) 
           context + "the file holds no parameter node (such as 'stereo:' or 'tracking:', see Resources/Presets)");
 }
 
-cv::FileStorage openParameterText(const std::string& text, const std::string& context, const std::string& invalid) {
-  const std::size_t start = text.find_first_not_of(" \t\r\n");
-  require(start != std::string::npos,
-          context + "the text is empty (it should hold nodes such as 'stereo:' or 'tracking:', see Resources/Presets)");
-  requireWellFormedYaml(text, context);
+cv::FileStorage openOpenCvText(const std::string& text, const std::string& context, const std::string& invalid) {
   // From memory OpenCV tells YAML by its "%YAML" line alone (a file it tells by its name): a YAML text without one
   // gets it, which its parser takes as the header it is.
-  const bool tagged = text[start] == '<' || text[start] == '{' || text.compare(start, 5, "%YAML") == 0;
+  const std::size_t start = text.find_first_not_of(" \t\r\n");
+  const bool tagged = start == std::string::npos || text[start] == '<' || text[start] == '{' ||
+                      text.compare(start, 5, "%YAML") == 0;
   cv::FileStorage storage;
   try {
     storage.open(tagged ? text : "%YAML:1.0\n" + text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
@@ -143,6 +140,14 @@ cv::FileStorage openParameterText(const std::string& text, const std::string& co
     throw Error(context + invalid + " (" + error.what() + ")");
   }
   require(storage.isOpened(), context + invalid);
+  return storage;
+}
+
+cv::FileStorage openParameterText(const std::string& text, const std::string& context, const std::string& invalid) {
+  require(text.find_first_not_of(" \t\r\n") != std::string::npos,
+          context + "the text is empty (it should hold nodes such as 'stereo:' or 'tracking:', see Resources/Presets)");
+  requireWellFormedYaml(text, context);
+  const cv::FileStorage storage = openOpenCvText(text, context, invalid);
   require(storage.root().isMap() && storage.root().size() > 0,
           context + "the file holds no parameter node (such as 'stereo:' or 'tracking:', see Resources/Presets)");
   return storage;

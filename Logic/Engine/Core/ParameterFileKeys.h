@@ -26,6 +26,10 @@ void requireWellFormedYaml(const std::string& text, const std::string& context);
 YAML::Node requireYamlOpenCvCanRead(const std::string& text, const std::string& context,
                                     const std::string& invalid = "not a valid YAML/XML file");
 
+/// Opens an OpenCV YAML (with or without its "%YAML:1.0" line), XML or JSON text from memory, once a guard above
+/// has read it; OpenCV's exceptions and a text it cannot open become an Error: `context`, `invalid` and why.
+cv::FileStorage openOpenCvText(const std::string& text, const std::string& context, const std::string& invalid);
+
 /// Opens a parameters file (OpenCV YAML/XML) for reading; an empty, missing or malformed file is an Error that says so
 /// (never OpenCV's assertion text). The file is read once: the guard above and OpenCV both take its text.
 cv::FileStorage openParameterFile(const std::string& path);

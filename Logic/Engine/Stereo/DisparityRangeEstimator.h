@@ -107,8 +107,9 @@ public:
   /// The range for the frames the sample decides, given the current one. Those frames are predicted: while the
   /// tissue moves, the robust ends are expected `predictedMoves` times the move of the median disparity since
   /// `previous` (the sample before, when it has enough matches) further: 1 when every frame is measured and decides
-  /// the next; (2N - 1) / N when every N-th is, and decides the N frames from N after its own. The current range stays while it holds the predicted ends with
-  /// keepMarginFraction of the margin and is not wider than maxWidthFactor x span + maxWidthSlackPx (hysteresis:
+  /// the next; (2N - 1) / N when every N-th is, and decides the N frames from N after its own. The current range
+  /// stays while it holds the predicted ends with keepMarginFraction of the margin and is not wider than
+  /// maxWidthFactor x span + maxWidthSlackPx (hysteresis:
   /// changes are rare and do not flap). Otherwise: the wanted range of the predicted ends, or, when the current one
   /// is wide enough and only misplaced, the current one moved over it (same count: the matcher keeps its
   /// workspace). A sample with fewer than minMatches matches keeps the current range.

@@ -95,15 +95,7 @@ CalibrationDocument CalibrationDocument::load(const std::string& path) {
   if (writtenByFileStorage(text)) {
     // OpenCV 4.6's YAML parser never returns on some malformed texts (fuzz_calibration): yaml-cpp reads them first.
     parameters::requireYamlOpenCvCanRead(text, "", "not a valid OpenCV YAML/XML file");
-    cv::FileStorage storage;
-    try {
-      storage.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-    } catch (const cv::Exception& e) {
-      throw Error("not a valid OpenCV YAML/XML file (" + e.err + ")");
-    } catch (const std::exception& e) {  // OpenCV's parser lets some failures out as std::length_error
-      throw Error("not a valid OpenCV YAML/XML file (" + std::string(e.what()) + ")");
-    }
-    require(storage.isOpened(), "not a valid OpenCV YAML/XML file");
+    const cv::FileStorage storage = parameters::openOpenCvText(text, "", "not a valid OpenCV YAML/XML file");
     try {
       document.root = fromFileNode(storage.root());
     } catch (const cv::Exception& e) {
