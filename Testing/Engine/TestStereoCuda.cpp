@@ -156,6 +156,79 @@ TEST(StereoCuda, HighlightSeedsMatchCpu) {
   }
 }
 
+TEST(StereoCuda, CostVolumeAndBothWinnersMatchCpuEntryForEntry) {
+  // The cost volume launcher alone: every score (through each backend's layout) and both views' winners, for every
+  // window radius (the paper's has its own unrolled kernel), with narrow and wide disparity ranges that reach past
+  // both image borders, on odd sizes. Window statistics from the CPU, so only the volume pass differs.
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  const std::tuple<int, int, int, int> cases[] = {
+      // radius, width, height, first disparity; disparity counts 37 and 300
+      {1, 101, 37, -7}, {2, 77, 29, 3}, {3, 150, 45, -40}, {4, 64, 33, 0}, {5, 223, 61, -20},
+      {6, 97, 40, 10}, {7, 131, 35, -3}, {8, 90, 47, -60}, {9, 117, 52, 5}};
+  for (const auto& [r, width, height, minDisparity] : cases) {
+    for (const int disparityCount : {37, 300}) {
+      SCOPED_TRACE("radius " + std::to_string(r) + ", " + std::to_string(width) + "x" + std::to_string(height) +
+                   ", disparities " + std::to_string(minDisparity) + " + " + std::to_string(disparityCount));
+      const cv::Mat texture = test::randomTexture(width, height, static_cast<unsigned>(r));
+      cv::Mat leftMat, rightMat;
+      texture.convertTo(leftMat, CV_32F);
+      test::shiftedView(texture, 6.0 + r, 0.03, -0.02).convertTo(rightMat, CV_32F);
+      const std::size_t n = static_cast<std::size_t>(width) * height;
+      std::vector<float> left(leftMat.ptr<float>(), leftMat.ptr<float>() + n);
+      std::vector<float> right(rightMat.ptr<float>(), rightMat.ptr<float>() + n);
+      std::vector<float> sumL(n), normL(n), sumR(n), normR(n);
+      stereo::computeWindowStatisticsCpu({left.data(), width, height}, {sumL.data(), width, height},
+                                         {normL.data(), width, height}, r, 1.0f);
+      stereo::computeWindowStatisticsCpu({right.data(), width, height}, {sumR.data(), width, height},
+                                         {normR.data(), width, height}, r, 1.0f);
+      std::vector<int16_t> cpuVolume(n * disparityCount), cpuLeft(n), cpuRight(n);
+      const auto cpuLayout = stereo::VolumeLayout::rowMajor(width, disparityCount);
+      stereo::computeZnccVolumeCpu({{left.data(), width, height}, {right.data(), width, height},
+                                    {sumL.data(), width, height}, {normL.data(), width, height},
+                                    {sumR.data(), width, height}, {normR.data(), width, height}, r, minDisparity,
+                                    disparityCount, cpuVolume.data(), cpuLayout, {cpuLeft.data(), width, height},
+                                    {cpuRight.data(), width, height}, nullptr});
+
+      std::vector<Buffer<float>> device;
+      for (const std::vector<float>* host : {&left, &right, &sumL, &normL, &sumR, &normR}) {
+        device.emplace_back(Device::Cuda, n);
+        device.back().upload(host->data());
+      }
+      Buffer<int16_t> volume(Device::Cuda, n * disparityCount), leftWinners(Device::Cuda, n), rightWinners(Device::Cuda, n);
+      Buffer<uint32_t> rightKeys(Device::Cuda, n);
+      rightKeys.setZero();
+      const auto gpuLayout = stereo::VolumeLayout::sliceMajor(width, height);
+      const auto view = [&](int k) { return ImageView<const float>{device[k].data(), width, height}; };
+      // Twice on the same keys: the launcher leaves them cleared for the next frame.
+      for (int run = 0; run < 2; ++run) {
+        stereo::computeZnccVolumeCuda({view(0), view(1), view(2), view(3), view(4), view(5), r, minDisparity,
+                                       disparityCount, volume.data(), gpuLayout, {leftWinners.data(), width, height},
+                                       {rightWinners.data(), width, height}, rightKeys.data()});
+      }
+      const std::vector<int16_t> gpuVolume = volume.toHost(), gpuLeft = leftWinners.toHost(),
+                                 gpuRight = rightWinners.toHost();
+      long differentScores = 0, scored = 0, differentWinners = 0, winners = 0;
+      for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+          for (int i = 0; i < disparityCount; ++i) {
+            const int16_t expected = cpuVolume[cpuLayout.index(x, y, i)];
+            differentScores += expected != gpuVolume[gpuLayout.index(x, y, i)];
+            scored += expected != stereo::kNoZncc;
+          }
+        }
+      }
+      for (std::size_t k = 0; k < n; ++k) {
+        differentWinners += (cpuLeft[k] != gpuLeft[k]) + (cpuRight[k] != gpuRight[k]);
+        winners += (cpuLeft[k] != stereo::kNoDisparity) + (cpuRight[k] != stereo::kNoDisparity);
+      }
+      EXPECT_EQ(differentScores, 0);
+      EXPECT_EQ(differentWinners, 0);
+      EXPECT_GT(scored, static_cast<long>(n));  // the comparison covers real scores, not only "none"
+      EXPECT_GT(winners, static_cast<long>(n));
+    }
+  }
+}
+
 TEST(StereoCuda, MatchesCpuOnWideRangeAndOtherWindows) {
   if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
   const auto pair = synthetic::renderSyntheticStereoPair(synthetic::SyntheticStereoOptions::wideDisparity());
