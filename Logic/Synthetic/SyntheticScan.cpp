@@ -34,9 +34,7 @@ constexpr double kSmokeStrength = 0.45;
 /// The breathing part of the surface: full amplitude within the inner radius, none beyond the outer (SurfaceSwell).
 constexpr double kBreathingInnerShare = 10.0 / 18.0;  ///< the flat top's share of the breathing radius
 
-void requireRange(double value, double low, double high, const std::string& name) {
-  parameters::requireRange("synthetic scan", name.c_str(), value, low, high);
-}
+constexpr parameters::Group kSyntheticScan{"synthetic scan"};
 
 cv::Matx33d rotationX(double a) { return {1, 0, 0, 0, std::cos(a), -std::sin(a), 0, std::sin(a), std::cos(a)}; }
 cv::Matx33d rotationY(double a) { return {std::cos(a), 0, std::sin(a), 0, 1, 0, -std::sin(a), 0, std::cos(a)}; }
@@ -148,25 +146,25 @@ SyntheticCamera makeCamera(const cv::Mat& K, const cv::Mat& D, const cv::Matx33d
 }  // namespace
 
 void SyntheticScanOptions::validate() const {
-  requireRange(width, 64, 8192, "width");
-  requireRange(height, 64, 8192, "height");
-  requireRange(frames, 1, 100000, "frames");
-  requireRange(fps, 1, 1000, "fps");
-  requireRange(minWorkingDistanceMm, 20, 500, "minimum working distance (mm)");
-  requireRange(maxWorkingDistanceMm, minWorkingDistanceMm, 500, "maximum working distance (mm)");
-  requireRange(minSpeedMmPerS, 0, 1000, "minimum speed (mm/s)");
-  requireRange(maxSpeedMmPerS, minSpeedMmPerS, 1000, "maximum speed (mm/s)");
-  requireRange(rasterWidthMm, 1, 200, "raster width (mm)");
-  requireRange(rasterHeightMm, 1, 200, "raster height (mm)");
-  requireRange(rasterSweeps, 1, 50, "raster sweeps");
-  requireRange(maxTiltDeg, 0, 30, "maximum tilt (degrees)");
-  requireRange(maxRollDeg, 0, 45, "maximum roll (degrees)");
-  requireRange(reliefMm, 0, 20, "relief (mm)");
-  requireRange(baselineMm, 0.5, 100, "baseline (mm)");
-  requireRange(focalPx, 0, 1e5, "focal length (px, 0 = default)");
-  requireRange(rectifiedDisparityOffsetPx, -width, width, "rectified disparity offset (px)");
-  requireRange(noiseStdGrey, 0, 50, "noise (grey levels)");
-  requireRange(supersampling, 1, 4, "supersampling");
+  kSyntheticScan.requireRange("width", width, 64, 8192);
+  kSyntheticScan.requireRange("height", height, 64, 8192);
+  kSyntheticScan.requireRange("frames", frames, 1, 100000);
+  kSyntheticScan.requireRange("fps", fps, 1, 1000);
+  kSyntheticScan.requireRange("minimum working distance (mm)", minWorkingDistanceMm, 20, 500);
+  kSyntheticScan.requireRange("maximum working distance (mm)", maxWorkingDistanceMm, minWorkingDistanceMm, 500);
+  kSyntheticScan.requireRange("minimum speed (mm/s)", minSpeedMmPerS, 0, 1000);
+  kSyntheticScan.requireRange("maximum speed (mm/s)", maxSpeedMmPerS, minSpeedMmPerS, 1000);
+  kSyntheticScan.requireRange("raster width (mm)", rasterWidthMm, 1, 200);
+  kSyntheticScan.requireRange("raster height (mm)", rasterHeightMm, 1, 200);
+  kSyntheticScan.requireRange("raster sweeps", rasterSweeps, 1, 50);
+  kSyntheticScan.requireRange("maximum tilt (degrees)", maxTiltDeg, 0, 30);
+  kSyntheticScan.requireRange("maximum roll (degrees)", maxRollDeg, 0, 45);
+  kSyntheticScan.requireRange("relief (mm)", reliefMm, 0, 20);
+  kSyntheticScan.requireRange("baseline (mm)", baselineMm, 0.5, 100);
+  kSyntheticScan.requireRange("focal length (px, 0 = default)", focalPx, 0, 1e5);
+  kSyntheticScan.requireRange("rectified disparity offset (px)", rectifiedDisparityOffsetPx, -width, width);
+  kSyntheticScan.requireRange("noise (grey levels)", noiseStdGrey, 0, 50);
+  kSyntheticScan.requireRange("supersampling", supersampling, 1, 4);
   hardMode.validate(frames);
 }
 

@@ -20,9 +20,7 @@ namespace {
 
 constexpr double degree = 3.141592653589793 / 180.0;
 
-void requireRange(double value, double low, double high, const std::string& name) {
-  parameters::requireRange("synthetic stereo", name.c_str(), value, low, high);
-}
+constexpr parameters::Group kSyntheticStereo{"synthetic stereo"};
 
 /// The raw rig: slightly different lenses, a small relative rotation, the right eye baselineMm to the right.
 StereoCalibration makeCalibration(const SyntheticStereoOptions& o) {
@@ -114,17 +112,17 @@ SyntheticStereoOptions SyntheticStereoOptions::wideDisparity(int width, int heig
 }
 
 void SyntheticStereoOptions::validate() const {
-  requireRange(width, 64, 8192, "width");
-  requireRange(height, 64, 8192, "height");
-  requireRange(focalPx, 0, 1e5, "focal length (px, 0 = default)");
-  requireRange(baselineMm, 0.5, 100, "baseline (mm)");
-  requireRange(workingDistanceMm, 15, 500, "working distance (mm)");
-  requireRange(tiltDeg, 0, 60, "tilt (degrees)");
-  requireRange(reliefMm, 0, 20, "relief (mm)");
-  requireRange(distortion, 0, 3, "distortion scale");
-  requireRange(eyeRotationDeg, 0, 5, "eye rotation (degrees)");
-  requireRange(noiseStdGrey, 0, 50, "noise (grey levels)");
-  requireRange(supersampling, 1, 4, "supersampling");
+  kSyntheticStereo.requireRange("width", width, 64, 8192);
+  kSyntheticStereo.requireRange("height", height, 64, 8192);
+  kSyntheticStereo.requireRange("focal length (px, 0 = default)", focalPx, 0, 1e5);
+  kSyntheticStereo.requireRange("baseline (mm)", baselineMm, 0.5, 100);
+  kSyntheticStereo.requireRange("working distance (mm)", workingDistanceMm, 15, 500);
+  kSyntheticStereo.requireRange("tilt (degrees)", tiltDeg, 0, 60);
+  kSyntheticStereo.requireRange("relief (mm)", reliefMm, 0, 20);
+  kSyntheticStereo.requireRange("distortion scale", distortion, 0, 3);
+  kSyntheticStereo.requireRange("eye rotation (degrees)", eyeRotationDeg, 0, 5);
+  kSyntheticStereo.requireRange("noise (grey levels)", noiseStdGrey, 0, 50);
+  kSyntheticStereo.requireRange("supersampling", supersampling, 1, 4);
 }
 
 StereoCalibration syntheticStereoCalibration(const SyntheticStereoOptions& options) {

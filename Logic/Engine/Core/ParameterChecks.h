@@ -37,4 +37,20 @@ void readKey(const char* group, const cv::FileNode& node, const char* name, T& v
   }
 }
 
+/// One parameter group (a key of the parameter files: "stereo", "tracking", ...): its checks and reads with the group's
+/// name in every message. Bounds of another arithmetic type than the value compare in their common type.
+struct Group {
+  const char* name;
+
+  template <class T, class Low, class High>
+  void requireRange(const char* key, T value, Low low, High high) const {
+    using Common = std::common_type_t<T, Low, High>;
+    parameters::requireRange<Common>(name, key, value, low, high);
+  }
+  template <class T>
+  void readKey(const cv::FileNode& node, const char* key, T& value) const {
+    parameters::readKey(name, node, key, value);
+  }
+};
+
 }  // namespace tissuemosaic::parameters

@@ -9,38 +9,30 @@ namespace tissuemosaic {
 
 namespace {
 
-template <class T>
-void requireRange(const char* name, T value, T low, T high) {
-  parameters::requireRange("fusion", name, value, low, high);
-}
-
-template <class T>
-void readKey(const cv::FileNode& node, const char* name, T& value) {
-  parameters::readKey("fusion", node, name, value);
-}
+constexpr parameters::Group kFusion{"fusion"};
 
 }  // namespace
 
 void FusionParameters::validate() const {
-  requireRange("truncationMm", truncationMm, 1e-3, 1000.0);
-  requireRange("maxWeight", maxWeight, 1.0, 1e6);
-  requireRange("maxNormalAngleDeg", maxNormalAngleDeg, 0.0, 180.0);
-  requireRange("coverageRadiusPx", coverageRadiusPx, 0, 8);
-  requireRange("colourFullWeightFraction", colourFullWeightFraction, 0.0, 1.0);
-  requireRange("colourMinWeight", colourMinWeight, 1e-3, 1.0);
-  requireRange("maxPoints", maxPoints, 1, 1 << 30);
-  requireRange("newPointStepPx", newPointStepPx, 1, 64);
-  requireRange("conflictMinWeight", conflictMinWeight, 0, 1000000);
-  requireRange("minDepthMm", minDepthMm, 0.0, 1e6);
-  requireRange("maxDepthMm", maxDepthMm, minDepthMm, 1e6);
-  requireRange("normalRadiusPx", normalRadiusPx, 1, 32);
-  requireRange("maxDepthJumpMm", maxDepthJumpMm, 1e-3, 1e6);
-  requireRange("motionPenalty", motionPenalty, 0.0, 1e6);
-  requireRange("motionMinThresholdMm", motionMinThresholdMm, 0.0, 1000.0);
-  requireRange("motionNoiseFactor", motionNoiseFactor, 0.0, 1000.0);
-  requireRange("occlusionMarginMm", occlusionMarginMm, 0.0, 1000.0);
-  requireRange("movedTissueRadiusMm", movedTissueRadiusMm, 0.0, 1000.0);
-  requireRange("motionMinAgreementShare", motionMinAgreementShare, 0.0, 1.0);
+  kFusion.requireRange("truncationMm", truncationMm, 1e-3, 1000.0);
+  kFusion.requireRange("maxWeight", maxWeight, 1.0, 1e6);
+  kFusion.requireRange("maxNormalAngleDeg", maxNormalAngleDeg, 0.0, 180.0);
+  kFusion.requireRange("coverageRadiusPx", coverageRadiusPx, 0, 8);
+  kFusion.requireRange("colourFullWeightFraction", colourFullWeightFraction, 0.0, 1.0);
+  kFusion.requireRange("colourMinWeight", colourMinWeight, 1e-3, 1.0);
+  kFusion.requireRange("maxPoints", maxPoints, 1, 1 << 30);
+  kFusion.requireRange("newPointStepPx", newPointStepPx, 1, 64);
+  kFusion.requireRange("conflictMinWeight", conflictMinWeight, 0, 1000000);
+  kFusion.requireRange("minDepthMm", minDepthMm, 0.0, 1e6);
+  kFusion.requireRange("maxDepthMm", maxDepthMm, minDepthMm, 1e6);
+  kFusion.requireRange("normalRadiusPx", normalRadiusPx, 1, 32);
+  kFusion.requireRange("maxDepthJumpMm", maxDepthJumpMm, 1e-3, 1e6);
+  kFusion.requireRange("motionPenalty", motionPenalty, 0.0, 1e6);
+  kFusion.requireRange("motionMinThresholdMm", motionMinThresholdMm, 0.0, 1000.0);
+  kFusion.requireRange("motionNoiseFactor", motionNoiseFactor, 0.0, 1000.0);
+  kFusion.requireRange("occlusionMarginMm", occlusionMarginMm, 0.0, 1000.0);
+  kFusion.requireRange("movedTissueRadiusMm", movedTissueRadiusMm, 0.0, 1000.0);
+  kFusion.requireRange("motionMinAgreementShare", motionMinAgreementShare, 0.0, 1.0);
 }
 
 void FusionParameters::write(cv::FileStorage& storage) const {
@@ -62,25 +54,25 @@ FusionParameters FusionParameters::read(const cv::FileNode& node) {
   FusionParameters p;
   if (node.empty()) return p;
   if (!node.isMap()) throw Error("the 'fusion' parameter node must be a map");
-  readKey(node, "truncationMm", p.truncationMm);
-  readKey(node, "maxWeight", p.maxWeight);
-  readKey(node, "maxNormalAngleDeg", p.maxNormalAngleDeg);
-  readKey(node, "coverageRadiusPx", p.coverageRadiusPx);
-  readKey(node, "colourFullWeightFraction", p.colourFullWeightFraction);
-  readKey(node, "colourMinWeight", p.colourMinWeight);
-  readKey(node, "maxPoints", p.maxPoints);
-  readKey(node, "newPointStepPx", p.newPointStepPx);
-  readKey(node, "conflictMinWeight", p.conflictMinWeight);
-  readKey(node, "minDepthMm", p.minDepthMm);
-  readKey(node, "maxDepthMm", p.maxDepthMm);
-  readKey(node, "normalRadiusPx", p.normalRadiusPx);
-  readKey(node, "maxDepthJumpMm", p.maxDepthJumpMm);
-  readKey(node, "motionPenalty", p.motionPenalty);
-  readKey(node, "motionMinThresholdMm", p.motionMinThresholdMm);
-  readKey(node, "motionNoiseFactor", p.motionNoiseFactor);
-  readKey(node, "occlusionMarginMm", p.occlusionMarginMm);
-  readKey(node, "movedTissueRadiusMm", p.movedTissueRadiusMm);
-  readKey(node, "motionMinAgreementShare", p.motionMinAgreementShare);
+  kFusion.readKey(node, "truncationMm", p.truncationMm);
+  kFusion.readKey(node, "maxWeight", p.maxWeight);
+  kFusion.readKey(node, "maxNormalAngleDeg", p.maxNormalAngleDeg);
+  kFusion.readKey(node, "coverageRadiusPx", p.coverageRadiusPx);
+  kFusion.readKey(node, "colourFullWeightFraction", p.colourFullWeightFraction);
+  kFusion.readKey(node, "colourMinWeight", p.colourMinWeight);
+  kFusion.readKey(node, "maxPoints", p.maxPoints);
+  kFusion.readKey(node, "newPointStepPx", p.newPointStepPx);
+  kFusion.readKey(node, "conflictMinWeight", p.conflictMinWeight);
+  kFusion.readKey(node, "minDepthMm", p.minDepthMm);
+  kFusion.readKey(node, "maxDepthMm", p.maxDepthMm);
+  kFusion.readKey(node, "normalRadiusPx", p.normalRadiusPx);
+  kFusion.readKey(node, "maxDepthJumpMm", p.maxDepthJumpMm);
+  kFusion.readKey(node, "motionPenalty", p.motionPenalty);
+  kFusion.readKey(node, "motionMinThresholdMm", p.motionMinThresholdMm);
+  kFusion.readKey(node, "motionNoiseFactor", p.motionNoiseFactor);
+  kFusion.readKey(node, "occlusionMarginMm", p.occlusionMarginMm);
+  kFusion.readKey(node, "movedTissueRadiusMm", p.movedTissueRadiusMm);
+  kFusion.readKey(node, "motionMinAgreementShare", p.motionMinAgreementShare);
   p.validate();
   return p;
 }

@@ -9,15 +9,7 @@ namespace tissuemosaic {
 
 namespace {
 
-template <class T>
-void requireRange(const char* name, T value, T low, T high) {
-  parameters::requireRange("agreement", name, value, low, high);
-}
-
-template <class T>
-void readKey(const cv::FileNode& node, const char* name, T& value) {
-  parameters::readKey("agreement", node, name, value);
-}
+constexpr parameters::Group kAgreement{"agreement"};
 
 }  // namespace
 
@@ -43,15 +35,15 @@ bool AgreementParameters::collapsed(const ModelAgreement& a) const {
 }
 
 void AgreementParameters::validate() const {
-  requireRange("sampleStridePx", sampleStridePx, 1, 64);
-  requireRange("goodShare", goodShare, 0.0, 1.0);
-  requireRange("goodMedianMm", goodMedianMm, 0.0, 1000.0);
-  requireRange("poorShare", poorShare, 0.0, goodShare);
-  requireRange("poorMedianMm", poorMedianMm, goodMedianMm, 1000.0);
-  requireRange("lostShare", lostShare, 0.0, 1.0);
-  requireRange("lostMedianMm", lostMedianMm, 0.0, 1000.0);
-  requireRange("minOverlap", minOverlap, 0.0, 1.0);
-  requireRange("relocalisationMinShare", relocalisationMinShare, 0.0, 1.0);
+  kAgreement.requireRange("sampleStridePx", sampleStridePx, 1, 64);
+  kAgreement.requireRange("goodShare", goodShare, 0.0, 1.0);
+  kAgreement.requireRange("goodMedianMm", goodMedianMm, 0.0, 1000.0);
+  kAgreement.requireRange("poorShare", poorShare, 0.0, goodShare);
+  kAgreement.requireRange("poorMedianMm", poorMedianMm, goodMedianMm, 1000.0);
+  kAgreement.requireRange("lostShare", lostShare, 0.0, 1.0);
+  kAgreement.requireRange("lostMedianMm", lostMedianMm, 0.0, 1000.0);
+  kAgreement.requireRange("minOverlap", minOverlap, 0.0, 1.0);
+  kAgreement.requireRange("relocalisationMinShare", relocalisationMinShare, 0.0, 1.0);
 }
 
 void AgreementParameters::write(cv::FileStorage& storage) const {
@@ -67,15 +59,15 @@ AgreementParameters AgreementParameters::read(const cv::FileNode& node) {
   AgreementParameters p;
   if (node.empty()) return p;
   if (!node.isMap()) throw Error("the 'agreement' parameter node must be a map");
-  readKey(node, "sampleStridePx", p.sampleStridePx);
-  readKey(node, "goodShare", p.goodShare);
-  readKey(node, "goodMedianMm", p.goodMedianMm);
-  readKey(node, "poorShare", p.poorShare);
-  readKey(node, "poorMedianMm", p.poorMedianMm);
-  readKey(node, "lostShare", p.lostShare);
-  readKey(node, "lostMedianMm", p.lostMedianMm);
-  readKey(node, "minOverlap", p.minOverlap);
-  readKey(node, "relocalisationMinShare", p.relocalisationMinShare);
+  kAgreement.readKey(node, "sampleStridePx", p.sampleStridePx);
+  kAgreement.readKey(node, "goodShare", p.goodShare);
+  kAgreement.readKey(node, "goodMedianMm", p.goodMedianMm);
+  kAgreement.readKey(node, "poorShare", p.poorShare);
+  kAgreement.readKey(node, "poorMedianMm", p.poorMedianMm);
+  kAgreement.readKey(node, "lostShare", p.lostShare);
+  kAgreement.readKey(node, "lostMedianMm", p.lostMedianMm);
+  kAgreement.readKey(node, "minOverlap", p.minOverlap);
+  kAgreement.readKey(node, "relocalisationMinShare", p.relocalisationMinShare);
   p.validate();
   return p;
 }

@@ -9,38 +9,30 @@ namespace tissuemosaic {
 
 namespace {
 
-template <class T>
-void requireRange(const char* name, T value, T low, T high) {
-  parameters::requireRange("refinement", name, value, low, high);
-}
-
-template <class T>
-void readKey(const cv::FileNode& node, const char* name, T& value) {
-  parameters::readKey("refinement", node, name, value);
-}
+constexpr parameters::Group kRefinement{"refinement"};
 
 }  // namespace
 
 void RefinementParameters::validate() const {
-  requireRange("icpWeightFactor", icpWeightFactor, 0.0, 1e6);
-  requireRange("icpTukeyMm", icpTukeyMm, 0.001, 1000.0);
-  requireRange("baHuberPx", baHuberPx, 0.01, 1000.0);
-  requireRange("icpSamples", icpSamples, 0, 10000000);
-  requireRange("alternations", alternations, 1, 1000);
-  requireRange("lmIterations", lmIterations, 1, 1000);
-  requireRange("initialLambda", initialLambda, 1e-12, 1e6);
-  requireRange("maxMatchedKeyFrames", maxMatchedKeyFrames, 0, 1000);
-  requireRange("minKeyFrameOverlap", minKeyFrameOverlap, 0.0, 1.0);
-  requireRange("minKeyFrameInliers", minKeyFrameInliers, 4, 100000);
-  requireRange("minFrameInliers", minFrameInliers, 4, 100000);
-  requireRange("maxIntermediateFrames", maxIntermediateFrames, 0, 1000);
-  requireRange("maxSolveHypotheses", maxSolveHypotheses, 1, 100000);
-  requireRange("guidedSearchRadiusPx", guidedSearchRadiusPx, 0.0, 10000.0);
-  requireRange("storedFeaturesPerKeyFrame", storedFeaturesPerKeyFrame, 4, 1000000);
-  requireRange("maxStoredKeyFrames", maxStoredKeyFrames, 1, 10000000);
-  requireRange("minIcpPoints", minIcpPoints, 1, 10000000);
-  requireRange("maxCorrectionMm", maxCorrectionMm, 0.0, 1e6);
-  requireRange("maxCorrectionDeg", maxCorrectionDeg, 0.0, 180.0);
+  kRefinement.requireRange("icpWeightFactor", icpWeightFactor, 0.0, 1e6);
+  kRefinement.requireRange("icpTukeyMm", icpTukeyMm, 0.001, 1000.0);
+  kRefinement.requireRange("baHuberPx", baHuberPx, 0.01, 1000.0);
+  kRefinement.requireRange("icpSamples", icpSamples, 0, 10000000);
+  kRefinement.requireRange("alternations", alternations, 1, 1000);
+  kRefinement.requireRange("lmIterations", lmIterations, 1, 1000);
+  kRefinement.requireRange("initialLambda", initialLambda, 1e-12, 1e6);
+  kRefinement.requireRange("maxMatchedKeyFrames", maxMatchedKeyFrames, 0, 1000);
+  kRefinement.requireRange("minKeyFrameOverlap", minKeyFrameOverlap, 0.0, 1.0);
+  kRefinement.requireRange("minKeyFrameInliers", minKeyFrameInliers, 4, 100000);
+  kRefinement.requireRange("minFrameInliers", minFrameInliers, 4, 100000);
+  kRefinement.requireRange("maxIntermediateFrames", maxIntermediateFrames, 0, 1000);
+  kRefinement.requireRange("maxSolveHypotheses", maxSolveHypotheses, 1, 100000);
+  kRefinement.requireRange("guidedSearchRadiusPx", guidedSearchRadiusPx, 0.0, 10000.0);
+  kRefinement.requireRange("storedFeaturesPerKeyFrame", storedFeaturesPerKeyFrame, 4, 1000000);
+  kRefinement.requireRange("maxStoredKeyFrames", maxStoredKeyFrames, 1, 10000000);
+  kRefinement.requireRange("minIcpPoints", minIcpPoints, 1, 10000000);
+  kRefinement.requireRange("maxCorrectionMm", maxCorrectionMm, 0.0, 1e6);
+  kRefinement.requireRange("maxCorrectionDeg", maxCorrectionDeg, 0.0, 180.0);
 }
 
 void RefinementParameters::write(cv::FileStorage& storage) const {
@@ -61,25 +53,25 @@ RefinementParameters RefinementParameters::read(const cv::FileNode& node) {
   RefinementParameters p;
   if (node.empty()) return p;
   if (!node.isMap()) throw Error("the 'refinement' parameter node must be a map");
-  readKey(node, "icpWeightFactor", p.icpWeightFactor);
-  readKey(node, "icpTukeyMm", p.icpTukeyMm);
-  readKey(node, "baHuberPx", p.baHuberPx);
-  readKey(node, "icpSamples", p.icpSamples);
-  readKey(node, "alternations", p.alternations);
-  readKey(node, "lmIterations", p.lmIterations);
-  readKey(node, "initialLambda", p.initialLambda);
-  readKey(node, "maxMatchedKeyFrames", p.maxMatchedKeyFrames);
-  readKey(node, "minKeyFrameOverlap", p.minKeyFrameOverlap);
-  readKey(node, "minKeyFrameInliers", p.minKeyFrameInliers);
-  readKey(node, "minFrameInliers", p.minFrameInliers);
-  readKey(node, "maxIntermediateFrames", p.maxIntermediateFrames);
-  readKey(node, "maxSolveHypotheses", p.maxSolveHypotheses);
-  readKey(node, "guidedSearchRadiusPx", p.guidedSearchRadiusPx);
-  readKey(node, "storedFeaturesPerKeyFrame", p.storedFeaturesPerKeyFrame);
-  readKey(node, "maxStoredKeyFrames", p.maxStoredKeyFrames);
-  readKey(node, "minIcpPoints", p.minIcpPoints);
-  readKey(node, "maxCorrectionMm", p.maxCorrectionMm);
-  readKey(node, "maxCorrectionDeg", p.maxCorrectionDeg);
+  kRefinement.readKey(node, "icpWeightFactor", p.icpWeightFactor);
+  kRefinement.readKey(node, "icpTukeyMm", p.icpTukeyMm);
+  kRefinement.readKey(node, "baHuberPx", p.baHuberPx);
+  kRefinement.readKey(node, "icpSamples", p.icpSamples);
+  kRefinement.readKey(node, "alternations", p.alternations);
+  kRefinement.readKey(node, "lmIterations", p.lmIterations);
+  kRefinement.readKey(node, "initialLambda", p.initialLambda);
+  kRefinement.readKey(node, "maxMatchedKeyFrames", p.maxMatchedKeyFrames);
+  kRefinement.readKey(node, "minKeyFrameOverlap", p.minKeyFrameOverlap);
+  kRefinement.readKey(node, "minKeyFrameInliers", p.minKeyFrameInliers);
+  kRefinement.readKey(node, "minFrameInliers", p.minFrameInliers);
+  kRefinement.readKey(node, "maxIntermediateFrames", p.maxIntermediateFrames);
+  kRefinement.readKey(node, "maxSolveHypotheses", p.maxSolveHypotheses);
+  kRefinement.readKey(node, "guidedSearchRadiusPx", p.guidedSearchRadiusPx);
+  kRefinement.readKey(node, "storedFeaturesPerKeyFrame", p.storedFeaturesPerKeyFrame);
+  kRefinement.readKey(node, "maxStoredKeyFrames", p.maxStoredKeyFrames);
+  kRefinement.readKey(node, "minIcpPoints", p.minIcpPoints);
+  kRefinement.readKey(node, "maxCorrectionMm", p.maxCorrectionMm);
+  kRefinement.readKey(node, "maxCorrectionDeg", p.maxCorrectionDeg);
   p.validate();
   return p;
 }

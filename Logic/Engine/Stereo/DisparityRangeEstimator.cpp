@@ -16,9 +16,7 @@ namespace tissuemosaic {
 
 namespace {
 
-void requireRange(const char* name, double value, double low, double high) {
-  parameters::requireRange("disparity range estimator", name, value, low, high);
-}
+constexpr parameters::Group kEstimator{"disparity range estimator"};
 
 std::vector<float> sortedCopy(std::vector<float> values) {
   std::sort(values.begin(), values.end());
@@ -91,26 +89,26 @@ std::optional<AffineDisparity> fitAffineDisparity(const DisparitySample& sample,
 }  // namespace
 
 void DisparityRangeEstimatorOptions::validate() const {
-  requireRange("maxFeatures", maxFeatures, 50, 100000);
-  requireRange("fastThreshold", fastThreshold, 1, 254);
-  requireRange("weakTextureMatches", weakTextureMatches, 0, 100000);
-  requireRange("weakFastThreshold", weakFastThreshold, 1, 254);
-  requireRange("saturatedGrey", saturatedGrey, 1, 256);
-  requireRange("measureWidthPx", measureWidthPx, 64, 100000);
-  requireRange("minMatches", minMatches, 3, 100000);
-  requireRange("planeTolerancePx", planeTolerancePx, 0.0, 1000.0);
-  requireRange("planeToleranceFraction", planeToleranceFraction, 0.0, 1.0);
-  requireRange("lowQuantile", lowQuantile, 0.0, 0.5);
-  requireRange("highQuantile", highQuantile, 0.5, 1.0);
-  requireRange("marginFraction", marginFraction, 0.0, 10.0);
-  requireRange("minMarginPx", minMarginPx, 0.0, 1000.0);
-  requireRange("farMarginFraction", farMarginFraction, 0.0, 10.0);
-  requireRange("infinityDisparityPx", infinityDisparityPx, -10000.0, 10000.0);
-  requireRange("keepMarginFraction", keepMarginFraction, 0.0, 1.0);
-  requireRange("maxWidthFactor", maxWidthFactor, 1.0, 10.0);
-  requireRange("maxWidthSlackPx", maxWidthSlackPx, 0.0, 1000.0);
-  requireRange("maxSpanGrowth", maxSpanGrowth, 1.0, 1000.0);
-  requireRange("sampleEveryFrames", sampleEveryFrames, 1, 30);
+  kEstimator.requireRange("maxFeatures", maxFeatures, 50, 100000);
+  kEstimator.requireRange("fastThreshold", fastThreshold, 1, 254);
+  kEstimator.requireRange("weakTextureMatches", weakTextureMatches, 0, 100000);
+  kEstimator.requireRange("weakFastThreshold", weakFastThreshold, 1, 254);
+  kEstimator.requireRange("saturatedGrey", saturatedGrey, 1, 256);
+  kEstimator.requireRange("measureWidthPx", measureWidthPx, 64, 100000);
+  kEstimator.requireRange("minMatches", minMatches, 3, 100000);
+  kEstimator.requireRange("planeTolerancePx", planeTolerancePx, 0.0, 1000.0);
+  kEstimator.requireRange("planeToleranceFraction", planeToleranceFraction, 0.0, 1.0);
+  kEstimator.requireRange("lowQuantile", lowQuantile, 0.0, 0.5);
+  kEstimator.requireRange("highQuantile", highQuantile, 0.5, 1.0);
+  kEstimator.requireRange("marginFraction", marginFraction, 0.0, 10.0);
+  kEstimator.requireRange("minMarginPx", minMarginPx, 0.0, 1000.0);
+  kEstimator.requireRange("farMarginFraction", farMarginFraction, 0.0, 10.0);
+  kEstimator.requireRange("infinityDisparityPx", infinityDisparityPx, -10000.0, 10000.0);
+  kEstimator.requireRange("keepMarginFraction", keepMarginFraction, 0.0, 1.0);
+  kEstimator.requireRange("maxWidthFactor", maxWidthFactor, 1.0, 10.0);
+  kEstimator.requireRange("maxWidthSlackPx", maxWidthSlackPx, 0.0, 1000.0);
+  kEstimator.requireRange("maxSpanGrowth", maxSpanGrowth, 1.0, 1000.0);
+  kEstimator.requireRange("sampleEveryFrames", sampleEveryFrames, 1, 30);
 }
 
 namespace {

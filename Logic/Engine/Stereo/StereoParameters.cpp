@@ -10,15 +10,7 @@ namespace tissuemosaic {
 
 namespace {
 
-template <class T>
-void requireRange(const char* name, T value, T low, T high) {
-  parameters::requireRange("stereo", name, value, low, high);
-}
-
-template <class T>
-void readKey(const cv::FileNode& node, const char* name, T& value) {
-  parameters::readKey("stereo", node, name, value);
-}
+constexpr parameters::Group kStereo{"stereo"};
 
 }  // namespace
 
@@ -46,62 +38,62 @@ DisparityRangeMode parseDisparityRangeMode(const std::string& name) {
 }
 
 void StereoParameters::validate() const {
-  requireRange("minDisparityPx", minDisparityPx, -1000, 1000);
-  requireRange("maxDisparityPx", maxDisparityPx, -1000, 1000);
+  kStereo.requireRange("minDisparityPx", minDisparityPx, -1000, 1000);
+  kStereo.requireRange("maxDisparityPx", maxDisparityPx, -1000, 1000);
   if (maxDisparityPx < minDisparityPx) {
     throw Error("stereo disparity range is inverted: maxDisparityPx (" + std::to_string(maxDisparityPx) +
                 ") < minDisparityPx (" + std::to_string(minDisparityPx) + ")");
   }
-  requireRange("disparityCount", disparityCount(), 2, 1024);
-  requireRange("workingDistanceNearMm", workingDistanceNearMm, 1.0f, 10000.0f);
-  requireRange("workingDistanceFarMm", workingDistanceFarMm, 1.0f, 10000.0f);
+  kStereo.requireRange("disparityCount", disparityCount(), 2, 1024);
+  kStereo.requireRange("workingDistanceNearMm", workingDistanceNearMm, 1.0f, 10000.0f);
+  kStereo.requireRange("workingDistanceFarMm", workingDistanceFarMm, 1.0f, 10000.0f);
   if (!(workingDistanceFarMm > workingDistanceNearMm)) {
     throw Error("stereo working distance is inverted or empty: workingDistanceFarMm (" +
                 std::to_string(workingDistanceFarMm) + ") <= workingDistanceNearMm (" +
                 std::to_string(workingDistanceNearMm) + ")");
   }
-  requireRange("znccWindowPx", znccWindowPx, 3, 19);  // exact int32 ZNCC up to 19x19
+  kStereo.requireRange("znccWindowPx", znccWindowPx, 3, 19);  // exact int32 ZNCC up to 19x19
   if (znccWindowPx % 2 == 0) throw Error("stereo parameter znccWindowPx must be odd");
-  requireRange("minWindowStdDev", minWindowStdDev, 0.0f, 100.0f);
-  requireRange("leftRightMaxDifferencePx", leftRightMaxDifferencePx, -1, 1000);
-  requireRange("refineMaxDeviationPx", refineMaxDeviationPx, -1.0f, 1000.0f);
-  requireRange("holeMaxEdgeDifferencePx", holeMaxEdgeDifferencePx, -1.0f, 1000.0f);
-  requireRange("specularMinGrey", specularMinGrey, 1.0f, 256.0f);
-  requireRange("specularMarginPx", specularMarginPx, 0, 20);
-  requireRange("specularMaxRadiusPx", specularMaxRadiusPx, 1, 100);
-  requireRange("specularMinContrastGrey", specularMinContrastGrey, 0.0f, 255.0f);
-  requireRange("specularViewToleranceGrey", specularViewToleranceGrey, 0.0f, 255.0f);
-  requireRange("trackingHighlightMarginPx", trackingHighlightMarginPx, 0, 50);
-  requireRange("outlierIterations", outlierIterations, 0, 10);
-  requireRange("outlierRadiusStartPx", outlierRadiusStartPx, 1, 200);
-  requireRange("outlierRadiusStepPx", outlierRadiusStepPx, 0, 200);
-  requireRange("outlierSmoothnessPx", outlierSmoothnessPx, 0.0f, 100.0f);
-  requireRange("holeRadialRadiusPx", holeRadialRadiusPx, 0, 500);
-  requireRange("holeRadialMinLines", holeRadialMinLines, 1, 4);
-  requireRange("holeDiscRadiusPx", holeDiscRadiusPx, 0, 200);
-  requireRange("holeDiscMinValidFraction", holeDiscMinValidFraction, 0.0f, 1.0f);
-  requireRange("refineIterations", refineIterations, 0, 100);
-  requireRange("refineRadiusPx", refineRadiusPx, 1, 200);
-  requireRange("refineAlpha", refineAlpha, 0.0f, 1.0f);
-  requireRange("refineEta", refineEta, 0.0f, 100.0f);
-  requireRange("refineSearchPx", refineSearchPx, 0, 50);
-  requireRange("censusWidthPx", censusWidthPx, 1, 15);
-  requireRange("censusHeightPx", censusHeightPx, 1, 15);
+  kStereo.requireRange("minWindowStdDev", minWindowStdDev, 0.0f, 100.0f);
+  kStereo.requireRange("leftRightMaxDifferencePx", leftRightMaxDifferencePx, -1, 1000);
+  kStereo.requireRange("refineMaxDeviationPx", refineMaxDeviationPx, -1.0f, 1000.0f);
+  kStereo.requireRange("holeMaxEdgeDifferencePx", holeMaxEdgeDifferencePx, -1.0f, 1000.0f);
+  kStereo.requireRange("specularMinGrey", specularMinGrey, 1.0f, 256.0f);
+  kStereo.requireRange("specularMarginPx", specularMarginPx, 0, 20);
+  kStereo.requireRange("specularMaxRadiusPx", specularMaxRadiusPx, 1, 100);
+  kStereo.requireRange("specularMinContrastGrey", specularMinContrastGrey, 0.0f, 255.0f);
+  kStereo.requireRange("specularViewToleranceGrey", specularViewToleranceGrey, 0.0f, 255.0f);
+  kStereo.requireRange("trackingHighlightMarginPx", trackingHighlightMarginPx, 0, 50);
+  kStereo.requireRange("outlierIterations", outlierIterations, 0, 10);
+  kStereo.requireRange("outlierRadiusStartPx", outlierRadiusStartPx, 1, 200);
+  kStereo.requireRange("outlierRadiusStepPx", outlierRadiusStepPx, 0, 200);
+  kStereo.requireRange("outlierSmoothnessPx", outlierSmoothnessPx, 0.0f, 100.0f);
+  kStereo.requireRange("holeRadialRadiusPx", holeRadialRadiusPx, 0, 500);
+  kStereo.requireRange("holeRadialMinLines", holeRadialMinLines, 1, 4);
+  kStereo.requireRange("holeDiscRadiusPx", holeDiscRadiusPx, 0, 200);
+  kStereo.requireRange("holeDiscMinValidFraction", holeDiscMinValidFraction, 0.0f, 1.0f);
+  kStereo.requireRange("refineIterations", refineIterations, 0, 100);
+  kStereo.requireRange("refineRadiusPx", refineRadiusPx, 1, 200);
+  kStereo.requireRange("refineAlpha", refineAlpha, 0.0f, 1.0f);
+  kStereo.requireRange("refineEta", refineEta, 0.0f, 100.0f);
+  kStereo.requireRange("refineSearchPx", refineSearchPx, 0, 50);
+  kStereo.requireRange("censusWidthPx", censusWidthPx, 1, 15);
+  kStereo.requireRange("censusHeightPx", censusHeightPx, 1, 15);
   if (censusWidthPx % 2 == 0 || censusHeightPx % 2 == 0) throw Error("stereo census window sides must be odd");
   if (censusWidthPx * censusHeightPx - 1 > 64) {
     throw Error("stereo census window " + std::to_string(censusWidthPx) + "x" + std::to_string(censusHeightPx) +
                 " has more than 64 neighbours");
   }
-  requireRange("censusLambda", censusLambda, 0.01f, 1000.0f);
-  requireRange("absoluteDifferenceLambda", absoluteDifferenceLambda, 0.01f, 1000.0f);
-  requireRange("armMaxPx", armMaxPx, 0, 127);  // windows of at most 255 x 255 pixels: counts fit 16 bits
-  requireRange("armLongPx", armLongPx, 0, armMaxPx);
-  requireRange("armLimitGrey", armLimitGrey, 1, 256);
-  requireRange("armLongLimitGrey", armLongLimitGrey, 1, 256);
-  requireRange("aggregationIterations", aggregationIterations, 0, 8);
-  requireRange("pathPenaltySmall", pathPenaltySmall, 0.0f, 100.0f);
-  requireRange("pathPenaltyLarge", pathPenaltyLarge, pathPenaltySmall, 100.0f);
-  requireRange("pathEdgeGrey", pathEdgeGrey, 1, 256);
+  kStereo.requireRange("censusLambda", censusLambda, 0.01f, 1000.0f);
+  kStereo.requireRange("absoluteDifferenceLambda", absoluteDifferenceLambda, 0.01f, 1000.0f);
+  kStereo.requireRange("armMaxPx", armMaxPx, 0, 127);  // windows of at most 255 x 255 pixels: counts fit 16 bits
+  kStereo.requireRange("armLongPx", armLongPx, 0, armMaxPx);
+  kStereo.requireRange("armLimitGrey", armLimitGrey, 1, 256);
+  kStereo.requireRange("armLongLimitGrey", armLongLimitGrey, 1, 256);
+  kStereo.requireRange("aggregationIterations", aggregationIterations, 0, 8);
+  kStereo.requireRange("pathPenaltySmall", pathPenaltySmall, 0.0f, 100.0f);
+  kStereo.requireRange("pathPenaltyLarge", pathPenaltyLarge, pathPenaltySmall, 100.0f);
+  kStereo.requireRange("pathEdgeGrey", pathEdgeGrey, 1, 256);
 }
 
 void StereoParameters::write(cv::FileStorage& storage) const {
@@ -139,10 +131,10 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
     if (!node["method"].isString()) throw Error("stereo parameter method must be a string (paper or ad-census)");
     p.method = parseStereoMethod(static_cast<std::string>(node["method"]));
   }
-  readKey(node, "minDisparityPx", p.minDisparityPx);
-  readKey(node, "maxDisparityPx", p.maxDisparityPx);
-  readKey(node, "workingDistanceNearMm", p.workingDistanceNearMm);
-  readKey(node, "workingDistanceFarMm", p.workingDistanceFarMm);
+  kStereo.readKey(node, "minDisparityPx", p.minDisparityPx);
+  kStereo.readKey(node, "maxDisparityPx", p.maxDisparityPx);
+  kStereo.readKey(node, "workingDistanceNearMm", p.workingDistanceNearMm);
+  kStereo.readKey(node, "workingDistanceFarMm", p.workingDistanceFarMm);
   if (!node["disparityRange"].empty()) {
     if (!node["disparityRange"].isString()) {
       throw Error("stereo parameter disparityRange must be a string (auto, fixed or working-distance)");
@@ -151,42 +143,42 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
   } else if (!node["minDisparityPx"].empty() || !node["maxDisparityPx"].empty()) {
     p.disparityRangeMode = DisparityRangeMode::Fixed;  // a file that gives a range means it
   }
-  readKey(node, "znccWindowPx", p.znccWindowPx);
-  readKey(node, "minWindowStdDev", p.minWindowStdDev);
-  readKey(node, "leftRightMaxDifferencePx", p.leftRightMaxDifferencePx);
-  readKey(node, "refineMaxDeviationPx", p.refineMaxDeviationPx);
-  readKey(node, "holeMaxEdgeDifferencePx", p.holeMaxEdgeDifferencePx);
-  readKey(node, "specularMinGrey", p.specularMinGrey);
-  readKey(node, "specularMarginPx", p.specularMarginPx);
-  readKey(node, "specularMaxRadiusPx", p.specularMaxRadiusPx);
-  readKey(node, "specularMinContrastGrey", p.specularMinContrastGrey);
-  readKey(node, "specularViewToleranceGrey", p.specularViewToleranceGrey);
-  readKey(node, "trackingHighlightMarginPx", p.trackingHighlightMarginPx);
-  readKey(node, "outlierIterations", p.outlierIterations);
-  readKey(node, "outlierRadiusStartPx", p.outlierRadiusStartPx);
-  readKey(node, "outlierRadiusStepPx", p.outlierRadiusStepPx);
-  readKey(node, "outlierSmoothnessPx", p.outlierSmoothnessPx);
-  readKey(node, "holeRadialRadiusPx", p.holeRadialRadiusPx);
-  readKey(node, "holeRadialMinLines", p.holeRadialMinLines);
-  readKey(node, "holeDiscRadiusPx", p.holeDiscRadiusPx);
-  readKey(node, "holeDiscMinValidFraction", p.holeDiscMinValidFraction);
-  readKey(node, "refineIterations", p.refineIterations);
-  readKey(node, "refineRadiusPx", p.refineRadiusPx);
-  readKey(node, "refineAlpha", p.refineAlpha);
-  readKey(node, "refineEta", p.refineEta);
-  readKey(node, "refineSearchPx", p.refineSearchPx);
-  readKey(node, "censusWidthPx", p.censusWidthPx);
-  readKey(node, "censusHeightPx", p.censusHeightPx);
-  readKey(node, "censusLambda", p.censusLambda);
-  readKey(node, "absoluteDifferenceLambda", p.absoluteDifferenceLambda);
-  readKey(node, "armMaxPx", p.armMaxPx);
-  readKey(node, "armLongPx", p.armLongPx);
-  readKey(node, "armLimitGrey", p.armLimitGrey);
-  readKey(node, "armLongLimitGrey", p.armLongLimitGrey);
-  readKey(node, "aggregationIterations", p.aggregationIterations);
-  readKey(node, "pathPenaltySmall", p.pathPenaltySmall);
-  readKey(node, "pathPenaltyLarge", p.pathPenaltyLarge);
-  readKey(node, "pathEdgeGrey", p.pathEdgeGrey);
+  kStereo.readKey(node, "znccWindowPx", p.znccWindowPx);
+  kStereo.readKey(node, "minWindowStdDev", p.minWindowStdDev);
+  kStereo.readKey(node, "leftRightMaxDifferencePx", p.leftRightMaxDifferencePx);
+  kStereo.readKey(node, "refineMaxDeviationPx", p.refineMaxDeviationPx);
+  kStereo.readKey(node, "holeMaxEdgeDifferencePx", p.holeMaxEdgeDifferencePx);
+  kStereo.readKey(node, "specularMinGrey", p.specularMinGrey);
+  kStereo.readKey(node, "specularMarginPx", p.specularMarginPx);
+  kStereo.readKey(node, "specularMaxRadiusPx", p.specularMaxRadiusPx);
+  kStereo.readKey(node, "specularMinContrastGrey", p.specularMinContrastGrey);
+  kStereo.readKey(node, "specularViewToleranceGrey", p.specularViewToleranceGrey);
+  kStereo.readKey(node, "trackingHighlightMarginPx", p.trackingHighlightMarginPx);
+  kStereo.readKey(node, "outlierIterations", p.outlierIterations);
+  kStereo.readKey(node, "outlierRadiusStartPx", p.outlierRadiusStartPx);
+  kStereo.readKey(node, "outlierRadiusStepPx", p.outlierRadiusStepPx);
+  kStereo.readKey(node, "outlierSmoothnessPx", p.outlierSmoothnessPx);
+  kStereo.readKey(node, "holeRadialRadiusPx", p.holeRadialRadiusPx);
+  kStereo.readKey(node, "holeRadialMinLines", p.holeRadialMinLines);
+  kStereo.readKey(node, "holeDiscRadiusPx", p.holeDiscRadiusPx);
+  kStereo.readKey(node, "holeDiscMinValidFraction", p.holeDiscMinValidFraction);
+  kStereo.readKey(node, "refineIterations", p.refineIterations);
+  kStereo.readKey(node, "refineRadiusPx", p.refineRadiusPx);
+  kStereo.readKey(node, "refineAlpha", p.refineAlpha);
+  kStereo.readKey(node, "refineEta", p.refineEta);
+  kStereo.readKey(node, "refineSearchPx", p.refineSearchPx);
+  kStereo.readKey(node, "censusWidthPx", p.censusWidthPx);
+  kStereo.readKey(node, "censusHeightPx", p.censusHeightPx);
+  kStereo.readKey(node, "censusLambda", p.censusLambda);
+  kStereo.readKey(node, "absoluteDifferenceLambda", p.absoluteDifferenceLambda);
+  kStereo.readKey(node, "armMaxPx", p.armMaxPx);
+  kStereo.readKey(node, "armLongPx", p.armLongPx);
+  kStereo.readKey(node, "armLimitGrey", p.armLimitGrey);
+  kStereo.readKey(node, "armLongLimitGrey", p.armLongLimitGrey);
+  kStereo.readKey(node, "aggregationIterations", p.aggregationIterations);
+  kStereo.readKey(node, "pathPenaltySmall", p.pathPenaltySmall);
+  kStereo.readKey(node, "pathPenaltyLarge", p.pathPenaltyLarge);
+  kStereo.readKey(node, "pathEdgeGrey", p.pathEdgeGrey);
   p.validate();
   return p;
 }

@@ -9,22 +9,20 @@ namespace tissuemosaic {
 
 namespace {
 
-void requireRange(double value, double low, double high, const char* name) {
-  parameters::requireRange("feature", name, value, low, high);
-}
+constexpr parameters::Group kFeature{"feature"};
 
 }  // namespace
 
 void FeatureParameters::validate() const {
-  requireRange(maxFeatures, 10, 100000, "maxFeatures");
-  requireRange(scaleFactor, 1.01, 2.0, "scaleFactor");
-  requireRange(levels, 1, 16, "levels");
-  requireRange(fastThreshold, 1, 255, "fastThreshold");
-  requireRange(edgeThresholdPx, 3, 100, "edgeThresholdPx");
-  requireRange(maxHammingDistance, 1, 256, "maxHammingDistance");
-  requireRange(candidatesPerFeature, 0, 8, "candidatesPerFeature");
-  requireRange(voteBinPx, 0.5, 1000, "voteBinPx");
-  requireRange(maxRefinementShiftPx, 0.1, 100, "maxRefinementShiftPx");
+  kFeature.requireRange("maxFeatures", maxFeatures, 10, 100000);
+  kFeature.requireRange("scaleFactor", scaleFactor, 1.01, 2.0);
+  kFeature.requireRange("levels", levels, 1, 16);
+  kFeature.requireRange("fastThreshold", fastThreshold, 1, 255);
+  kFeature.requireRange("edgeThresholdPx", edgeThresholdPx, 3, 100);
+  kFeature.requireRange("maxHammingDistance", maxHammingDistance, 1, 256);
+  kFeature.requireRange("candidatesPerFeature", candidatesPerFeature, 0, 8);
+  kFeature.requireRange("voteBinPx", voteBinPx, 0.5, 1000);
+  kFeature.requireRange("maxRefinementShiftPx", maxRefinementShiftPx, 0.1, 100);
 }
 
 void FeatureParameters::write(cv::FileStorage& storage) const {
@@ -41,7 +39,7 @@ FeatureParameters FeatureParameters::read(const cv::FileNode& node) {
   FeatureParameters p;
   if (node.empty()) return p;
   if (!node.isMap()) throw Error("the 'features' parameter node must be a map");
-  const auto key = [&node](const char* name, auto& value) { parameters::readKey("feature", node, name, value); };
+  const auto key = [&node](const char* name, auto& value) { kFeature.readKey(node, name, value); };
   key("maxFeatures", p.maxFeatures);
   key("scaleFactor", p.scaleFactor);
   key("levels", p.levels);

@@ -28,10 +28,7 @@ OrbLevelWorkspace::OrbLevelWorkspace(Device device, int width, int height, const
 
 namespace {
 
-void requireRange(double value, double low, double high, const char* name) {
-  parameters::requireRange("ORB", name, value, low, high);
-}
-
+constexpr parameters::Group kOrb{"ORB"};
 
 /// splitmix64: a fixed integer generator, so the pattern is the same with every compiler and library.
 uint64_t nextRandom(uint64_t& state) {
@@ -74,13 +71,13 @@ std::vector<int8_t> makePattern() {
 }  // namespace
 
 void OrbParameters::validate() const {
-  requireRange(maxFeatures, 1, 100000, "maxFeatures");
-  requireRange(levels, 1, 8, "levels");
-  requireRange(scaleFactor, 1.01, 2.0, "scaleFactor");
-  requireRange(fastThreshold, 1, 254, "fastThreshold");
-  requireRange(edgeThresholdPx, orb::kPatchRadius + 1, 100, "edgeThresholdPx");
-  requireRange(cellSizePx, 4, 512, "cellSizePx");
-  requireRange(maxPerCell, 1, orb::kMaxPerCell, "maxPerCell");
+  kOrb.requireRange("maxFeatures", maxFeatures, 1, 100000);
+  kOrb.requireRange("levels", levels, 1, 8);
+  kOrb.requireRange("scaleFactor", scaleFactor, 1.01, 2.0);
+  kOrb.requireRange("fastThreshold", fastThreshold, 1, 254);
+  kOrb.requireRange("edgeThresholdPx", edgeThresholdPx, orb::kPatchRadius + 1, 100);
+  kOrb.requireRange("cellSizePx", cellSizePx, 4, 512);
+  kOrb.requireRange("maxPerCell", maxPerCell, 1, orb::kMaxPerCell);
 }
 
 std::vector<cv::KeyPoint> toCvKeyPoints(const OrbFeatures& features, double scaleFactor) {

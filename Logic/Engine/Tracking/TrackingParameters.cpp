@@ -9,35 +9,27 @@ namespace tissuemosaic {
 
 namespace {
 
-template <class T>
-void requireRange(const char* name, T value, T low, T high) {
-  parameters::requireRange("tracking", name, value, low, high);
-}
-
-template <class T>
-void readKey(const cv::FileNode& node, const char* name, T& value) {
-  parameters::readKey("tracking", node, name, value);
-}
+constexpr parameters::Group kTracking{"tracking"};
 
 }  // namespace
 
 void TrackingParameters::validate() const {
-  requireRange("inlierThresholdPx", inlierThresholdPx, 0.01, 100.0);
-  requireRange("candidateEta", candidateEta, 1.0, 10.0);
-  requireRange("candidateRampIterations", candidateRampIterations, 1, 100);
-  requireRange("maxRansacIterations", maxRansacIterations, 1, 100000);
-  requireRange("ransacConfidence", ransacConfidence, 0.5, 0.999999);
-  requireRange("maxInnerIterations", maxInnerIterations, 2, 1000);
-  requireRange("minInliers", minInliers, 4, 100000);
-  requireRange("keyFrameMinInliers", keyFrameMinInliers, 4, 100000);
-  requireRange("keyFrameMinGapFrames", keyFrameMinGapFrames, 0, 100000);
-  requireRange("keyFramePoseThreshold", keyFramePoseThreshold, 0.0, 1e6);
-  requireRange("dynamicResidualPx", dynamicResidualPx, 0.0, 100.0);
-  requireRange("dynamicDisparityPx", dynamicDisparityPx, 0.0, 1000.0);
-  requireRange("dynamicScoreDecay", dynamicScoreDecay, 0.0, 1.0);
-  requireRange("dynamicExcludeScore", dynamicExcludeScore, 0.0, 1.0);
-  requireRange("relocalisationMinInliers", relocalisationMinInliers, 4, 100000);
-  requireRange("relocalisationCandidates", relocalisationCandidates, 0, 1000);
+  kTracking.requireRange("inlierThresholdPx", inlierThresholdPx, 0.01, 100.0);
+  kTracking.requireRange("candidateEta", candidateEta, 1.0, 10.0);
+  kTracking.requireRange("candidateRampIterations", candidateRampIterations, 1, 100);
+  kTracking.requireRange("maxRansacIterations", maxRansacIterations, 1, 100000);
+  kTracking.requireRange("ransacConfidence", ransacConfidence, 0.5, 0.999999);
+  kTracking.requireRange("maxInnerIterations", maxInnerIterations, 2, 1000);
+  kTracking.requireRange("minInliers", minInliers, 4, 100000);
+  kTracking.requireRange("keyFrameMinInliers", keyFrameMinInliers, 4, 100000);
+  kTracking.requireRange("keyFrameMinGapFrames", keyFrameMinGapFrames, 0, 100000);
+  kTracking.requireRange("keyFramePoseThreshold", keyFramePoseThreshold, 0.0, 1e6);
+  kTracking.requireRange("dynamicResidualPx", dynamicResidualPx, 0.0, 100.0);
+  kTracking.requireRange("dynamicDisparityPx", dynamicDisparityPx, 0.0, 1000.0);
+  kTracking.requireRange("dynamicScoreDecay", dynamicScoreDecay, 0.0, 1.0);
+  kTracking.requireRange("dynamicExcludeScore", dynamicExcludeScore, 0.0, 1.0);
+  kTracking.requireRange("relocalisationMinInliers", relocalisationMinInliers, 4, 100000);
+  kTracking.requireRange("relocalisationCandidates", relocalisationCandidates, 0, 1000);
 }
 
 void TrackingParameters::write(cv::FileStorage& storage) const {
@@ -58,22 +50,22 @@ TrackingParameters TrackingParameters::read(const cv::FileNode& node) {
   TrackingParameters p;
   if (node.empty()) return p;
   if (!node.isMap()) throw Error("the 'tracking' parameter node must be a map");
-  readKey(node, "inlierThresholdPx", p.inlierThresholdPx);
-  readKey(node, "candidateEta", p.candidateEta);
-  readKey(node, "candidateRampIterations", p.candidateRampIterations);
-  readKey(node, "maxRansacIterations", p.maxRansacIterations);
-  readKey(node, "ransacConfidence", p.ransacConfidence);
-  readKey(node, "maxInnerIterations", p.maxInnerIterations);
-  readKey(node, "minInliers", p.minInliers);
-  readKey(node, "keyFrameMinInliers", p.keyFrameMinInliers);
-  readKey(node, "keyFrameMinGapFrames", p.keyFrameMinGapFrames);
-  readKey(node, "keyFramePoseThreshold", p.keyFramePoseThreshold);
-  readKey(node, "dynamicResidualPx", p.dynamicResidualPx);
-  readKey(node, "dynamicDisparityPx", p.dynamicDisparityPx);
-  readKey(node, "dynamicScoreDecay", p.dynamicScoreDecay);
-  readKey(node, "dynamicExcludeScore", p.dynamicExcludeScore);
-  readKey(node, "relocalisationMinInliers", p.relocalisationMinInliers);
-  readKey(node, "relocalisationCandidates", p.relocalisationCandidates);
+  kTracking.readKey(node, "inlierThresholdPx", p.inlierThresholdPx);
+  kTracking.readKey(node, "candidateEta", p.candidateEta);
+  kTracking.readKey(node, "candidateRampIterations", p.candidateRampIterations);
+  kTracking.readKey(node, "maxRansacIterations", p.maxRansacIterations);
+  kTracking.readKey(node, "ransacConfidence", p.ransacConfidence);
+  kTracking.readKey(node, "maxInnerIterations", p.maxInnerIterations);
+  kTracking.readKey(node, "minInliers", p.minInliers);
+  kTracking.readKey(node, "keyFrameMinInliers", p.keyFrameMinInliers);
+  kTracking.readKey(node, "keyFrameMinGapFrames", p.keyFrameMinGapFrames);
+  kTracking.readKey(node, "keyFramePoseThreshold", p.keyFramePoseThreshold);
+  kTracking.readKey(node, "dynamicResidualPx", p.dynamicResidualPx);
+  kTracking.readKey(node, "dynamicDisparityPx", p.dynamicDisparityPx);
+  kTracking.readKey(node, "dynamicScoreDecay", p.dynamicScoreDecay);
+  kTracking.readKey(node, "dynamicExcludeScore", p.dynamicExcludeScore);
+  kTracking.readKey(node, "relocalisationMinInliers", p.relocalisationMinInliers);
+  kTracking.readKey(node, "relocalisationCandidates", p.relocalisationCandidates);
   p.validate();
   return p;
 }
