@@ -76,26 +76,23 @@ TriangleMesh readMeshPly(const std::string& path) {
   // past.
   for (const PlyElement& element : header.elements) {
     const bool isVertex = &element == vertex, isFace = &element == face;
-    values.assign(element.properties.size(), 0.0);
     for (std::size_t row = 0; row < element.count; ++row) {
-      for (std::size_t p = 0; p < element.properties.size(); ++p) {
-        const PlyProperty& property = element.properties[p];
-        if (!property.isList) {
-          values[p] = reader.read(property.valueType);
-          continue;
-        }
-        const std::size_t count = reader.readListLength(property.countType);
-        const bool indices = isFace && (property.name == "vertex_indices" || property.name == "vertex_index");
-        if (indices && count != 3) fail("face " + std::to_string(row) + " is not a triangle");
-        cv::Vec3i triangle;
-        for (std::size_t k = 0; k < count; ++k) {
-          const double value = reader.read(property.valueType);
-          if (!indices) continue;
-          if (!(value >= 0 && value < static_cast<double>(vertexCount))) fail("a face refers to a missing vertex");
-          triangle[static_cast<int>(k)] = static_cast<int>(value);
-        }
-        if (indices) mesh.triangles.push_back(triangle);
-      }
+      cv::Vec3i triangle;
+      const auto isIndices = [&](std::size_t p) {
+        const std::string& name = element.properties[p].name;
+        return isFace && (name == "vertex_indices" || name == "vertex_index");
+      };
+      reader.readRow(
+          element, row, values,
+          [&](std::size_t p, std::size_t length) {
+            if (isIndices(p) && length != 3) fail("face " + std::to_string(row) + " is not a triangle");
+          },
+          [&](std::size_t p, std::size_t k, double value) {
+            if (!isIndices(p)) return;
+            if (!(value >= 0 && value < static_cast<double>(vertexCount))) fail("a face refers to a missing vertex");
+            triangle[static_cast<int>(k)] = static_cast<int>(value);
+            if (k == 2) mesh.triangles.push_back(triangle);
+          });
       if (isVertex) {
         mesh.verticesMm.emplace_back(static_cast<float>(values[xyz[0]]), static_cast<float>(values[xyz[1]]),
                                      static_cast<float>(values[xyz[2]]));

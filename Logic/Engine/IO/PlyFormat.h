@@ -56,6 +56,26 @@ public:
   std::size_t readListLength(PlyScalar countType);
   void beginRow(const std::string& element, std::size_t row);
   void endRow();
+  /// Reads row `row` of `element` (between beginRow and endRow): each scalar property's value into
+  /// scalars[property index]; each list property's length handed to listLength(property index, length), then its
+  /// values to listValue(property index, position in the list, value). The one row loop of every PLY reader.
+  template <class ListLength, class ListValue>
+  void readRow(const PlyElement& element, std::size_t row, std::vector<double>& scalars, const ListLength& listLength,
+               const ListValue& listValue) {
+    beginRow(element.name, row);
+    scalars.resize(element.properties.size());
+    for (std::size_t p = 0; p < element.properties.size(); ++p) {
+      const PlyProperty& property = element.properties[p];
+      if (!property.isList) {
+        scalars[p] = read(property.valueType);
+        continue;
+      }
+      const std::size_t length = readListLength(property.countType);
+      listLength(p, length);
+      for (std::size_t k = 0; k < length; ++k) listValue(p, k, read(property.valueType));
+    }
+    endRow();
+  }
   std::size_t bytesLeft() const { return bytes_.size() - position_; }
 
 private:

@@ -107,31 +107,20 @@ ColoredPointCloud readPlyFile(const std::string& path, bool wholeFile) {
       if (hasColors) cloud.colorsRgb.reserve(expected);
       if (hasNormals) cloud.normals.reserve(expected);
     }
-    values.assign(element.properties.size(), 0.0);
     // Faces as VTK's PLY reader takes them: a list 'vertex_indices' of existing vertices (VTK 9.1 reads out of
     // bounds otherwise; found by fuzz_surface_ply).
     const bool isFace = wholeFile && element.name == "face" && element.count > 0;
     const int faceIndices = isFace ? element.findList({"vertex_indices", "vertex_index"}) : -1;
     if (isFace && faceIndices < 0) throw Error(context + "the faces have no list property 'vertex_indices'");
     for (std::size_t i = 0; i < element.count; ++i) {
-      reader.beginRow(element.name, i);
-      for (std::size_t p = 0; p < element.properties.size(); ++p) {
-        const PlyProperty& property = element.properties[p];
-        if (!property.isList) {
-          values[p] = reader.read(property.valueType);
-          continue;
-        }
-        const std::size_t count = reader.readListLength(property.countType);
-        for (std::size_t k = 0; k < count; ++k) {
-          const double value = reader.read(property.valueType);
-          if (isFace && static_cast<int>(p) == faceIndices &&
-              !(value >= 0 && value < static_cast<double>(vertex.count) && value == std::floor(value))) {
-            throw Error(context + "face " + std::to_string(i) + " refers to vertex " + cv::format("%.17g", value) + " of " +
-                        std::to_string(vertex.count));
-          }
-        }
-      }
-      reader.endRow();
+      reader.readRow(element, i, values, [](std::size_t, std::size_t) {},
+                     [&](std::size_t p, std::size_t, double value) {
+                       if (isFace && static_cast<int>(p) == faceIndices &&
+                           !(value >= 0 && value < static_cast<double>(vertex.count) && value == std::floor(value))) {
+                         throw Error(context + "face " + std::to_string(i) + " refers to vertex " +
+                                     cv::format("%.17g", value) + " of " + std::to_string(vertex.count));
+                       }
+                     });
       if (!isVertex) continue;
       cloud.pointsMm.emplace_back(static_cast<float>(values[ix]), static_cast<float>(values[iy]),
                                   static_cast<float>(values[iz]));
