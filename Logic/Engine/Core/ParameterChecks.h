@@ -45,6 +45,8 @@ struct Group {
   template <class T, class Low, class High>
   void requireRange(const char* key, T value, Low low, High high) const {
     using Common = std::common_type_t<T, Low, High>;
+    // An unsigned common type would turn a negative bound into a huge one.
+    static_assert(std::is_signed_v<Common>, "range checks compare in a signed or floating-point type");
     parameters::requireRange<Common>(name, key, value, low, high);
   }
   template <class T>
