@@ -1,10 +1,80 @@
 // The CUDA instantiation of the ORB extractor, the Hamming matcher (a warp per row) and the sub-pixel refinement.
 #include "OrbPipeline.inl"
 
+#include <cub/block/block_scan.cuh>
+
 namespace tissuemosaic::orb {
 
 void runOrbPipelineCuda(OrbLevelWorkspace* levels, int levelCount, const OrbSettings& settings, const int8_t* pattern) {
   runOrbPipeline<CudaBackend>(levels, levelCount, settings, pattern);
+}
+
+namespace {
+
+constexpr int kScanThreads = 1024;
+using BlockScan = cub::BlockScan<int, kScanThreads>;
+static_assert(kResponseBins == kScanThreads, "one thread per response bin");
+
+/// ResponseThreshold with a thread per bin, bins taken from the top: the threshold bin is the one where the count
+/// from the top first reaches the budget; the features above it are the count before it.
+__global__ void __launch_bounds__(kScanThreads) responseThresholdKernel(ResponseThreshold step) {
+  __shared__ typename BlockScan::TempStorage scan;
+  const int bin = kResponseBins - 1 - static_cast<int>(threadIdx.x);
+  const int count = step.histogram[bin];
+  int before = 0, total = 0;
+  BlockScan(scan).ExclusiveSum(count, before, total);
+  // The first bin from the top where the count reaches the budget (the top bin itself for a budget of 0).
+  if (before + count >= step.budget && (before < step.budget || threadIdx.x == 0)) {
+    step.control[kThresholdBin] = bin;
+    step.control[kTakeFromThreshold] = step.budget - before;
+  }
+  if (threadIdx.x == 0 && total < step.budget) {  // too few features: all of them, no threshold bin
+    step.control[kThresholdBin] = -1;
+    step.control[kTakeFromThreshold] = 0;
+  }
+}
+
+/// CellOffsets in runs of kScanThreads cells: a cell takes min(its slots in the threshold bin, what the cells before
+/// it left of the threshold bin's share), and its offset is the sum of what the cells before it take in all.
+__global__ void __launch_bounds__(kScanThreads) cellOffsetsKernel(CellOffsets step) {
+  __shared__ typename BlockScan::TempStorage scan;
+  const int share = step.control[kTakeFromThreshold];
+  int atBefore = 0, offsetBefore = 0;  // over the runs before this one
+  for (int first = 0; first < step.cells; first += kScanThreads) {
+    const int cell = first + static_cast<int>(threadIdx.x);
+    const bool inside = cell < step.cells;
+    const int at = inside ? step.atThreshold[cell] : 0;
+    int atPrefix = 0, atRun = 0;
+    BlockScan(scan).ExclusiveSum(at, atPrefix, atRun);
+    __syncthreads();  // the scan storage is used again below
+    const int left = share - (atBefore + atPrefix);
+    const int take = left <= 0 ? 0 : (at < left ? at : left);
+    const int selected = inside ? step.above[cell] + take : 0;
+    int offsetPrefix = 0, offsetRun = 0;
+    BlockScan(scan).ExclusiveSum(selected, offsetPrefix, offsetRun);
+    __syncthreads();
+    if (inside) {
+      step.atThreshold[cell] = take;
+      step.offsets[cell] = offsetBefore + offsetPrefix;
+    }
+    atBefore += atRun;
+    offsetBefore += offsetRun;
+  }
+  if (threadIdx.x == 0) step.control[kSelected] = offsetBefore;
+}
+
+}  // namespace
+
+void responseThresholdCuda(const ResponseThreshold& step) {
+  profiling::ScopedTimer timer("responseThresholdKernel", cuda::synchronize);
+  responseThresholdKernel<<<1, kScanThreads>>>(step);
+  cuda::checkLaunch("response threshold kernel");
+}
+
+void cellOffsetsCuda(const CellOffsets& step) {
+  profiling::ScopedTimer timer("cellOffsetsKernel", cuda::synchronize);
+  cellOffsetsKernel<<<1, kScanThreads>>>(step);
+  cuda::checkLaunch("cell offsets kernel");
 }
 
 namespace {

@@ -3,6 +3,8 @@
 #include "Core/ParallelFor.h"
 #include "OrbPipeline.h"
 
+#include <type_traits>
+
 namespace tissuemosaic::orb {
 
 namespace {
@@ -20,11 +22,14 @@ void runLevel(OrbLevelWorkspace& w, const OrbSettings& settings, const int8_t* p
   parallelFor<Backend>(cells, CellBest{w.rowCandidates.data(), w.image.view().width, w.grid, w.slots.data()}, 1);
   w.histogram.setZero();
   parallelFor<Backend>(static_cast<int64_t>(w.slots.size()), ResponseHistogram{w.slots.data(), w.histogram.data()});
-  parallelFor<Backend>(1, ResponseThreshold{w.histogram.data(), w.control.data(), w.budget}, 1);
+  const ResponseThreshold threshold{w.histogram.data(), w.control.data(), w.budget};
+  if constexpr (std::is_same_v<Backend, CudaBackend>) responseThresholdCuda(threshold);
+  else parallelFor<Backend>(1, threshold, 1);
   parallelFor<Backend>(cells, CellCounts{w.slots.data(), w.control.data(), w.grid.perCell, w.cellAbove.data(),
                                          w.cellAtThreshold.data()}, 64);
-  parallelFor<Backend>(1, CellOffsets{w.cellAbove.data(), w.cellAtThreshold.data(), w.cellOffsets.data(),
-                                      w.control.data(), cells}, 1);
+  const CellOffsets offsets{w.cellAbove.data(), w.cellAtThreshold.data(), w.cellOffsets.data(), w.control.data(), cells};
+  if constexpr (std::is_same_v<Backend, CudaBackend>) cellOffsetsCuda(offsets);
+  else parallelFor<Backend>(1, offsets, 1);
   parallelFor<Backend>(cells, CellWrite{w.slots.data(), w.control.data(), w.cellAtThreshold.data(),
                                         w.cellOffsets.data(), w.grid.perCell, w.selected.data()}, 64);
   parallelFor<Backend>(w.budget, Describe{w.image.view(), w.smoothed.view(), pattern, w.control.data(),
