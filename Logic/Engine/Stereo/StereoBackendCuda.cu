@@ -18,8 +18,8 @@ constexpr int kRowsPerBlock = 4;
 /// disparity each thread forms its column's chessboard sums of L*R for the first row, then for the next rows by
 /// the exact recurrences Ce(y+1) = Co(y) -/+ one product, Co(y+1) = Ce(y) +/- one product (integer-valued floats:
 /// no rounding, so the sums equal the CPU's); then each pixel combines 2r+1 columns.
-/// kRadius > 0: the window radius as a constant (the paper's 11x11 window), so that the window loops unroll into
-/// fixed shared-memory offsets (a third fewer instructions); 0: in.radius at run time.
+/// kRadius > 0: the window radius as a constant (the paper's 11x11 window, the widest 19x19), so that the window loops
+/// unroll into fixed shared-memory offsets (a third fewer instructions); 0: in.radius at run time.
 template <int kRadius>
 __global__ void __launch_bounds__(kThreads) znccVolumeKernel(ZnccVolumeInputs in) {
   extern __shared__ float shared[];
@@ -166,10 +166,15 @@ void computeZnccVolumeCuda(const ZnccVolumeInputs& inputs) {
   const std::size_t sharedBytes =
       sizeof(float) * (static_cast<std::size_t>(cachedRows) * (2 * kThreads + inputs.disparityCount - 1) +
                        4 * kRowsPerBlock * kThreads + 3 * kRowsPerBlock * rightPixels);
-  constexpr int kPaperRadius = 5;  // StereoParameters' default 11x11 window
-  void (*kernel)(ZnccVolumeInputs) = r == kPaperRadius ? znccVolumeKernel<kPaperRadius> : znccVolumeKernel<0>;
-  static std::size_t raisedLimit[2] = {48 * 1024, 48 * 1024};
-  std::size_t& raised = raisedLimit[r == kPaperRadius];
+  // Compiled radii: StereoParameters' default 11x11 window, and the widest, 19x19, which HD frames want
+  // (docs/STEREO.md, "Limits"); other radii take the run-time form.
+  constexpr int kPaperRadius = 5, kWidestRadius = 9;
+  const int variant = r == kPaperRadius ? 1 : (r == kWidestRadius ? 2 : 0);
+  void (*const kernels[3])(ZnccVolumeInputs) = {znccVolumeKernel<0>, znccVolumeKernel<kPaperRadius>,
+                                                znccVolumeKernel<kWidestRadius>};
+  void (*kernel)(ZnccVolumeInputs) = kernels[variant];
+  static std::size_t raisedLimit[3] = {48 * 1024, 48 * 1024, 48 * 1024};
+  std::size_t& raised = raisedLimit[variant];
   if (sharedBytes > raised) {
     const cudaError_t status =
         cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(sharedBytes));
