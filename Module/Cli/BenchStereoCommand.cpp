@@ -7,6 +7,7 @@
 #include "Core/ParallelFor.h"
 #include "Core/Statistics.h"
 #include "Core/Stopwatch.h"
+#include "Reconstruction/ReconstructionParameters.h"
 #include "Stereo/DisparityScore.h"
 #include "Stereo/StereoMatcher.h"
 #include "SyntheticStereoScene.h"
@@ -32,12 +33,15 @@ on a synthetic tissue pair seen with the same field of view at every size. On th
 StereoSGBM (MODE_SGBM_3WAY) on the same pair and disparity range (rounded up to a multiple of 16, as SGBM needs).
 --method ad-census times the AD-Census matcher instead; its stages are reported under the same keys (cost and
 aggregation as zncc, scanline optimisation and winners as outliers_holes, median and checks as refinement).
-"explain" holds the counts of `tissuemosaic stereo --explain` for the pair, from one more, untimed run.)";
+"explain" holds the counts of `tissuemosaic stereo --explain` for the pair, from one more, untimed run.
+--params p.yml times other stereo parameters (node "stereo", e.g. a wider window at HD); the range stays the
+bench's own (--disparities candidates from just below the pair's smallest true disparity), and --method, when given,
+overrides the file's.)";
 
 struct BenchStereoOptions {
   int width = 960, height = 540, disparities = 100, seed = 7;
   std::optional<int> repeats;
-  std::string method = "paper";
+  std::optional<std::string> method, params;
   DeviceOption device;
 };
 
@@ -47,6 +51,9 @@ void runBenchStereo(const BenchStereoOptions& settings) {
   options.seed = static_cast<uint32_t>(settings.seed);
   const int disparities = settings.disparities;
   const Device device = settings.device.resolve();
+  // Read first: a broken file fails before the pair is rendered.
+  StereoParameters parameters =
+      settings.params ? ReconstructionParameters::readFile(*settings.params).stereo : StereoParameters{};
   const int repeats = settings.repeats.value_or(device == Device::Cuda ? 50 : 10);
   require(repeats >= 1 && repeats <= 10000, "--repeats must be in [1, 10000]");
 
@@ -59,10 +66,10 @@ void runBenchStereo(const BenchStereoOptions& settings) {
   }
   require(minTruth < 1e9, "the synthetic pair has no visible surface");
 
-  StereoParameters parameters;
-  parameters.minDisparityPx = static_cast<int>(std::floor(minTruth)) - 2;
-  parameters.maxDisparityPx = parameters.minDisparityPx + disparities - 1;
-  parameters.method = parseStereoMethod(settings.method);
+  const int minDisparityPx = static_cast<int>(std::floor(minTruth)) - 2;
+  parameters.setFixedDisparityRange(minDisparityPx, minDisparityPx + disparities - 1);
+  if (settings.method) parameters.method = parseStereoMethod(*settings.method);
+  parameters.validate();
   StereoMatcher matcher(device, parameters);
 
   TimingSeries timings({"zncc", "outliers_holes", "refinement", "total", "upload"});
@@ -138,10 +145,10 @@ void setupBenchStereo(CLI::App& bench) {
       ->capture_default_str()
       ->group(heading::options);
   command->add_option("--seed", options->seed, "random scene")->capture_default_str()->group(heading::options);
-  command->add_option("--method", options->method, "the matcher")
+  command->add_option("--method", options->method, "the matcher (default: the parameters', paper)")
       ->type_name("paper|ad-census")
-      ->capture_default_str()
       ->group(heading::options);
+  addParamsOption(*command, options->params, "stereo");
   addDeviceOption(*command, options->device);
   command->callback([options] { runBenchStereo(*options); });
 }
