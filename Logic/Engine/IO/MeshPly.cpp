@@ -76,12 +76,15 @@ TriangleMesh readMeshPly(const std::string& path) {
   // past.
   for (const PlyElement& element : header.elements) {
     const bool isVertex = &element == vertex, isFace = &element == face;
+    // Per property: a face's vertex index list (named once per element, not per value).
+    std::vector<bool> indexList(element.properties.size(), false);
+    for (std::size_t p = 0; isFace && p < element.properties.size(); ++p) {
+      const std::string& name = element.properties[p].name;
+      indexList[p] = name == "vertex_indices" || name == "vertex_index";
+    }
+    const auto isIndices = [&indexList](std::size_t p) { return indexList[p]; };
     for (std::size_t row = 0; row < element.count; ++row) {
       cv::Vec3i triangle;
-      const auto isIndices = [&](std::size_t p) {
-        const std::string& name = element.properties[p].name;
-        return isFace && (name == "vertex_indices" || name == "vertex_index");
-      };
       reader.readRow(
           element, row, values,
           [&](std::size_t p, std::size_t length) {
