@@ -69,8 +69,7 @@ void runBenchStereo(const BenchStereoOptions& settings) {
   const int minDisparityPx = static_cast<int>(std::floor(minTruth)) - 2;
   parameters.setFixedDisparityRange(minDisparityPx, minDisparityPx + disparities - 1);
   if (settings.method) parameters.method = parseStereoMethod(*settings.method);
-  parameters.validate();
-  StereoMatcher matcher(device, parameters);
+  StereoMatcher matcher(device, parameters);  // validates the parameters
 
   TimingSeries timings({"zncc", "outliers_holes", "refinement", "total", "upload"});
   cv::Mat disparity;
