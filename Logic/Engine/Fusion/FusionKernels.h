@@ -1,8 +1,8 @@
 #pragma once
 /// @file FusionKernels.h
 /// @brief The per-point and per-pixel steps of the point-based TSDF fusion (paper III.E), written once for both
-/// backends (TM_HOST_DEVICE). Backend differences are confined to the atomic primitives at the top of this file and
-/// to the prefix sum (FusionPipeline.inl).
+/// backends (TM_HOST_DEVICE). Backend differences are confined to the atomics (Core/PortableAtomics.h), the float
+/// bit casts at the top of this file and the prefix sum (FusionPipeline.inl).
 ///
 /// Determinism: every model point is updated by its own thread only (merging is point-centric), the coverage mask
 /// is an order-independent union, new points are compacted by a prefix sum in pixel order and the z-buffer keeps
@@ -10,6 +10,7 @@
 #include "Core/Float3.h"
 #include "Core/HostDevice.h"
 #include "Core/Image.h"
+#include "Core/PortableAtomics.h"
 
 #include <cstdint>
 #include <cstring>
@@ -17,34 +18,6 @@
 namespace tissuemosaic::fusion {
 
 // ---- the backend-specific primitives ------------------------------------------------------------------------------
-
-TM_HOST_DEVICE TM_FORCE_INLINE void atomicAddInt(int* target, int value) {
-#if defined(__CUDA_ARCH__)
-  atomicAdd(target, value);
-#else
-  __atomic_fetch_add(target, value, __ATOMIC_RELAXED);
-#endif
-}
-
-TM_HOST_DEVICE TM_FORCE_INLINE void atomicMinU64(uint64_t* target, uint64_t value) {
-#if defined(__CUDA_ARCH__)
-  atomicMin(reinterpret_cast<unsigned long long*>(target), static_cast<unsigned long long>(value));
-#else
-  uint64_t current = __atomic_load_n(target, __ATOMIC_RELAXED);
-  while (value < current &&
-         !__atomic_compare_exchange_n(target, &current, value, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
-  }
-#endif
-}
-
-/// Sets a flag that several threads may set at once (all to the same value).
-TM_HOST_DEVICE TM_FORCE_INLINE void setFlag(uint8_t* flag) {
-#if defined(__CUDA_ARCH__)
-  *flag = 1;
-#else
-  __atomic_store_n(flag, static_cast<uint8_t>(1), __ATOMIC_RELAXED);
-#endif
-}
 
 TM_HOST_DEVICE TM_FORCE_INLINE uint32_t floatBits(float value) {
 #if defined(__CUDA_ARCH__)

@@ -4,6 +4,7 @@
 /// once for both backends (TM_HOST_DEVICE). All integer, except the pattern rotation (IEEE float and double basic
 /// operations, no contraction): the CPU and CUDA results are identical.
 #include "Core/HostDevice.h"
+#include "Core/PortableAtomics.h"
 #include "Core/Image.h"
 
 #include <cmath>
@@ -30,14 +31,6 @@ struct LevelKeypoint {
 enum Control { kThresholdBin = 0, kTakeFromThreshold = 1, kSelected = 2, kControlCount = 4 };
 
 // ---- small portable helpers ---------------------------------------------------------------------------------------
-
-TM_HOST_DEVICE TM_FORCE_INLINE void atomicAddInt(int* target, int value) {
-#if defined(__CUDA_ARCH__)
-  atomicAdd(target, value);
-#else
-  __atomic_fetch_add(target, value, __ATOMIC_RELAXED);
-#endif
-}
 
 /// floor(log2(v)) for v > 0.
 TM_HOST_DEVICE TM_FORCE_INLINE int floorLog2(uint64_t v) {
