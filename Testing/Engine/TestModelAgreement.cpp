@@ -138,6 +138,77 @@ TEST(ModelAgreement, PointsThatKeepMovingLeaveTheModelAndStillOnesStay) {
   EXPECT_GE(pointsWithXBelow(unmarked.download(), split - 0.5), movingBefore / 2);
 }
 
+// Tissue that left the model (here pushed 2 mm toward the scope) and then comes back and rests is fused again once
+// markerRestFrames frames in a row have measured it back at its markers; tissue that keeps moving back and forth
+// (breathing) is contradicted before that and stays out; with markerRestFrames 0 the markers stay for good.
+TEST(ModelAgreement, TissueThatComesBackAndRestsIsFusedAgainAndBreathingTissueIsNot) {
+  const RectifiedGeometry g = fusionGeometry();
+  const Eigen::Matrix4d identity = Eigen::Matrix4d::Identity();
+  const double halfWidthMm = 0.5 * g.imageSize.width * 100.0 / g.focalPx;
+  const double split = -0.5 * halfWidthMm;
+  const cv::Mat risen = splitPlaneDisparity(g, identity, split, 98.0);
+  const cv::Mat still = splitPlaneDisparity(g, identity, split, 100.0);
+  const SurfaceMeasurement stillSurface = measureSurface(still, uniformImage(g), g, Device::Cpu);
+  constexpr int kRestFrames = 4;
+  FusionParameters resting;
+  resting.markerRestFrames = kRestFrames;
+  const auto frames = [&](PointFusion& fusion, const cv::Mat& disparity, int count) {
+    for (int frame = 0; frame < count; ++frame) {
+      fusion.updateMotion(disparity, identity, fusion.measureAgreement(disparity, identity, kStride));
+    }
+  };
+
+  PointFusion fusion = fusedPlane(g, 5, resting);
+  const std::size_t before = fusion.pointCount();
+  const std::size_t moving = pointsWithXBelow(fusion.download(), split - 0.5);
+  frames(fusion, risen, 6);
+  ASSERT_EQ(pointsWithXBelow(fusion.download(), split - 0.5), 0u);
+  const std::size_t markers = fusion.movedTissueMarkerCount();
+  ASSERT_GE(markers, moving);
+  // Back for one frame fewer than needed: still markers, and a key frame does not fuse the tissue there.
+  frames(fusion, still, kRestFrames - 1);
+  EXPECT_EQ(fusion.movedTissueMarkerCount(), markers);
+  EXPECT_EQ(fusion.integrate(stillSurface, identity).added, 0);
+  EXPECT_EQ(pointsWithXBelow(fusion.download(), split - 0.5), 0u);
+  // One more: every marker is a point again, with the weight of one observation, and the next key frame merges.
+  frames(fusion, still, 1);
+  EXPECT_EQ(fusion.movedTissueMarkerCount(), 0u);
+  EXPECT_EQ(fusion.pointCount(), before);
+  const FusionStats merged = fusion.integrate(stillSurface, identity);
+  EXPECT_EQ(merged.added, 0);
+  const ModelPoints model = fusion.download();
+  std::size_t revived = 0;
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    if (model.cloud.pointsMm[i].x >= split - 0.5) continue;
+    ++revived;
+    EXPECT_EQ(model.weights[i], 2.0f) << "revived, then merged once";
+    EXPECT_NEAR(model.cloud.pointsMm[i].z, 100.0, 1e-3);
+  }
+  std::printf("rest: %zu markers, %zu points live again after %d frames at rest\n", markers, revived, kRestFrames);
+  EXPECT_EQ(revived, moving);
+
+  // Breathing: back at rest for kRestFrames - 1 frames, then risen again, over and over: never fused again.
+  PointFusion breathing = fusedPlane(g, 5, resting);
+  frames(breathing, risen, 6);
+  const std::size_t breathingMarkers = breathing.movedTissueMarkerCount();
+  for (int breath = 0; breath < 5; ++breath) {
+    frames(breathing, still, kRestFrames - 1);
+    frames(breathing, risen, 1);
+  }
+  EXPECT_EQ(breathing.movedTissueMarkerCount(), breathingMarkers);
+  EXPECT_EQ(pointsWithXBelow(breathing.download(), split - 0.5), 0u);
+
+  // markerRestFrames 0: the markers stay whatever the frames show.
+  FusionParameters forGood;
+  forGood.markerRestFrames = 0;
+  PointFusion kept = fusedPlane(g, 5, forGood);
+  frames(kept, risen, 6);
+  const std::size_t keptMarkers = kept.movedTissueMarkerCount();
+  frames(kept, still, 20);
+  EXPECT_EQ(kept.movedTissueMarkerCount(), keptMarkers);
+  EXPECT_EQ(pointsWithXBelow(kept.download(), split - 0.5), 0u);
+}
+
 TEST(ModelAgreement, WhatPassesInFrontIsNoEvidenceAndWithoutPenaltyNothingLeaves) {
   const RectifiedGeometry g = fusionGeometry();
   const Eigen::Matrix4d identity = Eigen::Matrix4d::Identity();
@@ -196,4 +267,12 @@ TEST(ModelAgreement, ParametersAreValidatedAndRoundTrip) {
   FusionParameters fusion;
   fusion.motionMinAgreementShare = 1.5;
   EXPECT_THROW(fusion.validate(), Error);
+  fusion = FusionParameters{};
+  fusion.markerRestFrames = -1;
+  EXPECT_THROW(fusion.validate(), Error);
+  fusion.markerRestFrames = 90;
+  cv::FileStorage fusionOut(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  fusion.write(fusionOut);
+  cv::FileStorage fusionIn(fusionOut.releaseAndGetString(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  EXPECT_EQ(FusionParameters::read(fusionIn["fusion"]).markerRestFrames, 90);
 }

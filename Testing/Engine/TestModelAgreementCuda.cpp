@@ -38,39 +38,56 @@ void expectSameAgreement(const ModelAgreement& cpu, const ModelAgreement& gpu, c
       << what;
 }
 
+/// A 480x270 scan with breathing and an instrument, fused every 10th frame and its other frames' agreement and
+/// motion evidence applied, on both devices; the figures of every frame must agree.
+struct BothDevices {
+  synthetic::SyntheticScan scan;
+  PointFusion cpu, gpu;
+  int removed = 0;
+
+  static synthetic::SyntheticScanOptions options(int frames) {
+    synthetic::SyntheticScanOptions o;
+    o.width = 480;
+    o.height = 270;
+    o.frames = frames;
+    o.seed = 5;
+    o.hardMode.breathingAmplitudeMm = 2;
+    o.hardMode.breathingPeriodS = 1;
+    o.hardMode.instruments = 1;
+    return o;
+  }
+
+  BothDevices(int frames, const FusionParameters& parameters)
+      : scan(options(frames)), cpu(scan.geometry(), parameters, Device::Cpu), gpu(scan.geometry(), parameters, Device::Cuda) {
+    const RectifiedGeometry& g = scan.geometry();
+    for (int k = 0; k < scan.frameCount(); ++k) {
+      const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
+      if (k % 10 == 0) {  // "key frames": fused on both devices
+        cpu.integrate(measureSurface(frame.disparityPx, frame.leftRectified, g, Device::Cpu), frame.T_world_camera);
+        gpu.integrate(measureSurface(frame.disparityPx, frame.leftRectified, g, Device::Cuda), frame.T_world_camera);
+        continue;
+      }
+      const ModelAgreement a = cpu.measureAgreement(frame.disparityPx, frame.T_world_camera, 2);
+      const ModelAgreement b = gpu.measureAgreement(frame.disparityPx, frame.T_world_camera, 2);
+      expectSameAgreement(a, b, cv::format("frame %d", k).c_str());
+      const int removedCpu = cpu.updateMotion(frame.disparityPx, frame.T_world_camera, a);
+      EXPECT_EQ(removedCpu, gpu.updateMotion(frame.disparityPx, frame.T_world_camera, b)) << "frame " << k;
+      EXPECT_EQ(cpu.movedTissueMarkerCount(), gpu.movedTissueMarkerCount()) << "frame " << k;
+      removed += removedCpu;
+    }
+  }
+};
+
 }  // namespace
 
 TEST(ModelAgreementCuda, MeasuresAndRemovesLikeTheCpu) {
   if (!cudaAvailable()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
-  synthetic::SyntheticScanOptions options;
-  options.width = 480;
-  options.height = 270;
-  options.frames = 30;
-  options.seed = 5;
-  options.hardMode.breathingAmplitudeMm = 2;
-  options.hardMode.breathingPeriodS = 1;
-  options.hardMode.instruments = 1;
-  const synthetic::SyntheticScan scan(options);
-  const RectifiedGeometry& g = scan.geometry();
-  PointFusion cpu(g, FusionParameters{}, Device::Cpu), gpu(g, FusionParameters{}, Device::Cuda);
-  int removedCpu = 0, removedGpu = 0;
-  for (int k = 0; k < scan.frameCount(); ++k) {
-    const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
-    if (k % 10 == 0) {  // "key frames": fused on both devices
-      cpu.integrate(measureSurface(frame.disparityPx, frame.leftRectified, g, Device::Cpu), frame.T_world_camera);
-      gpu.integrate(measureSurface(frame.disparityPx, frame.leftRectified, g, Device::Cuda), frame.T_world_camera);
-      continue;
-    }
-    const ModelAgreement a = cpu.measureAgreement(frame.disparityPx, frame.T_world_camera, 2);
-    const ModelAgreement b = gpu.measureAgreement(frame.disparityPx, frame.T_world_camera, 2);
-    expectSameAgreement(a, b, cv::format("frame %d", k).c_str());
-    removedCpu += cpu.updateMotion(frame.disparityPx, frame.T_world_camera, a);
-    removedGpu += gpu.updateMotion(frame.disparityPx, frame.T_world_camera, b);
-    ASSERT_EQ(removedCpu, removedGpu) << "frame " << k;
-  }
+  BothDevices both(30, FusionParameters{});
+  const synthetic::SyntheticScan& scan = both.scan;
+  PointFusion &cpu = both.cpu, &gpu = both.gpu;
   std::printf("agreement and motion on 480x270 with breathing and an instrument: %d points left on both devices, "
-              "%zu remain\n", removedCpu, cpu.pointCount());
-  EXPECT_GT(removedCpu, 0);
+              "%zu remain\n", both.removed, cpu.pointCount());
+  EXPECT_GT(both.removed, 0);
   EXPECT_EQ(cpu.pointCount(), gpu.pointCount());
   EXPECT_EQ(differingModelPoints(cpu.download(), gpu.download()), 0);
   // A pose 5 mm off: the same (collapsed) figures.
@@ -79,4 +96,19 @@ TEST(ModelAgreementCuda, MeasuresAndRemovesLikeTheCpu) {
   off(2, 3) += 5;
   expectSameAgreement(cpu.measureAgreement(frame.disparityPx, off, 1), gpu.measureAgreement(frame.disparityPx, off, 1),
                       "5 mm off, every pixel");
+}
+
+// Markers that frames put back at their place come back to life (FusionParameters::markerRestFrames, here 2 frames
+// so that the breathing scan revives some between breaths): the same markers on both devices, frame by frame.
+TEST(ModelAgreementCuda, RevivesMarkersLikeTheCpu) {
+  if (!cudaAvailable()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  FusionParameters parameters;
+  parameters.markerRestFrames = 2;
+  BothDevices both(60, parameters);
+  const std::size_t revived = static_cast<std::size_t>(both.removed) - both.cpu.movedTissueMarkerCount();
+  std::printf("markers revived after 2 frames at rest: %d points left, %zu came back, on both devices\n", both.removed,
+              revived);
+  EXPECT_GT(revived, 0u);
+  EXPECT_EQ(both.cpu.pointCount(), both.gpu.pointCount());
+  EXPECT_EQ(differingModelPoints(both.cpu.download(), both.gpu.download()), 0);
 }

@@ -15,8 +15,8 @@ namespace tissuemosaic::fusion {
 constexpr int kAgreementBins = 512;
 constexpr float kAgreementBinMm = 0.02f;
 /// The counters' places in the agreement buffer: sampled pixels with a depth, of them those where the model has a
-/// point, model points the motion evidence removed, then the histogram.
-constexpr int kMeasuredSamples = 0, kOverlapSamples = 1, kRemovedPoints = 2, kHistogramStart = 3;
+/// point, model points the motion evidence removed, markers it made live again, then the histogram.
+constexpr int kMeasuredSamples = 0, kOverlapSamples = 1, kRemovedPoints = 2, kRevivedMarkers = 3, kHistogramStart = 4;
 constexpr int kAgreementCounters = kHistogramStart + kAgreementBins;
 
 /// A frame's stereo depth as the agreement reads it: its left-view disparity, turned into depth by the geometry's Q
@@ -78,27 +78,38 @@ constexpr float kMotionEvidenceToPenalise = 0.75f;
 /// either side, and its motion evidence rises; while the evidence is high, each contradicting frame takes `penalty`
 /// of its weight, and at 0 it leaves the model: it stays as a moved-tissue marker (kMovedTissueMarker). A measurement nearer than occlusionMarginMm in front of the point is
 /// something passing in front (an instrument): no evidence either way.
+/// Per marker (markerRestFrames > 0): a frame that measures its tissue within thresholdMm of it adds one to its rest
+/// count, a frame that contradicts it sets the count back to 0; at markerRestFrames the tissue has come back and
+/// rests there: the marker is a live point again, with the weight of one observation and no motion evidence, and
+/// key frames merge into it as into any point. Tissue that breathes is contradicted on every breath and stays out.
 struct UpdateMotionEvidence {
   ModelArrays model;
   FramePose pose;
   PinholeCamera camera;
   MeasuredDepth measured;
   float thresholdMm, occlusionMarginMm, penalty;
-  int* counters;  ///< kAgreementCounters: kRemovedPoints counts the points this pass removed
+  int markerRestFrames;  ///< FusionSettings::markerRestFrames
+  int* counters;  ///< kAgreementCounters: kRemovedPoints and kRevivedMarkers count this pass's changes
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
     Float4 positionWeight = model.positionWeight[index];
-    if (!isLive(positionWeight)) return;
+    const bool live = isLive(positionWeight);
+    if (!live && markerRestFrames <= 0) return;
     const Float3 pc = pose.worldToCamera(xyz(positionWeight));
     int x, y;
     if (!camera.project(pc, x, y)) return;
     Float4 normal = model.normal[index];
+    if (!live && !isMovedTissueMarker(positionWeight, normal)) return;
     if (dot(pose.worldToCamera.rotate(xyz(normal)), pc) >= 0) return;  // back-facing
     const float depth = measured.depthMm(x, y);
     if (!(depth > 0)) return;
     const float r = depth - pc.z;
     if (r < -occlusionMarginMm) return;
     const bool contradicts = fabsf(r) > thresholdMm;
+    if (!live) {
+      restMarker(index, positionWeight, normal, contradicts);
+      return;
+    }
     if (!contradicts && normal.w == 0.0f) return;  // nothing to record
     normal.w = normal.w + kMotionEvidenceRate * ((contradicts ? 1.0f : 0.0f) - normal.w);
     model.normal[index] = normal;
@@ -108,6 +119,21 @@ struct UpdateMotionEvidence {
     if (isLive(positionWeight)) return;
     model.normal[index] = {normal.x, normal.y, normal.z, kMovedTissueMarker};
     atomicAddInt(counters + kRemovedPoints, 1);
+  }
+
+  TM_HOST_DEVICE void restMarker(int64_t index, Float4 positionWeight, Float4 normal, bool contradicts) const {
+    if (contradicts) {
+      if (normal.w != kMovedTissueMarker) model.normal[index] = {normal.x, normal.y, normal.z, kMovedTissueMarker};
+      return;
+    }
+    const float restFrames = normal.w - kMovedTissueMarker + 1.0f;  // small integers: exact in float
+    if (restFrames < static_cast<float>(markerRestFrames)) {
+      model.normal[index] = {normal.x, normal.y, normal.z, kMovedTissueMarker + restFrames};
+      return;
+    }
+    model.positionWeight[index] = {positionWeight.x, positionWeight.y, positionWeight.z, 1.0f};
+    model.normal[index] = {normal.x, normal.y, normal.z, 0.0f};
+    atomicAddInt(counters + kRevivedMarkers, 1);
   }
 };
 

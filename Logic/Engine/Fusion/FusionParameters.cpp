@@ -32,6 +32,7 @@ void FusionParameters::validate() const {
   kFusion.requireRange("motionNoiseFactor", motionNoiseFactor, 0.0, 1000.0);
   kFusion.requireRange("occlusionMarginMm", occlusionMarginMm, 0.0, 1000.0);
   kFusion.requireRange("movedTissueRadiusMm", movedTissueRadiusMm, 0.0, 1000.0);
+  kFusion.requireRange("markerRestFrames", markerRestFrames, 0, 1000000);  // counted in a float: exact to 2^24
   kFusion.requireRange("motionMinAgreementShare", motionMinAgreementShare, 0.0, 1.0);
 }
 
@@ -45,7 +46,7 @@ void FusionParameters::write(cv::FileStorage& storage) const {
   storage << "normalRadiusPx" << normalRadiusPx << "maxDepthJumpMm" << maxDepthJumpMm;
   storage << "motionPenalty" << motionPenalty << "motionMinThresholdMm" << motionMinThresholdMm;
   storage << "motionNoiseFactor" << motionNoiseFactor << "occlusionMarginMm" << occlusionMarginMm
-          << "movedTissueRadiusMm" << movedTissueRadiusMm;
+          << "movedTissueRadiusMm" << movedTissueRadiusMm << "markerRestFrames" << markerRestFrames;
   storage << "motionMinAgreementShare" << motionMinAgreementShare;
   storage << "}";
 }
@@ -72,6 +73,7 @@ FusionParameters FusionParameters::read(const cv::FileNode& node) {
   kFusion.readKey(node, "motionNoiseFactor", p.motionNoiseFactor);
   kFusion.readKey(node, "occlusionMarginMm", p.occlusionMarginMm);
   kFusion.readKey(node, "movedTissueRadiusMm", p.movedTissueRadiusMm);
+  kFusion.readKey(node, "markerRestFrames", p.markerRestFrames);
   kFusion.readKey(node, "motionMinAgreementShare", p.motionMinAgreementShare);
   p.validate();
   return p;

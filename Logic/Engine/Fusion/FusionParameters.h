@@ -50,6 +50,12 @@ struct FusionParameters {
   /// distance of it (along its viewing ray) is not fused. Breathing tissue at rest would otherwise be fused again at
   /// every key frame, and leave again, blurring the model between. 0: markers block nothing.
   double movedTissueRadiusMm = 3.0;
+  /// A marker whose tissue this many frames in a row (of those that measure it) put back within the motion
+  /// threshold of its place, none contradicting it, is a live point again (weight 1), and key frames merge into it:
+  /// tissue that an instrument pushed and let go, and that rests again, fills back into the model. Breathing tissue,
+  /// contradicted on every breath, never rests that long; 300 frames are 10 s at 30 fps, two breaths at least.
+  /// 0: markers stay for good.
+  int markerRestFrames = 300;
   /// Frames whose share of depths within 1 mm of the model is below this give no motion evidence (the pose or the
   /// whole view may be off).
   double motionMinAgreementShare = 0.5;

@@ -121,10 +121,12 @@ int updateMotionOn(FusionModel& model, const FramePose& pose, const FusionSettin
   model.agreementCounters.setZero();
   parallelFor<Backend>(static_cast<int64_t>(model.count),
                        UpdateMotionEvidence{model.store.arrays(), pose, settings.camera, measured, thresholdMm,
-                                            occlusionMarginMm, penalty, model.agreementCounters.data()});
+                                            occlusionMarginMm, penalty, settings.markerRestFrames,
+                                            model.agreementCounters.data()});
   int head[kHistogramStart] = {};
   model.agreementCounters.downloadPart(head, kHistogramStart);
   model.markers += static_cast<std::size_t>(head[kRemovedPoints]);
+  model.markers -= static_cast<std::size_t>(head[kRevivedMarkers]);
   return head[kRemovedPoints];
 }
 

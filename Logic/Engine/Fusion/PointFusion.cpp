@@ -72,6 +72,7 @@ fusion::FusionSettings fusionSettings(const RectifiedGeometry& geometry, const F
   // Part of the scene-motion handling (motionPenalty > 0): what passes in front of the model is not fused.
   s.occluderMarginMm = p.motionPenalty > 0 ? static_cast<float>(p.occlusionMarginMm) : 0.0f;
   s.movedTissueRadiusMm = p.motionPenalty > 0 ? static_cast<float>(p.movedTissueRadiusMm) : 0.0f;
+  s.markerRestFrames = p.markerRestFrames;
   return s;
 }
 
@@ -164,6 +165,7 @@ FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const 
 }
 
 std::size_t PointFusion::pointCount() const { return model_->count - model_->markers; }
+std::size_t PointFusion::movedTissueMarkerCount() const { return model_->markers; }
 
 bool PointFusion::budgetReached() const { return model_->budgetReached; }
 

@@ -59,6 +59,8 @@ public:
   FusionStats integrate(const SurfaceMeasurement& measurement, const Eigen::Matrix4d& T_world_camera);
   /// Points in the model (those that left it through motion evidence not counted).
   std::size_t pointCount() const;
+  /// Points that left the model by motion evidence and stay as moved-tissue markers (FusionParameters).
+  std::size_t movedTissueMarkerCount() const;
   /// True once new points were refused for the budget (until reset()).
   bool budgetReached() const;
   /// Host copy of the whole model.
