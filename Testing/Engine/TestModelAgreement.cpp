@@ -139,9 +139,10 @@ TEST(ModelAgreement, PointsThatKeepMovingLeaveTheModelAndStillOnesStay) {
 }
 
 // Tissue that left the model (here pushed 2 mm toward the scope) and then comes back and rests is fused again once
-// markerRestFrames frames in a row have measured it back at its markers; tissue that keeps moving back and forth
-// (breathing) is contradicted before that and stays out; with markerRestFrames 0 the markers stay for good.
-TEST(ModelAgreement, TissueThatComesBackAndRestsIsFusedAgainAndBreathingTissueIsNot) {
+// markerRestFrames frames in a row have measured it back at its markers; tissue that rests where it was pushed is
+// fused there once as many frames have measured it there; tissue that keeps moving back and forth (breathing) does
+// neither; with markerRestFrames 0 the markers stay for good.
+TEST(ModelAgreement, TissueThatComesToRestIsFusedAgainAndBreathingTissueIsNot) {
   const RectifiedGeometry g = fusionGeometry();
   const Eigen::Matrix4d identity = Eigen::Matrix4d::Identity();
   const double halfWidthMm = 0.5 * g.imageSize.width * 100.0 / g.focalPx;
@@ -198,6 +199,27 @@ TEST(ModelAgreement, TissueThatComesBackAndRestsIsFusedAgainAndBreathingTissueIs
   EXPECT_EQ(breathing.movedTissueMarkerCount(), breathingMarkers);
   EXPECT_EQ(pointsWithXBelow(breathing.download(), split - 0.5), 0u);
 
+  // Held 2 mm toward the scope (a held breath): one frame fewer than needed and the markers still keep a key frame
+  // from fusing the tissue there; one more and they retire, and the key frame fuses it where it rests.
+  PointFusion held = fusedPlane(g, 5, resting);
+  frames(held, risen, 6);
+  const std::size_t heldMarkers = held.movedTissueMarkerCount();
+  const SurfaceMeasurement risenSurface = measureSurface(risen, uniformImage(g), g, Device::Cpu);
+  frames(held, risen, kRestFrames - 1);
+  EXPECT_EQ(held.movedTissueMarkerCount(), heldMarkers);
+  EXPECT_EQ(held.integrate(risenSurface, identity).added, 0);
+  frames(held, risen, 1);
+  EXPECT_EQ(held.movedTissueMarkerCount(), 0u);
+  EXPECT_EQ(held.retiredMarkerCount(), heldMarkers);
+  EXPECT_EQ(held.pointCount(), before - heldMarkers);
+  const FusionStats added = held.integrate(risenSurface, identity);
+  const ModelPoints heldModel = held.download();
+  std::size_t fusedWhereItRests = 0;
+  for (const cv::Point3f& point : heldModel.cloud.pointsMm) fusedWhereItRests += point.x < split - 0.5 && std::abs(point.z - 98.0) < 1e-3;
+  std::printf("held: %zu markers retired, %d points added, %zu of them where the tissue rests\n", heldMarkers,
+              added.added, fusedWhereItRests);
+  EXPECT_GE(fusedWhereItRests, moving / 2);
+
   // markerRestFrames 0: the markers stay whatever the frames show.
   FusionParameters forGood;
   forGood.markerRestFrames = 0;
@@ -205,7 +227,9 @@ TEST(ModelAgreement, TissueThatComesBackAndRestsIsFusedAgainAndBreathingTissueIs
   frames(kept, risen, 6);
   const std::size_t keptMarkers = kept.movedTissueMarkerCount();
   frames(kept, still, 20);
+  frames(kept, risen, 20);
   EXPECT_EQ(kept.movedTissueMarkerCount(), keptMarkers);
+  EXPECT_EQ(kept.retiredMarkerCount(), 0u);
   EXPECT_EQ(pointsWithXBelow(kept.download(), split - 0.5), 0u);
 }
 

@@ -15,8 +15,10 @@ namespace tissuemosaic::fusion {
 constexpr int kAgreementBins = 512;
 constexpr float kAgreementBinMm = 0.02f;
 /// The counters' places in the agreement buffer: sampled pixels with a depth, of them those where the model has a
-/// point, model points the motion evidence removed, markers it made live again, then the histogram.
-constexpr int kMeasuredSamples = 0, kOverlapSamples = 1, kRemovedPoints = 2, kRevivedMarkers = 3, kHistogramStart = 4;
+/// point, model points the motion evidence removed, markers it made live again, markers it retired, then the
+/// histogram.
+constexpr int kMeasuredSamples = 0, kOverlapSamples = 1, kRemovedPoints = 2, kRevivedMarkers = 3, kRetiredMarkers = 4,
+              kHistogramStart = 5;
 constexpr int kAgreementCounters = kHistogramStart + kAgreementBins;
 
 /// A frame's stereo depth as the agreement reads it: its left-view disparity, turned into depth by the geometry's Q
@@ -78,10 +80,12 @@ constexpr float kMotionEvidenceToPenalise = 0.75f;
 /// either side, and its motion evidence rises; while the evidence is high, each contradicting frame takes `penalty`
 /// of its weight, and at 0 it leaves the model: it stays as a moved-tissue marker (kMovedTissueMarker). A measurement nearer than occlusionMarginMm in front of the point is
 /// something passing in front (an instrument): no evidence either way.
-/// Per marker (markerRestFrames > 0): a frame that measures its tissue within thresholdMm of it adds one to its rest
-/// count, a frame that contradicts it sets the count back to 0; at markerRestFrames the tissue has come back and
-/// rests there: the marker is a live point again, with the weight of one observation and no motion evidence, and
-/// key frames merge into it as into any point. Tissue that breathes is contradicted on every breath and stays out.
+/// Per marker (markerRestFrames > 0): the frames in a row that measure its tissue back within thresholdMm of it, or
+/// all elsewhere, are counted (a frame of the other kind starts the count again). After markerRestFrames back at
+/// its place, the tissue has come back and rests: the marker is a live point again, with the weight of one
+/// observation and no motion evidence, and key frames merge into it. After markerRestFrames elsewhere, the tissue
+/// rests there (a held breath, tissue held aside): the marker retires and no longer keeps key frames from fusing it.
+/// Breathing tissue passes its markers on every breath and leaves them as they are.
 struct UpdateMotionEvidence {
   ModelArrays model;
   FramePose pose;
@@ -122,13 +126,18 @@ struct UpdateMotionEvidence {
   }
 
   TM_HOST_DEVICE void restMarker(int64_t index, Float4 positionWeight, Float4 normal, bool contradicts) const {
-    if (contradicts) {
-      if (normal.w != kMovedTissueMarker) model.normal[index] = {normal.x, normal.y, normal.z, kMovedTissueMarker};
+    // The run so far of frames of this kind (small integers: exact in float), and this frame.
+    const float back = normal.w >= kMovedTissueMarker ? normal.w - kMovedTissueMarker : 0.0f;
+    const float elsewhere = normal.w <= -kMovedTissueMarker ? -normal.w - kMovedTissueMarker : 0.0f;
+    const float run = (contradicts ? elsewhere : back) + 1.0f;
+    if (run < static_cast<float>(markerRestFrames)) {
+      const float state = kMovedTissueMarker + run;
+      model.normal[index] = {normal.x, normal.y, normal.z, contradicts ? -state : state};
       return;
     }
-    const float restFrames = normal.w - kMovedTissueMarker + 1.0f;  // small integers: exact in float
-    if (restFrames < static_cast<float>(markerRestFrames)) {
-      model.normal[index] = {normal.x, normal.y, normal.z, kMovedTissueMarker + restFrames};
+    if (contradicts) {
+      model.normal[index] = {normal.x, normal.y, normal.z, kRetiredMarker};
+      atomicAddInt(counters + kRetiredMarkers, 1);
       return;
     }
     model.positionWeight[index] = {positionWeight.x, positionWeight.y, positionWeight.z, 1.0f};

@@ -51,11 +51,14 @@ TM_HOST_DEVICE TM_FORCE_INLINE Float3 xyz(Float4 a) { return {a.x, a.y, a.z}; }
 TM_HOST_DEVICE TM_FORCE_INLINE bool isLive(Float4 positionWeight) { return positionWeight.w > 0; }
 /// The normal's w of a point that left the model by motion evidence (AgreementKernels.h): it stays in the store as a
 /// marker of moving tissue, not live (weight 0), so that key frames do not fuse that tissue again (MergeModelPoints).
-/// Live points keep their motion evidence there, in [0, 1]. A marker counts there, above kMovedTissueMarker, the
-/// frames in a row that measured its tissue back at its place (UpdateMotionEvidence).
+/// Live points keep their motion evidence there, in [0, 1]. A marker counts there the frames in a row that measured
+/// its tissue back at its place (kMovedTissueMarker + n) or elsewhere (-(kMovedTissueMarker + n)):
+/// UpdateMotionEvidence.
 constexpr float kMovedTissueMarker = 2.0f;
+/// The normal's w of a marker whose tissue came to rest elsewhere: it blocks nothing and stays out of the model.
+constexpr float kRetiredMarker = -1.0f;
 TM_HOST_DEVICE TM_FORCE_INLINE bool isMovedTissueMarker(Float4 positionWeight, Float4 normal) {
-  return !isLive(positionWeight) && normal.w >= kMovedTissueMarker;
+  return !isLive(positionWeight) && (normal.w >= kMovedTissueMarker || normal.w <= -kMovedTissueMarker);
 }
 
 /// The model on the device, structure of arrays indexed by point.
@@ -111,8 +114,8 @@ struct FusionSettings {
   /// A measurement this far or more in front of a model point (along the point's viewing ray) is something passing
   /// in front of the tissue (an instrument, smoke): its pixel counts as covered, so it adds no point. 0: off.
   float occluderMarginMm;
-  /// A marker whose tissue this many measuring frames in a row put back at its place is live again (weight 1).
-  /// 0: markers stay for good.
+  /// A marker whose tissue this many measuring frames in a row put back at its place is live again (weight 1); one
+  /// whose tissue they all put elsewhere is retired (kRetiredMarker). 0: markers stay for good.
   int markerRestFrames;
   /// A measurement within this distance (along the ray) of a moved-tissue marker is not fused. 0: off.
   float movedTissueRadiusMm;

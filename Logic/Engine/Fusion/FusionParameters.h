@@ -51,10 +51,11 @@ struct FusionParameters {
   /// every key frame, and leave again, blurring the model between. 0: markers block nothing.
   double movedTissueRadiusMm = 3.0;
   /// A marker whose tissue this many frames in a row (of those that measure it) put back within the motion
-  /// threshold of its place, none contradicting it, is a live point again (weight 1), and key frames merge into it:
-  /// tissue that an instrument pushed and let go, and that rests again, fills back into the model. Breathing tissue,
-  /// contradicted on every breath, never rests that long; 300 frames are 10 s at 30 fps, two breaths at least.
-  /// 0: markers stay for good.
+  /// threshold of its place is a live point again (weight 1), and key frames merge into it: tissue that an
+  /// instrument pushed and let go fills back into the model. One whose tissue they all put elsewhere is retired and
+  /// no longer keeps key frames from fusing the tissue where it now rests (a held breath, tissue held aside).
+  /// Breathing tissue passes its markers on every breath and leaves them as they are; 300 frames are 10 s at 30 fps,
+  /// two breaths at least. 0: markers stay for good.
   int markerRestFrames = 300;
   /// Frames whose share of depths within 1 mm of the model is below this give no motion evidence (the pose or the
   /// whole view may be off).

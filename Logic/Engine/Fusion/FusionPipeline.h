@@ -33,6 +33,7 @@ struct FusionModel {
   int width, height;
   std::size_t count = 0;       ///< entries in use: live points and moved-tissue markers
   std::size_t markers = 0;     ///< of them, points that left the model by motion evidence (kMovedTissueMarker)
+  std::size_t retiredMarkers = 0;  ///< of those, markers retired (kRetiredMarker)
   bool budgetReached = false;  ///< new points were refused for the budget
   ModelStore store;            ///< grows by doubling up to the budget (allocated at the first integrate)
 

@@ -127,6 +127,7 @@ int updateMotionOn(FusionModel& model, const FramePose& pose, const FusionSettin
   model.agreementCounters.downloadPart(head, kHistogramStart);
   model.markers += static_cast<std::size_t>(head[kRemovedPoints]);
   model.markers -= static_cast<std::size_t>(head[kRevivedMarkers]);
+  model.retiredMarkers += static_cast<std::size_t>(head[kRetiredMarkers]);
   return head[kRemovedPoints];
 }
 

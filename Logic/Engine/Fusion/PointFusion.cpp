@@ -165,7 +165,8 @@ FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const 
 }
 
 std::size_t PointFusion::pointCount() const { return model_->count - model_->markers; }
-std::size_t PointFusion::movedTissueMarkerCount() const { return model_->markers; }
+std::size_t PointFusion::movedTissueMarkerCount() const { return model_->markers - model_->retiredMarkers; }
+std::size_t PointFusion::retiredMarkerCount() const { return model_->retiredMarkers; }
 
 bool PointFusion::budgetReached() const { return model_->budgetReached; }
 
