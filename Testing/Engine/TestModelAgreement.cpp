@@ -215,7 +215,9 @@ TEST(ModelAgreement, TissueThatComesToRestIsFusedAgainAndBreathingTissueIsNot) {
   const FusionStats added = held.integrate(risenSurface, identity);
   const ModelPoints heldModel = held.download();
   std::size_t fusedWhereItRests = 0;
-  for (const cv::Point3f& point : heldModel.cloud.pointsMm) fusedWhereItRests += point.x < split - 0.5 && std::abs(point.z - 98.0) < 1e-3;
+  for (const cv::Point3f& point : heldModel.cloud.pointsMm) {
+    fusedWhereItRests += point.x < split - 0.5 && std::abs(point.z - 98.0) < 1e-3;
+  }
   std::printf("held: %zu markers retired, %d points added, %zu of them where the tissue rests\n", heldMarkers,
               added.added, fusedWhereItRests);
   EXPECT_GE(fusedWhereItRests, moving / 2);

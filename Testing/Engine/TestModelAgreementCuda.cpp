@@ -58,7 +58,9 @@ struct BothDevices {
   }
 
   BothDevices(int frames, const FusionParameters& parameters)
-      : scan(options(frames)), cpu(scan.geometry(), parameters, Device::Cpu), gpu(scan.geometry(), parameters, Device::Cuda) {
+      : scan(options(frames)),
+        cpu(scan.geometry(), parameters, Device::Cpu),
+        gpu(scan.geometry(), parameters, Device::Cuda) {
     const RectifiedGeometry& g = scan.geometry();
     for (int k = 0; k < scan.frameCount(); ++k) {
       const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);

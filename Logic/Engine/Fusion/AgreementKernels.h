@@ -78,8 +78,9 @@ constexpr float kMotionEvidenceToPenalise = 0.75f;
 /// Per live model point seen by the frame (in front, inside the image, facing it, with a stereo depth at its
 /// pixel): the frame contradicts it when the measured depth r = z_measured - z_point lies beyond thresholdMm on
 /// either side, and its motion evidence rises; while the evidence is high, each contradicting frame takes `penalty`
-/// of its weight, and at 0 it leaves the model: it stays as a moved-tissue marker (kMovedTissueMarker). A measurement nearer than occlusionMarginMm in front of the point is
-/// something passing in front (an instrument): no evidence either way.
+/// of its weight, and at 0 it leaves the model: it stays as a moved-tissue marker (kMovedTissueMarker). A
+/// measurement nearer than occlusionMarginMm in front of the point is something passing in front (an instrument):
+/// no evidence either way.
 /// Per marker (markerRestFrames > 0): the frames in a row that measure its tissue back within thresholdMm of it, or
 /// all elsewhere, are counted (a frame of the other kind starts the count again). After markerRestFrames back at
 /// its place, the tissue has come back and rests: the marker is a live point again, with the weight of one
@@ -93,7 +94,8 @@ struct UpdateMotionEvidence {
   MeasuredDepth measured;
   float thresholdMm, occlusionMarginMm, penalty;
   int markerRestFrames;  ///< FusionSettings::markerRestFrames
-  int* counters;  ///< kAgreementCounters: kRemovedPoints and kRevivedMarkers count this pass's changes
+  /// kAgreementCounters: kRemovedPoints, kRevivedMarkers and kRetiredMarkers count this pass's changes.
+  int* counters;
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
     Float4 positionWeight = model.positionWeight[index];
