@@ -18,10 +18,21 @@ SyntheticBreathing::SyntheticBreathing(double amplitudeMm, double periodS, const
   shape_.amplitudeMm = 1;
 }
 
+void SyntheticBreathing::holdBreath(double startS, double endS) {
+  require(startS >= 0 && endS > startS, "synthetic breathing: a hold needs 0 <= start < end");
+  holdStartS_ = startS;
+  holdEndS_ = endS;
+}
+
+double SyntheticBreathing::breathTimeS(double timeS) const {
+  if (holdStartS_ < 0 || timeS < holdStartS_) return timeS;
+  return timeS < holdEndS_ ? holdStartS_ : timeS - (holdEndS_ - holdStartS_);
+}
+
 SurfaceSwell SyntheticBreathing::swellAt(double timeS) const {
   SurfaceSwell swell = shape_;
   constexpr double twoPi = 6.283185307179586;
-  swell.amplitudeMm = active() ? -amplitudeMm_ * 0.5 * (1 - std::cos(twoPi * timeS / periodS_)) : 0.0;
+  swell.amplitudeMm = active() ? -amplitudeMm_ * 0.5 * (1 - std::cos(twoPi * breathTimeS(timeS) / periodS_)) : 0.0;
   return swell;
 }
 

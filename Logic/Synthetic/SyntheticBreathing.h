@@ -6,7 +6,8 @@
 /// the tissue moves along Z only), so a breathing point is one material point at every instant.
 ///
 /// Ground truth: the surface at a frame is TissueSurface::swollen(swellAt(t)); the part that never moves is where
-/// the peak displacement A w is at most kStaticToleranceMm.
+/// the peak displacement A w is at most kStaticToleranceMm. A breath hold (the ventilator paused) stops the breath
+/// where it is for its span; the breath then goes on from there.
 #include "SurfaceSwell.h"
 
 #include <opencv2/core.hpp>
@@ -22,6 +23,10 @@ public:
   /// amplitudeMm > 0, periodS > 0: the swell centred at centreMm (world XY) with the given radii.
   SyntheticBreathing(double amplitudeMm, double periodS, const cv::Point2d& centreMm, double innerRadiusMm,
                      double outerRadiusMm);
+  /// Pauses the breath from startS to endS (s), startS >= 0, endS > startS.
+  void holdBreath(double startS, double endS);
+  /// The breath's own time at scan time t (s): t before a hold, its start during it, t minus its span after it.
+  double breathTimeS(double timeS) const;
 
   bool active() const { return amplitudeMm_ > 0; }
   /// The swell at time t (s): amplitude -A (1 - cos(2 pi t / T)) / 2, so at t = 0 the surface is at rest.
@@ -38,6 +43,7 @@ public:
 
 private:
   double amplitudeMm_ = 0, periodS_ = 4;
+  double holdStartS_ = -1, holdEndS_ = -1;  ///< no hold: startS < 0
   SurfaceSwell shape_;  ///< amplitude 1 (the weight alone)
 };
 

@@ -15,6 +15,9 @@ struct SyntheticHardModeOptions {
   /// tapers to zero at this radius. The default (18 mm) is a quarter to a third of a 960x540 view at 70-100 mm;
   /// 60 mm or more makes the whole view breathe, as a scope held still over the abdomen sees it.
   double breathingRadiusMm = 18.0;
+  /// From breathHoldStartS to breathHoldEndS (s) the ventilator pauses: the breathing tissue rests where it was at
+  /// the start, then breathes on from there. breathHoldStartS < 0: no hold.
+  double breathHoldStartS = -1, breathHoldEndS = -1;
   int instruments = 0;            ///< rigid instruments (shaft and jaws) that enter, move over the tissue and leave
   /// Frames [cameraOutStart, cameraOutEnd) show no tissue (the scope withdrawn: smoke, dark, a smeared lens); at
   /// cameraOutEnd the camera is back about 10 mm and 10 degrees from where it left. cameraOutStart < 0: none.
@@ -22,6 +25,7 @@ struct SyntheticHardModeOptions {
   bool smoke = false;             ///< a drifting haze over the tissue in every frame
 
   bool breathing() const { return breathingAmplitudeMm > 0; }
+  bool breathHold() const { return breathHoldStartS >= 0; }
   bool cameraOut() const { return cameraOutStart >= 0; }
   /// True when frame `index` shows no tissue (inside the camera-out span).
   bool outOfView(int index) const { return cameraOut() && index >= cameraOutStart && index < cameraOutEnd; }

@@ -344,6 +344,7 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
     require(s.viewCentreMm(at, centre), "synthetic scan: no tissue at the centre of the view for the breathing");
     s.breathing = SyntheticBreathing(hard.breathingAmplitudeMm, hard.breathingPeriodS, {centre[0], centre[1]},
                                      kBreathingInnerShare * hard.breathingRadiusMm, hard.breathingRadiusMm);
+    if (hard.breathHold()) s.breathing.holdBreath(hard.breathHoldStartS, hard.breathHoldEndS);
     require(s.surface->swollen(s.breathing.peakSwell()).maxSlope(s.domainMm) * maxTangent < 0.98,
             "synthetic scan: the breathing makes the surface too steep for these views; lower --breathing-mm");
   }

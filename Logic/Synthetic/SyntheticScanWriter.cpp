@@ -46,8 +46,9 @@ int writeHardModeGroundTruth(const SyntheticScan& scan, const std::filesystem::p
     const SurfaceSwell& shape = scan.breathing().shape();
     scene << "breathing" << "{" << "amplitudeMm" << hard.breathingAmplitudeMm << "periodS" << hard.breathingPeriodS
           << "centreXMm" << shape.centreXMm << "centreYMm" << shape.centreYMm << "innerRadiusMm" << shape.innerRadiusMm
-          << "outerRadiusMm" << shape.outerRadiusMm << "staticToleranceMm" << SyntheticBreathing::kStaticToleranceMm
-          << "}";
+          << "outerRadiusMm" << shape.outerRadiusMm << "staticToleranceMm" << SyntheticBreathing::kStaticToleranceMm;
+    if (hard.breathHold()) scene << "holdStartS" << hard.breathHoldStartS << "holdEndS" << hard.breathHoldEndS;
+    scene << "}";
   }
   if (hard.instruments > 0) {
     scene << "instruments" << "[";

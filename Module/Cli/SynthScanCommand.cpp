@@ -39,7 +39,8 @@ gives: use the printed geometry options instead of --calib rig.yml --rectified.
 Hard mode (real surgery, each with its ground truth; deterministic from the seed): --breathing-mm makes part of the
 tissue (a disc of --breathing-radius-mm, 18 mm by default, flat over its inner 10/18) rise toward the scope and fall
 back once per breath (depth_NNNNNN.pfm follows it; groundtruth/static_surface.ply is the part of surface.ply that
-never moves); --instruments adds rigid instruments (groundtruth/instrument_mask_NNNNNN.png: 255 where one covers the left pixel;
+never moves); --breath-hold-s S:E pauses the breath from S to E seconds (a ventilator hold: the tissue rests where
+it was at S, then breathes on from there); --instruments adds rigid instruments (groundtruth/instrument_mask_NNNNNN.png: 255 where one covers the left pixel;
 groundtruth/instruments.ply: their surfaces at every frame, for `tissuemosaic eval --reference ... --coverage-radius-mm
 0`, whose share_within_1mm is the share of a model's points within 1 mm of an instrument); --camera-out S:E shows no
 tissue in frames S to E-1 (no line in trajectory.txt), and the camera is back at frame E about 10 mm and 10 degrees
@@ -50,6 +51,7 @@ struct SynthScanOptions {
   synthetic::SyntheticScanOptions scan;
   int seed = static_cast<int>(synthetic::SyntheticScanOptions{}.seed);
   std::string cameraOut;  ///< "S:E", empty: none
+  std::string breathHold;  ///< "S:E" in seconds, empty: none
   std::string lighting = "standard";
 };
 
@@ -70,6 +72,15 @@ void runSynthScan(const SynthScanOptions& given) {
     require(first >= 1, "--camera-out S:E needs S >= 1, got '" + given.cameraOut + "'");
     options.hardMode.cameraOutStart = first;
     options.hardMode.cameraOutEnd = back;
+  }
+  if (!given.breathHold.empty()) {
+    double first = -1, last = -1;
+    char colon = 0, extra = 0;
+    require(std::sscanf(given.breathHold.c_str(), "%lf%c%lf%c", &first, &colon, &last, &extra) == 3 && colon == ':' &&
+                first >= 0 && last > first,
+            "--breath-hold-s must be S:E with 0 <= S < E (seconds), got '" + given.breathHold + "'");
+    options.hardMode.breathHoldStartS = first;
+    options.hardMode.breathHoldEndS = last;
   }
   options.lighting = synthetic::parseSyntheticLighting(given.lighting);
   const std::string& out = given.out;
@@ -140,6 +151,10 @@ void setupSynthScan(CLI::App& synth) {
   command->add_option("--breathing-radius-mm", hard.breathingRadiusMm,
                       "radius of the breathing part on the tissue (flat over its inner 10/18); 60 or more: the whole view")
       ->capture_default_str()->type_name("MM")->group(hardMode);
+  command->add_option("--breath-hold-s", options->breathHold,
+                      "the ventilator pauses from S to E seconds: the breathing tissue rests where it was at S, then "
+                      "breathes on")
+      ->type_name("S:E")->group(hardMode);
   command->add_option("--instruments", hard.instruments,
                       "rigid instruments (steel shaft, serrated jaws) that enter, move over the tissue and leave")
       ->capture_default_str()->type_name("N")->group(hardMode);

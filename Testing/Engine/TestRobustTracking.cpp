@@ -220,3 +220,44 @@ TEST(RobustTracking, MovingTissueAndInstrumentsLeaveTheModel) {
   EXPECT_GT(smearedInstruments, instruments);
   EXPECT_LT(breathing, 0.5 * smearedBreathing);
 }
+
+// A breath held near its peak (the ventilator paused from 0.5 s on): the points fused at rest leave as the tissue
+// rises, and their markers keep key frames from fusing the tissue within 3 mm of them. Once the tissue has rested
+// markerRestFrames frames elsewhere the markers retire, and the next key frames fuse it where it rests; with the
+// markers kept for good (markerRestFrames 0) the breathing part stays a hole.
+TEST(RobustTracking, ABreathHoldIsFusedWhereTheTissueRests) {
+  synthetic::SyntheticScanOptions options = smallHardScan();
+  options.frames = 45;
+  options.minSpeedMmPerS = options.maxSpeedMmPerS = 0;  // the scope held still over the breathing part
+  options.maxTiltDeg = options.maxRollDeg = 0;
+  options.minWorkingDistanceMm = options.maxWorkingDistanceMm = 80;
+  options.hardMode.breathingAmplitudeMm = 2;
+  options.hardMode.breathingPeriodS = 1;
+  options.hardMode.breathHoldStartS = 0.5;
+  options.hardMode.breathHoldEndS = 10;
+  const synthetic::SyntheticScan scan(options);
+  const synthetic::TissueSurface heldSurface = scan.surface().swollen(scan.breathing().swellAt(0.5));
+  // Model points on the breathing part's core (it moves more than 1 mm), and of them those on the held surface (at
+  // 480x270 and 80 mm a pixel of disparity is 2.6 mm of depth: the stereo is good to about 0.8 mm here).
+  const auto score = [&](const PipelineRun& run, std::size_t& core, std::size_t& onHeld) {
+    core = onHeld = 0;
+    for (const cv::Point3f& p : run.model.cloud.pointsMm) {
+      if (scan.breathing().peakDisplacementMm(p.x, p.y) <= 1.0) continue;
+      ++core;
+      onHeld += std::abs(p.z - heldSurface.heightMm(p.x, p.y)) <= 1.0;  // half way to the surface at rest
+    }
+  };
+  ReconstructionParameters resting;
+  resting.fusion.markerRestFrames = 10;
+  ReconstructionParameters forGood;
+  forGood.fusion.markerRestFrames = 0;
+  const PipelineRun run = reconstruct(scan, resting), kept = reconstruct(scan, forGood);
+  std::size_t core = 0, onHeld = 0, keptCore = 0, keptOnHeld = 0;
+  score(run, core, onHeld);
+  score(kept, keptCore, keptOnHeld);
+  std::printf("breath held from 0.5 s: %zu model points on the breathing core, %zu on the held surface (markers kept "
+              "for good: %zu, %zu)\n", core, onHeld, keptCore, keptOnHeld);
+  for (const FrameResult& f : run.frames) EXPECT_TRUE(f.tracked) << "frame " << f.frameIndex << ": " << f.trackingMessage;
+  EXPECT_GT(onHeld, 5 * std::max<std::size_t>(keptOnHeld, 100));
+  EXPECT_GT(onHeld, 0.9 * core) << "what the core holds is the held surface";
+}

@@ -107,6 +107,46 @@ TEST(SyntheticHardMode, BreathingMovesOnlyItsPartAndTheDepthFollowsIt) {
   for (const cv::Point3f& p : still.verticesMm) ASSERT_TRUE(breathing.isStatic(p.x, p.y));
 }
 
+// A breath hold (the ventilator paused from 0.4 to 1.0 s): the tissue rests where it was at 0.4 s for the whole span,
+// the rendered depth follows it, and the breath goes on from that phase afterwards.
+TEST(SyntheticHardMode, ABreathHoldStopsTheBreathWhereItIsAndItGoesOnAfter) {
+  SyntheticScanOptions options = hardScan();
+  options.hardMode.instruments = 0;
+  options.hardMode.cameraOutStart = options.hardMode.cameraOutEnd = -1;
+  options.hardMode.breathHoldStartS = 0.4;
+  options.hardMode.breathHoldEndS = 1.0;
+  const SyntheticScan scan(options);
+  const SyntheticBreathing& breathing = scan.breathing();
+  SyntheticScanOptions free = options;
+  free.hardMode.breathHoldStartS = free.hardMode.breathHoldEndS = -1;
+  const SyntheticScan freeScan(free);
+  const SyntheticBreathing& unheld = freeScan.breathing();
+  const double held = unheld.swellAt(0.4).amplitudeMm;
+  EXPECT_LT(held, -1.0);  // near the peak (-2 mm at 0.5 s)
+  for (double t : {0.0, 0.2, 0.39}) EXPECT_EQ(breathing.swellAt(t).amplitudeMm, unheld.swellAt(t).amplitudeMm) << t;
+  for (double t : {0.4, 0.6, 0.99}) EXPECT_EQ(breathing.swellAt(t).amplitudeMm, held) << t;
+  for (double t : {1.0, 1.3}) {
+    EXPECT_NEAR(breathing.swellAt(t).amplitudeMm, unheld.swellAt(t - 0.6).amplitudeMm, 1e-12) << t;
+  }
+  // Frame 24 (t = 0.8 s, inside the hold) is rendered at the held phase; without the hold it would be near rest.
+  const int k = 24;
+  const SyntheticScanFrame frame = scan.renderFrame(k);
+  ASSERT_NEAR(frame.timeS, 0.8, 1e-9);
+  const TissueSurface heldSurface = scan.surface().swollen(unheld.swellAt(0.4));
+  double worstMm = 0, largestRiseMm = 0;
+  for (int v = 2; v < frame.depthMm.rows; v += 5) {
+    for (int u = 2; u < frame.depthMm.cols; u += 5) {
+      const float z = frame.depthMm.at<float>(v, u);
+      if (!std::isfinite(z)) continue;
+      const Eigen::Vector3d p = backProject(scan, k, u, v, z);
+      worstMm = std::max(worstMm, std::abs(p.z() - heldSurface.heightMm(p.x(), p.y())));
+      largestRiseMm = std::max(largestRiseMm, scan.surface().heightMm(p.x(), p.y()) - p.z());
+    }
+  }
+  EXPECT_LT(worstMm, 1e-4);
+  EXPECT_NEAR(largestRiseMm, -held, 0.05);
+}
+
 TEST(SyntheticHardMode, InstrumentsOccludeTheTissueAndKeepClearOfIt) {
   SyntheticScanOptions options = hardScan();
   options.hardMode.breathingAmplitudeMm = 0;
@@ -239,5 +279,14 @@ TEST(SyntheticHardMode, RejectsInvalidOptions) {
   EXPECT_THROW(SyntheticScan{options}, Error);
   options = hardScan();
   options.hardMode.breathingRadiusMm = 1;
+  EXPECT_THROW(SyntheticScan{options}, Error);
+  options = hardScan();
+  options.hardMode.breathHoldStartS = 1.0;
+  options.hardMode.breathHoldEndS = 0.5;  // ends before it starts
+  EXPECT_THROW(SyntheticScan{options}, Error);
+  options = hardScan();
+  options.hardMode.breathingAmplitudeMm = 0;  // nothing to hold
+  options.hardMode.breathHoldStartS = 0;
+  options.hardMode.breathHoldEndS = 1;
   EXPECT_THROW(SyntheticScan{options}, Error);
 }
