@@ -29,7 +29,8 @@ public:
   double breathTimeS(double timeS) const;
 
   bool active() const { return amplitudeMm_ > 0; }
-  /// The swell at time t (s): amplitude -A (1 - cos(2 pi t / T)) / 2, so at t = 0 the surface is at rest.
+  /// The swell at time t (s): amplitude -A (1 - cos(2 pi b / T)) / 2 with b = breathTimeS(t), so at t = 0 the
+  /// surface is at rest.
   SurfaceSwell swellAt(double timeS) const;
   /// The swell at its peak (the surface nearest the scope).
   SurfaceSwell peakSwell() const;
