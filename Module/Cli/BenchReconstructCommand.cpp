@@ -161,6 +161,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   std::vector<MemorySample> memory;
 
   ReconstructionPipeline pipeline(scan.geometry(), parameters, device, scan.T_world_camera(0));
+  pipeline.setFrameDisparityKept(false);  // as `reconstruct` runs it; the key frames' maps come down after their timing
   TimingTable timing;
   int lost = 0;
   // The refinement's parts per key frame, by their JSON names (RefinementPartsMs).
@@ -236,10 +237,11 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
       intermediateFramesGuided += result.guidedIntermediateFrames;
     }
     if (result.keyFrame) {
+      const cv::Mat disparityPx = pipeline.downloadLastDisparity();
       int gross = 0, estimates = 0;
       for (int y = 0; y < frame.disparityPx.rows; ++y) {
         for (int x = 0; x < frame.disparityPx.cols; ++x) {
-          const float estimate = result.disparityPx.at<float>(y, x), truth = frame.disparityPx.at<float>(y, x);
+          const float estimate = disparityPx.at<float>(y, x), truth = frame.disparityPx.at<float>(y, x);
           if (std::isfinite(truth)) {
             trueDisparityMin = std::min(trueDisparityMin, truth);
             trueDisparityMax = std::max(trueDisparityMax, truth);

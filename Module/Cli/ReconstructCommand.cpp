@@ -103,6 +103,7 @@ void runReconstruct(const ReconstructOptions& options) {
       geometry.rectifier
           ? std::make_unique<ReconstructionPipeline>(*geometry.calibration, parameters, device, T_world_start)
           : std::make_unique<ReconstructionPipeline>(geometry.rectified, parameters, device, T_world_start);
+  pipeline->setFrameDisparityKept(false);  // nothing here shows or writes the per-frame disparity
 
   const int total = maxFrames > 0 && (source->frameCount() < 0 || maxFrames < source->frameCount())
                         ? maxFrames : source->frameCount();

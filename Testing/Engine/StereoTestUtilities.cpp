@@ -3,9 +3,21 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 namespace tissuemosaic::test {
+
+bool sameDisparity(const cv::Mat& a, const cv::Mat& b) {
+  if (a.size() != b.size() || a.type() != CV_32F || b.type() != CV_32F) return false;
+  for (int y = 0; y < a.rows; ++y) {
+    for (int x = 0; x < a.cols; ++x) {
+      const float p = a.at<float>(y, x), q = b.at<float>(y, x);
+      if (std::memcmp(&p, &q, sizeof p) != 0 && !(std::isnan(p) && std::isnan(q))) return false;
+    }
+  }
+  return true;
+}
 
 cv::Mat randomTexture(int width, int height, unsigned seed, double blurSigma) {
   std::mt19937 random(seed);

@@ -15,6 +15,9 @@ cv::Mat randomTexture(int width, int height, unsigned seed, double blurSigma = 1
 /// left texture at x + d with linear interpolation; d = d0 + gx * x + gy * y.
 cv::Mat shiftedView(const cv::Mat& left, double d0, double gx = 0, double gy = 0);
 
+/// Whether two CV_32F disparity maps are the same bit for bit, NaN (no estimate) matching NaN.
+bool sameDisparity(const cv::Mat& a, const cv::Mat& b);
+
 using tissuemosaic::DisparityScore;
 using tissuemosaic::scoreDisparity;
 

@@ -6,24 +6,14 @@
 #include "Core/Device.h"
 #include "Stereo/DisparityRangeEstimator.h"
 #include "Stereo/StereoMatcher.h"
+#include "StereoTestUtilities.h"
 
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <cstring>
-
 using namespace tissuemosaic;
+using test::sameDisparity;
 
 namespace {
-
-bool sameDisparity(const cv::Mat& a, const cv::Mat& b) {
-  if (a.size() != b.size() || a.type() != b.type()) return false;
-  for (int i = 0; i < static_cast<int>(a.total()); ++i) {
-    const float p = a.at<float>(i), q = b.at<float>(i);
-    if (std::memcmp(&p, &q, sizeof p) != 0 && !(std::isnan(p) && std::isnan(q))) return false;
-  }
-  return true;
-}
 
 synthetic::SyntheticScan scan(int frames) {
   synthetic::SyntheticScanOptions options;

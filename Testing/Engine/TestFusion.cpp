@@ -121,6 +121,39 @@ TEST(SurfaceMeasurement, ValidMaskMarksThePixelsWithAPointAndANormal) {
 
 // A kept disparity range (the pipeline's working depth range) measures exactly what the disparity with the others
 // set to NaN measures: the same points, normals and mask, bit for bit; the bounds themselves are kept.
+TEST(SurfaceMeasurement, AMapWhereItWasComputedGivesTheSameSurfaceAndTheColourIsShared) {
+  // The pipeline measures a key frame's surface from the stereo matcher's own map (no copy); a continuous BGR image
+  // is shared, not copied; a grey or non-continuous one is converted or copied.
+  const RectifiedGeometry g = fusionGeometry(97, 61, 250, -8);
+  cv::Mat disparity(g.imageSize, CV_32F);  // a slanted plane with noise and holes
+  cv::RNG rng(8);
+  rng.fill(disparity, cv::RNG::UNIFORM, -0.2, 0.2);
+  for (int y = 0; y < disparity.rows; ++y)
+    for (int x = 0; x < disparity.cols; ++x) disparity.at<float>(y, x) += 30.0f + 0.05f * x + 0.03f * y;
+  for (int i = 0; i < 200; ++i) disparity.at<float>(rng.uniform(0, disparity.rows), rng.uniform(0, disparity.cols)) = NAN;
+  cv::Mat left(g.imageSize, CV_8UC3);
+  rng.fill(left, cv::RNG::UNIFORM, 0, 256);
+  const SurfaceMeasurement fromMat = measureSurface(disparity, left, g, Device::Cpu, 1, 50.0);
+  const ImageView<const float> view{disparity.ptr<float>(), disparity.cols, disparity.rows};
+  const SurfaceMeasurement fromView = measureSurface(view, left, g, Device::Cpu, 1, 50.0);
+  EXPECT_GT(fromMat.validPixels, static_cast<int>(disparity.total() / 2));
+  EXPECT_EQ(fromView.validPixels, fromMat.validPixels);
+  const auto sameMap = [](const cv::Mat& a, const cv::Mat& b) {  // bit for bit, NaN (no estimate) included
+    return a.size() == b.size() && a.type() == b.type() && std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
+  };
+  EXPECT_TRUE(sameMap(fromView.pointsCameraMm, fromMat.pointsCameraMm));
+  EXPECT_TRUE(sameMap(fromView.normalsCamera, fromMat.normalsCamera));
+  EXPECT_EQ(fromView.colourBgr.data, left.data) << "a continuous BGR image is shared";
+  const cv::Mat wider(g.imageSize.height, g.imageSize.width + 3, CV_8UC3, cv::Scalar(1, 2, 3));
+  const cv::Mat part = wider(cv::Rect(0, 0, g.imageSize.width, g.imageSize.height));
+  const SurfaceMeasurement fromPart = measureSurface(view, part, g, Device::Cpu, 1, 50.0);
+  EXPECT_TRUE(fromPart.colourBgr.isContinuous());
+  EXPECT_NE(fromPart.colourBgr.data, part.data);
+  EXPECT_EQ(cv::norm(fromPart.colourBgr, part, cv::NORM_INF), 0);
+  EXPECT_THROW(measureSurface(ImageView<const float>{}, left, g, Device::Cpu), Error);
+  EXPECT_THROW(measureSurface(ImageView<const float>{disparity.ptr<float>(), 20, 20}, left, g, Device::Cpu), Error);
+}
+
 TEST(SurfaceMeasurement, KeptRangeEqualsMissingDisparitiesOutsideIt) {
   const RectifiedGeometry g = fusionGeometry(97, 61, 250, -8);
   cv::Mat disparity(g.imageSize, CV_32F);

@@ -93,6 +93,18 @@ TEST(FusionCuda, MeasuresTheSameSurfaceAsTheCpu) {
   kept.hostMaps(keptPoints, keptNormals);
   EXPECT_EQ(differingPixels(cpu.pointsCameraMm, keptPoints), 0);
   EXPECT_EQ(differingPixels(cpu.normalsCamera, keptNormals), 0);
+
+  // From a map already in device memory (the pipeline's: the stereo matcher's own), nothing uploaded.
+  Image<float> onDevice(Device::Cuda, disparity.cols, disparity.rows);
+  onDevice.buffer().upload(disparity.ptr<float>());
+  const SurfaceMeasurement fromDevice = measureSurface(onDevice.view(), frame.leftRectified, scan.geometry(), Device::Cuda);
+  EXPECT_EQ(fromDevice.validPixels, cpu.validPixels);
+  EXPECT_EQ(differingPixels(cpu.pointsCameraMm, fromDevice.pointsCameraMm), 0);
+  EXPECT_EQ(differingPixels(cpu.normalsCamera, fromDevice.normalsCamera), 0);
+  ASSERT_TRUE(fromDevice.onDevice);
+  std::vector<uint8_t> colour(fromDevice.onDevice->colourBgr.size());
+  fromDevice.onDevice->colourBgr.download(colour.data());
+  EXPECT_EQ(cv::norm(cv::Mat(frame.leftRectified.size(), CV_8UC3, colour.data()), frame.leftRectified, cv::NORM_INF), 0);
 }
 
 // Fusion from maps that never left the device (the reconstruct pipeline's path on CUDA) gives the CPU's model; a

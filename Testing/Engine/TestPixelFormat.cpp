@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <vector>
@@ -58,10 +59,16 @@ TEST(PixelFormat, GreyIntoStagingMemoryWritesThatMemory) {
   const cv::Mat bgr = randomImage(CV_8UC3, 4), bgra = randomImage(CV_8UC4, 5), grey = randomImage(CV_8UC1, 6);
   std::vector<uint8_t> staging(static_cast<std::size_t>(bgr.total()), 0);
   for (const cv::Mat& image : {bgr, bgra, grey}) {
-    cv::Mat view(image.rows, image.cols, CV_8UC1, staging.data());
-    convertToGrey8(image, view, "image");
-    EXPECT_EQ(view.data, staging.data());
-    EXPECT_EQ(differingPixels(cv::Mat(image.rows, image.cols, CV_8UC1, staging.data()), toGrey8(image, "image")), 0);
+    // In row bands on the thread pool (the stereo matcher's for large images): the same pixels, the same memory;
+    // more bands than rows are as many bands as rows.
+    for (const int bands : {1, 3, 8, 10000}) {
+      std::fill(staging.begin(), staging.end(), 0);
+      cv::Mat view(image.rows, image.cols, CV_8UC1, staging.data());
+      convertToGrey8(image, view, "image", bands);
+      EXPECT_EQ(view.data, staging.data());
+      EXPECT_EQ(differingPixels(cv::Mat(image.rows, image.cols, CV_8UC1, staging.data()), toGrey8(image, "image")), 0)
+          << bands << " bands";
+    }
   }
   // A destination of another size is reallocated, as cv::Mat::create does.
   cv::Mat small(3, 3, CV_8UC1, staging.data());

@@ -8,6 +8,7 @@
 #include "Reconstruction/ReconstructionPipeline.h"
 #include "Reconstruction/TimingTable.h"
 #include "Stereo/DisparityRangeEstimator.h"
+#include "StereoTestUtilities.h"
 
 #include <gtest/gtest.h>
 
@@ -119,6 +120,40 @@ TEST(ReconstructionPipeline, TheAutomaticRangeIsMeasuredEveryFewFramesBesideThem
   }
   EXPECT_EQ(runs[0], runs[1]);
   EXPECT_NE(runs[0].front(), runs[0].back()) << "the approach should have moved the range";
+}
+
+TEST(ReconstructionPipeline, WithoutTheFrameDisparityTheSameFramesGiveTheSameResults) {
+  // `reconstruct` and the benchmark keep no per-frame map (setFrameDisparityKept(false)): the surface of a key frame
+  // is then measured from the matcher's own map. Poses and model must be those of a pipeline that downloads every
+  // map, and the map must still come on demand.
+  synthetic::SyntheticScanOptions options;
+  options.width = 320;
+  options.height = 180;
+  options.frames = 12;
+  options.supersampling = 1;
+  const synthetic::SyntheticScan scan(options);
+  ReconstructionPipeline kept(scan.geometry(), ReconstructionParameters{}, Device::Cpu, scan.T_world_camera(0));
+  ReconstructionPipeline notKept(scan.geometry(), ReconstructionParameters{}, Device::Cpu, scan.T_world_camera(0));
+  notKept.setFrameDisparityKept(false);
+  EXPECT_THROW(notKept.downloadLastDisparity(), Error);
+  int keyFrames = 0;
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
+    const FrameResult a = kept.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    const FrameResult b = notKept.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    ASSERT_FALSE(a.disparityPx.empty());
+    EXPECT_TRUE(b.disparityPx.empty()) << "frame " << k;
+    EXPECT_TRUE(test::sameDisparity(a.disparityPx, notKept.downloadLastDisparity())) << "frame " << k;
+    ASSERT_EQ(a.keyFrame, b.keyFrame) << "frame " << k;
+    EXPECT_TRUE(a.T_world_camera == b.T_world_camera) << "frame " << k;
+    keyFrames += a.keyFrame;
+  }
+  EXPECT_GE(keyFrames, 2);
+  const ModelPoints fromKept = kept.modelSnapshot(), fromNotKept = notKept.modelSnapshot();
+  ASSERT_GT(fromKept.size(), 10000u);
+  ASSERT_EQ(fromKept.size(), fromNotKept.size());
+  EXPECT_EQ(fromKept.cloud.pointsMm, fromNotKept.cloud.pointsMm);
+  EXPECT_EQ(fromKept.cloud.colorsRgb, fromNotKept.cloud.colorsRgb);
 }
 
 TEST(ReconstructionPipeline, RefusesMismatchedFrames) {

@@ -7,12 +7,14 @@
 #include "Core/Buffer.h"
 #include "Stereo/StereoMatcher.h"
 #include "Stereo/StereoPipeline.h"
+#include "Tracking/StereoFeatures.h"
 #include "SyntheticStereoScene.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <tuple>
 #include <random>
 #include <vector>
@@ -105,6 +107,42 @@ TEST(StereoCuda, MatchesCpuBitForBitWithHighlights) {
     EXPECT_GT(cpuCounts.highlight, 0) << what;
     EXPECT_EQ(cpuCounts.json(), gpuCounts.json()) << what;
   }
+}
+
+TEST(StereoCuda, SamplesTheTrackingDisparityWhereItLiesLikeTheHost) {
+  // The pipeline lifts the tracker's features with samples taken on the GPU instead of downloading the map: the
+  // same floats as the host rule on the same map, at sub-pixel points, halves, pixel centres, next to holes and
+  // highlights, on the border and outside the image.
+  if (!requireCuda()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  synthetic::SyntheticStereoOptions options;
+  options.lighting = synthetic::SyntheticLighting::Realistic;  // highlights: NaN neighbourhoods in the map
+  const auto pair = synthetic::renderSyntheticStereoPair(options);
+  StereoMatcher gpu(Device::Cuda, StereoParameters{});
+  gpu.match(pair.leftRectified, pair.rightRectified);
+  const cv::Mat map = gpu.lastDisparityAwayFromHighlights();
+  std::mt19937 random(5);
+  std::uniform_real_distribution<float> x(-3.0f, map.cols + 3.0f), y(-3.0f, map.rows + 3.0f);
+  std::vector<cv::Point2f> points;
+  for (int i = 0; i < 20000; ++i) points.emplace_back(x(random), y(random));
+  for (int i = 0; i < 2000; ++i) points.emplace_back(std::floor(x(random)) + 0.5f, std::floor(y(random)) + 0.5f);
+  for (int i = 0; i < 2000; ++i) points.emplace_back(std::floor(x(random)), std::floor(y(random)));
+  for (const cv::Point2f corner : {cv::Point2f(0, 0), cv::Point2f(map.cols - 1.0f, map.rows - 1.0f),
+                                   cv::Point2f(map.cols - 0.5f, 3.2f), cv::Point2f(-0.5f, -0.5f)}) {
+    points.push_back(corner);
+  }
+  const std::vector<float> onDevice = gpu.sampleLastDisparityAwayFromHighlights(points);
+  const std::vector<float> onHost = sampleDisparityMap(map, map.size(), points);
+  ASSERT_EQ(onDevice.size(), points.size());
+  long different = 0, missing = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    different += std::memcmp(&onDevice[i], &onHost[i], sizeof(float)) != 0;
+    missing += std::isnan(onHost[i]);
+  }
+  std::printf("%zu samples: %ld without an estimate, %ld differing\n", points.size(), missing, different);
+  EXPECT_EQ(different, 0);
+  EXPECT_GT(missing, 100) << "outside points and highlight neighbourhoods must be among them";
+  EXPECT_LT(missing, static_cast<long>(points.size() / 2));
+  EXPECT_TRUE(gpu.sampleLastDisparityAwayFromHighlights({}).empty());
 }
 
 TEST(StereoCuda, HighlightSeedsMatchCpu) {

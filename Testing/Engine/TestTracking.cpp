@@ -208,12 +208,15 @@ TEST(FrameTracker, AsksForTheDisparityOncePerFrameAndTracksTheSame) {
   disparities[2] = cv::Mat(lefts[0].size(), CV_32F, cv::Scalar(std::nanf("")));
   for (int k = 0; k < scan.frameCount(); ++k) {
     int calls = 0;
+    std::size_t pointsAsked = 0;
     const TrackResult a = given.track(lefts[k], disparities[k]);
-    const TrackResult b = asked.track(lefts[k], [&] {
+    const TrackResult b = asked.track(lefts[k], [&](const std::vector<cv::Point2f>& pointsPx) {
       ++calls;
-      return disparities[k];
+      pointsAsked = pointsPx.size();
+      return sampleDisparityMap(disparities[k], disparities[k].size(), pointsPx);
     });
     EXPECT_EQ(calls, 1) << "frame " << k;
+    EXPECT_EQ(pointsAsked, asked.lastFeatures().keypoints.size()) << "frame " << k << ": the disparity at each feature";
     EXPECT_EQ(a.tracked, b.tracked) << "frame " << k;
     EXPECT_EQ(b.tracked, k != 2) << "frame " << k << ": " << b.failureReason;
     EXPECT_EQ(a.keyFrame, b.keyFrame);
@@ -228,7 +231,12 @@ TEST(FrameTracker, AsksForTheDisparityOncePerFrameAndTracksTheSame) {
     }
   }
   // The stage computing the disparity failed: its error reaches the caller.
-  EXPECT_THROW(asked.track(lefts[3], []() -> cv::Mat { throw Error("stereo failed"); }), Error);
+  EXPECT_THROW(asked.track(lefts[3], [](const std::vector<cv::Point2f>&) -> std::vector<float> {
+                 throw Error("stereo failed");
+               }), Error);
+  // A source that samples too few points is misuse, not a silent lift of the wrong features.
+  EXPECT_THROW(asked.track(lefts[3], [](const std::vector<cv::Point2f>&) { return std::vector<float>(3, 20.0f); }),
+               Error);
 }
 
 TEST(FrameTracker, RefusesAStartPoseThatIsNotARigidTransform) {

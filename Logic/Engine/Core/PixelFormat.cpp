@@ -1,8 +1,11 @@
 #include "Core/PixelFormat.h"
 
 #include "Core/Error.h"
+#include "Core/ParallelFor.h"
 
 #include <opencv2/imgproc.hpp>
+
+#include <algorithm>
 
 namespace tissuemosaic {
 
@@ -29,10 +32,20 @@ cv::Mat toGrey8(const cv::Mat& image, const std::string& what) {
   return grey;
 }
 
-void convertToGrey8(const cv::Mat& image, cv::Mat& grey, const std::string& what) {
+void convertToGrey8(const cv::Mat& image, cv::Mat& grey, const std::string& what, int bands) {
   requireGrey8Convertible(image, what);
-  if (image.channels() == 1) image.copyTo(grey);
-  else cv::cvtColor(image, grey, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  grey.create(image.size(), CV_8UC1);  // keeps memory of that size and type: each band writes its rows in place
+  const auto convertRows = [&](int first, int end) {
+    const cv::Mat from = image.rowRange(first, end);
+    cv::Mat to = grey.rowRange(first, end);
+    if (image.channels() == 1) from.copyTo(to);
+    else cv::cvtColor(from, to, image.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+  };
+  bands = std::clamp(bands, 1, image.rows);
+  if (bands == 1) return convertRows(0, image.rows);
+  parallelFor<CpuBackend>(bands, [&](int64_t band) {
+    convertRows(static_cast<int>(band * image.rows / bands), static_cast<int>((band + 1) * image.rows / bands));
+  }, 1);
 }
 
 }  // namespace tissuemosaic

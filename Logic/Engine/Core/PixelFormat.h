@@ -21,6 +21,8 @@ void requireGrey8Convertible(const cv::Mat& image, const std::string& what);
 
 /// The same conversion into `grey`: when it already has the image's size and type CV_8UC1 (say, a view of a staging
 /// buffer) its memory is written, otherwise it is reallocated. Throws as toGrey8.
-void convertToGrey8(const cv::Mat& image, cv::Mat& grey, const std::string& what);
+/// `bands` > 1: the rows in that many bands on the thread pool (the same pixels: the conversion is per pixel). One
+/// thread converts about 10 GB/s of BGR, memory bound: 0.8 ms for a 1920x1080 image on an H100 host.
+void convertToGrey8(const cv::Mat& image, cv::Mat& grey, const std::string& what, int bands = 1);
 
 }  // namespace tissuemosaic

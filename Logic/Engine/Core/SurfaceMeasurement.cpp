@@ -32,15 +32,16 @@ surface::Reprojection reprojectionOf(const RectifiedGeometry& geometry) {
   return reprojection;
 }
 
-SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
-                                  const RectifiedGeometry& geometry, Device device, int normalRadiusPx,
-                                  double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept) {
-  require(!disparityPx.empty() && disparityPx.type() == CV_32FC1, "measureSurface: the disparity map must be a non-empty CV_32FC1 image");
-  require(disparityPx.size() == geometry.imageSize,
-          "measureSurface: the disparity map is " + std::to_string(disparityPx.cols) + "x" +
-              std::to_string(disparityPx.rows) + " but the rectified images are " +
+namespace {
+
+/// The checks both entry points make on everything but the disparity.
+void requireSurfaceInputs(cv::Size disparitySize, const cv::Mat& leftRectified, const RectifiedGeometry& geometry,
+                          Device device, int normalRadiusPx, double maxDepthJumpMm) {
+  require(disparitySize == geometry.imageSize,
+          "measureSurface: the disparity map is " + std::to_string(disparitySize.width) + "x" +
+              std::to_string(disparitySize.height) + " but the rectified images are " +
               std::to_string(geometry.imageSize.width) + "x" + std::to_string(geometry.imageSize.height));
-  require(leftRectified.size() == disparityPx.size(),
+  require(leftRectified.size() == disparitySize,
           "measureSurface: the rectified left image and the disparity map must have the same size");
   require(leftRectified.depth() == CV_8U &&
               (leftRectified.channels() == 1 || leftRectified.channels() == 3 || leftRectified.channels() == 4),
@@ -50,24 +51,46 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
   require(normalRadiusPx >= 1, "measureSurface: normalRadiusPx must be at least 1");
   require(maxDepthJumpMm > 0, "measureSurface: maxDepthJumpMm must be positive");
   requireUsableDevice(device, "measureSurface on CUDA");
+}
 
-  const int width = disparityPx.cols, height = disparityPx.rows;
-  const surface::Reprojection reprojection = reprojectionOf(geometry);
+}  // namespace
 
+SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
+                                  const RectifiedGeometry& geometry, Device device, int normalRadiusPx,
+                                  double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept) {
+  require(!disparityPx.empty() && disparityPx.type() == CV_32FC1, "measureSurface: the disparity map must be a non-empty CV_32FC1 image");
+  requireSurfaceInputs(disparityPx.size(), leftRectified, geometry, device, normalRadiusPx, maxDepthJumpMm);
   const cv::Mat disparity = disparityPx.isContinuous() ? disparityPx : disparityPx.clone();
   Image<float> disparityImage;
+  {
+    profiling::ScopedTimer timer("host: surface measurement, disparity upload");
+    disparityImage = Image<float>(device, disparity.cols, disparity.rows);
+    disparityImage.buffer().upload(disparity.ptr<float>());
+  }
+  return measureSurface(disparityImage.view(), leftRectified, geometry, device, normalRadiusPx, maxDepthJumpMm,
+                        residence, kept);
+}
+
+SurfaceMeasurement measureSurface(ImageView<const float> disparityPx, const cv::Mat& leftRectified,
+                                  const RectifiedGeometry& geometry, Device device, int normalRadiusPx,
+                                  double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept) {
+  require(disparityPx.data != nullptr && disparityPx.width > 0 && disparityPx.height > 0,
+          "measureSurface: the disparity map is empty");
+  requireSurfaceInputs({disparityPx.width, disparityPx.height}, leftRectified, geometry, device, normalRadiusPx,
+                       maxDepthJumpMm);
+  const int width = disparityPx.width, height = disparityPx.height;
+  const surface::Reprojection reprojection = reprojectionOf(geometry);
+
   auto maps = std::make_shared<SurfaceMapsOnDevice>();
   Image<uint8_t> valid;
   {
-    profiling::ScopedTimer timer("host: surface measurement, allocation and disparity upload");
-    disparityImage = Image<float>(device, width, height);
+    profiling::ScopedTimer timer("host: surface measurement, allocation");
     maps->pointsCameraMm = Image<Float3>(device, width, height);
     maps->normalsCamera = Image<Float3>(device, width, height);
     valid = Image<uint8_t>(device, width, height);
-    disparityImage.buffer().upload(disparity.ptr<float>());
   }
   const auto measure = device == Device::Cuda ? surface::measureSurfaceCuda : surface::measureSurfaceCpu;
-  measure(disparityImage.view(), maps->pointsCameraMm.view(), maps->normalsCamera.view(), valid.view(), reprojection,
+  measure(disparityPx, maps->pointsCameraMm.view(), maps->normalsCamera.view(), valid.view(), reprojection,
           normalRadiusPx, static_cast<float>(maxDepthJumpMm), kept.lowestPx, kept.highestPx);
 
   profiling::ScopedTimer timer("host: surface measurement, download and colour");
@@ -81,11 +104,13 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
   measurement.validMask.create(height, width, CV_8U);
   valid.buffer().download(measurement.validMask.ptr<uint8_t>());
   measurement.validPixels = cv::countNonZero(measurement.validMask);
-  if (leftRectified.channels() == 3) measurement.colourBgr = leftRectified.clone();
+  // A BGR image is shared, not copied (6 MB a frame at 1920x1080): the measurement reads the caller's pixels.
+  if (leftRectified.channels() == 3 && leftRectified.isContinuous()) measurement.colourBgr = leftRectified;
+  else if (leftRectified.channels() == 3) measurement.colourBgr = leftRectified.clone();
   else cv::cvtColor(leftRectified, measurement.colourBgr, leftRectified.channels() == 1 ? cv::COLOR_GRAY2BGR : cv::COLOR_BGRA2BGR);
   if (device == Device::Cuda) {
     maps->colourBgr = Buffer<uint8_t>(device, measurement.colourBgr.total() * 3);
-    maps->colourBgr.upload(measurement.colourBgr.ptr<uint8_t>());  // continuous: cloned or converted above
+    maps->colourBgr.upload(measurement.colourBgr.ptr<uint8_t>());  // continuous: shared, cloned or converted above
     measurement.onDevice = std::move(maps);
   }
   return measurement;

@@ -79,8 +79,15 @@ surface::Reprojection reprojectionOf(const RectifiedGeometry& geometry);
 /// depth jumps by more than `maxDepthJumpMm`). Runs on `device`; on CUDA the maps also stay on the device
 /// (`onDevice`), and `residence` says whether they come to the host too. A disparity outside `kept` counts as
 /// missing (tested in the kernel: no masked copy of the disparity on the host). Throws Error on empty or mismatched
-/// inputs.
+/// inputs. colourBgr shares the left image's pixels when it is continuous BGR (a cv::Mat header, no copy).
 SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
+                                  const RectifiedGeometry& geometry, Device device, int normalRadiusPx = 2,
+                                  double maxDepthJumpMm = 2.0,
+                                  SurfaceMapResidence residence = SurfaceMapResidence::HostAndDevice,
+                                  DisparityRangePx kept = {});
+/// The same from a disparity map already in `device`'s memory (e.g. StereoMatcher::lastDisparityAwayFromHighlightsView
+/// on CUDA): nothing to upload. The map is read during the call only.
+SurfaceMeasurement measureSurface(ImageView<const float> disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx = 2,
                                   double maxDepthJumpMm = 2.0,
                                   SurfaceMapResidence residence = SurfaceMapResidence::HostAndDevice,

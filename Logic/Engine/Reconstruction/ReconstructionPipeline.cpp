@@ -68,6 +68,7 @@ struct ReconstructionPipeline::Impl {
   std::vector<KeyFramePose> keyFrames;
   std::size_t peakDeviceBytes = 0;
   std::string lastRefinementMessage;
+  bool frameDisparityKept = true;  ///< FrameResult::disparityPx filled
   // The workers come last, so that they stop before the members their tasks use are destroyed.
   BackgroundWorker worker;       ///< stereo beside tracking; the key frame's surface and ICP points beside matching
   BackgroundWorker modelWorker;  ///< samples the model beside the key frame's surface measurement
@@ -178,29 +179,38 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   // The tracker and fusion take the disparity without the pixels near a highlight (a highlight slides over the
   // tissue as the camera moves: features and points on it would mislead both); the frame's result keeps all of it.
   struct TimedDisparity {
-    cv::Mat disparityPx, awayFromHighlightsPx;
+    cv::Mat disparityPx;
     double milliseconds = 0;
     StereoTimingsMs parts;
   };
   PendingResult<TimedDisparity> stereo = s.worker.run([&] {
     const auto stereoStart = Clock::now();
     TimedDisparity computed;
-    computed.disparityPx = s.matcher.computeDisparity(result.leftRectified, result.rightRectified, &computed.parts);
-    computed.awayFromHighlightsPx = s.matcher.lastDisparityAwayFromHighlights();
+    s.matcher.match(result.leftRectified, result.rightRectified, &computed.parts);
+    if (s.frameDisparityKept) {
+      const auto downloadStart = Clock::now();
+      computed.disparityPx = s.matcher.downloadLastDisparity();
+      computed.parts.download = millisecondsSince(downloadStart);
+    }
     synchronize(s.device);  // nothing of this thread's left in flight when another thread takes over
     computed.milliseconds = millisecondsSince(stereoStart);
     return computed;
   });
-  cv::Mat trackingDisparityPx;
-  const auto takeDisparity = [&]() -> cv::Mat {
-    if (stereo.pending()) {
-      TimedDisparity computed = stereo.get();
-      result.disparityPx = computed.disparityPx;
-      trackingDisparityPx = computed.awayFromHighlightsPx;
-      result.timesMs.stereo = computed.milliseconds;
-      result.stereoPartsMs = computed.parts;
-    }
-    return trackingDisparityPx;
+  const auto waitForStereo = [&] {
+    if (!stereo.pending()) return;
+    TimedDisparity computed = stereo.get();
+    result.disparityPx = computed.disparityPx;
+    result.timesMs.stereo = computed.milliseconds;
+    result.stereoPartsMs = computed.parts;
+  };
+  // The tracker lifts its features with the disparity at their keypoints, sampled where the map lies.
+  double samplingMs = 0;
+  const auto sampleTrackingDisparity = [&](const std::vector<cv::Point2f>& pointsPx) {
+    waitForStereo();
+    const auto samplingStart = Clock::now();
+    std::vector<float> disparitiesPx = s.matcher.sampleLastDisparityAwayFromHighlights(pointsPx);
+    samplingMs = millisecondsSince(samplingStart);
+    return disparitiesPx;
   };
   // The model agreement at every pose the tracker solves (the frame's stereo, where it was computed, against the
   // model seen from the pose): the check that refuses a pose the model contradicts wholesale, and the quality signal.
@@ -222,8 +232,8 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     return cv::format("the model disagrees with the frame's depth at this pose (%.0f%% within 1 mm, median %.1f mm)",
                       100 * a.shareWithin1mm, a.medianDepthDifferenceMm);
   };
-  TrackResult track = s.tracker.track(result.leftRectified, FrameTracker::DisparitySource(takeDisparity), check);
-  takeDisparity();  // the tracker has taken it on every path that returns; this only guards that contract
+  TrackResult track = s.tracker.track(result.leftRectified, FrameTracker::DisparitySource(sampleTrackingDisparity), check);
+  waitForStereo();  // the tracker has waited on every path that returns; this only guards that contract
   if (!track.tracked) {
     // Frames since the last key frame are from before the loss: not the next key frame's bundle.
     s.refiner.clearIntermediateFrames();
@@ -247,9 +257,10 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
       }
     }
   }
-  result.timesMs.orbVoting = track.timesMs.orbVoting;
+  result.timesMs.orbVoting = track.timesMs.orbVoting + samplingMs;  // sampling is part of lifting the features
   result.timesMs.pnp = track.timesMs.pnp;
-  result.trackingPartsMs = {track.timesMs.extract, track.timesMs.match, track.timesMs.subPixel, track.timesMs.vote};
+  result.trackingPartsMs = {track.timesMs.extract + samplingMs, track.timesMs.match, track.timesMs.subPixel,
+                            track.timesMs.vote};
   result.tracked = track.tracked;
   result.status = !track.tracked ? FrameStatus::Lost : (track.relocalised ? FrameStatus::Relocalised : FrameStatus::Tracked);
   result.keyFrame = track.tracked && track.keyFrame;
@@ -294,7 +305,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
       SurfaceAndIcp prepared;
       const auto surfaceStart = Clock::now();
       prepared.measurement =
-          measureSurface(trackingDisparityPx, result.leftRectified, s.geometry, s.device,
+          measureSurface(s.matcher.lastDisparityAwayFromHighlightsView(), result.leftRectified, s.geometry, s.device,
                          s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
                          SurfaceMapResidence::DeviceOnly,  // refinement and fusion run on the same device
                          workingDisparityRange(s.geometry, s.parameters.fusion));
@@ -358,6 +369,8 @@ const std::vector<KeyFramePose>& ReconstructionPipeline::keyFrames() const { ret
 ModelPoints ReconstructionPipeline::modelSnapshot() const { return impl_->fusion.download(); }
 std::size_t ReconstructionPipeline::modelPointCount() const { return impl_->fusion.pointCount(); }
 std::size_t ReconstructionPipeline::peakDeviceBytes() const { return impl_->peakDeviceBytes; }
+void ReconstructionPipeline::setFrameDisparityKept(bool kept) { impl_->frameDisparityKept = kept; }
+cv::Mat ReconstructionPipeline::downloadLastDisparity() const { return impl_->matcher.downloadLastDisparity(); }
 const std::string& ReconstructionPipeline::lastRefinementMessage() const { return impl_->lastRefinementMessage; }
 const DisparityRangeHistory& ReconstructionPipeline::disparityRangeHistory() const {
   return impl_->disparityRange.history();

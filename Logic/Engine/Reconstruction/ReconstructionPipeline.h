@@ -92,7 +92,7 @@ struct FrameResult {
   StereoTimingsMs stereoPartsMs;        ///< the stereo stage's parts (its GPU stages in device time)
   TrackingPartsMs trackingPartsMs;
   cv::Mat leftRectified, rightRectified;  ///< 8-bit BGR
-  cv::Mat disparityPx;                    ///< CV_32F, NaN = none
+  cv::Mat disparityPx;                    ///< CV_32F, NaN = none; empty when the pipeline keeps none (setFrameDisparityKept)
   DisparityRange disparityRange;          ///< the range this frame was matched over
   /// Automatic range: milliseconds of the sparse left-right matching: the first frame's, before its stereo on the
   /// calling thread; later, every DisparityRangeEstimatorOptions::sampleEveryFrames-th frame is measured on a thread
@@ -144,6 +144,12 @@ public:
   const DisparityRangeHistory& disparityRangeHistory() const;
   /// One line, e.g. "auto: 64..95 px (first frame: 412 left-right matches)".
   std::string disparityRangeDescription() const;
+  /// Whether process() downloads the frame's disparity into FrameResult::disparityPx (default: yes). Callers that
+  /// neither show nor write it switch it off: on CUDA the map stays on the device (8 MB a frame at 1920x1080, 0.65 ms
+  /// of the stereo thread on an H100 host). downloadLastDisparity() still gives the last frame's on demand.
+  void setFrameDisparityKept(bool kept);
+  /// A host copy (CV_32F, NaN = none) of the last processed frame's disparity. Throws Error before the first frame.
+  cv::Mat downloadLastDisparity() const;
   /// What the last key frame's refinement did (for logs and the GUI).
   const std::string& lastRefinementMessage() const;
 

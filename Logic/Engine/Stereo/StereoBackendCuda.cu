@@ -2,6 +2,7 @@
 #include "Core/CudaRuntime.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
+#include "DisparitySampling.h"
 #include "StereoPipeline.inl"
 
 #include <cuda_runtime.h>
@@ -205,3 +206,24 @@ void runStereoPipelineCuda(StereoWorkspace& workspace, const StereoParameters& p
 }
 
 }  // namespace tissuemosaic::stereo
+
+namespace tissuemosaic {
+
+namespace {
+
+struct SampleDisparities {
+  ImageView<const float> disparityPx;
+  const float* pointsXyPx;
+  float* disparitiesPx;
+  TM_HOST_DEVICE void operator()(int64_t i) const {
+    disparitiesPx[i] = sampleDisparityPx(disparityPx, pointsXyPx[2 * i], pointsXyPx[2 * i + 1]);
+  }
+};
+
+}  // namespace
+
+void sampleDisparitiesCuda(ImageView<const float> disparityPx, const float* pointsXyPx, float* disparitiesPx, int count) {
+  parallelFor<CudaBackend>(count, SampleDisparities{disparityPx, pointsXyPx, disparitiesPx});
+}
+
+}  // namespace tissuemosaic

@@ -1,5 +1,6 @@
 // Built only without the CUDA backend: the CUDA entry points say so instead of running.
 #include "Core/Error.h"
+#include "DisparitySampling.h"
 #include "StereoPipeline.h"
 
 namespace tissuemosaic::stereo {
@@ -15,3 +16,11 @@ void runStereoPipelineCuda(StereoWorkspace&, const StereoParameters&, StereoTimi
 }
 
 }  // namespace tissuemosaic::stereo
+
+namespace tissuemosaic {
+
+void sampleDisparitiesCuda(ImageView<const float>, const float*, float*, int) {
+  throw Error("this build of TissueMosaic has no CUDA backend");
+}
+
+}  // namespace tissuemosaic

@@ -3,6 +3,7 @@
 #include "Core/Error.h"
 #include "Core/PixelFormat.h"
 #include "Core/Stopwatch.h"
+#include "DisparitySampling.h"
 #include "StereoPipeline.h"
 
 #include <algorithm>
@@ -61,6 +62,12 @@ AdCensusWorkspace::AdCensusWorkspace(Device device, int width, int height, int d
 
 namespace {
 
+/// From this many pixels an image is converted to grey in bands on the thread pool. At 1920x1080 the conversion of
+/// the pair took 1.6 ms of the stereo thread, the frame's critical path there (H100 host, 2026-11-26); at 960x540
+/// (0.4 ms) the tracking thread beside it is as long, and bands taken from it cost it as much as they saved.
+constexpr std::size_t kBandedGreyMinPixels = 1'000'000;
+constexpr int kGreyBands = 8;
+
 cv::Mat downloadDiscrete(const Image<int16_t>& image) {
   const std::vector<int16_t> values = image.buffer().toHost();
   cv::Mat result(image.height(), image.width(), CV_32F);
@@ -102,6 +109,25 @@ const StereoParameters& StereoMatcher::parameters() const { return impl_->parame
 
 cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
                                         StereoTimingsMs* timings, StereoExplanation* explanation) {
+  StereoTimingsMs local;
+  StereoTimingsMs& t = timings ? *timings : local;
+  match(leftRectified, rightRectified, &t, explanation);
+  const auto start = std::chrono::steady_clock::now();
+  cv::Mat disparity = downloadLastDisparity();
+  t.download = millisecondsSince(start);
+  return disparity;
+}
+
+cv::Mat StereoMatcher::downloadLastDisparity() const {
+  require(impl_->workspace != nullptr, "no disparity has been computed yet");
+  const Image<float>& smoothed = impl_->workspace->smoothed;
+  cv::Mat disparity(smoothed.height(), smoothed.width(), CV_32F);
+  smoothed.buffer().download(disparity.ptr<float>());
+  return disparity;
+}
+
+void StereoMatcher::match(const cv::Mat& leftRectified, const cv::Mat& rightRectified, StereoTimingsMs* timings,
+                          StereoExplanation* explanation) {
   const StereoParameters& p = impl_->parameters;
   require(leftRectified.size() == rightRectified.size(),
           "the left and right images differ in size (" + std::to_string(leftRectified.cols) + "x" +
@@ -129,13 +155,13 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
   // 8-bit grey: a quarter of the float image's bytes to upload; the pipeline widens it on the device. On CUDA each
   // image is converted into page-locked memory and its upload queued at once, so the left image travels while the
   // right one is converted, and the kernels queue behind both without the host waiting. The staging memory is
-  // written again only at the next call, after this one's blocking download.
+  // written again only at the next call, after this one has waited for the device (the stage clock's end).
   const bool cuda = impl_->device == Device::Cuda;
   const auto convertAndUpload = [&](const cv::Mat& image, Image<uint8_t>& grey, PinnedHostBuffer<uint8_t>& staging,
                                     const char* what) {
     auto start = std::chrono::steady_clock::now();
     cv::Mat hostGrey(image.rows, image.cols, CV_8UC1, cuda ? staging.data() : grey.buffer().data());
-    convertToGrey8(image, hostGrey, what);
+    convertToGrey8(image, hostGrey, what, image.total() >= kBandedGreyMinPixels ? kGreyBands : 1);
     t.grey += millisecondsSince(start);
     start = std::chrono::steady_clock::now();
     if (cuda) grey.buffer().uploadQueued(staging.data());  // page-locked: the copy runs while the host goes on
@@ -145,14 +171,9 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
   convertAndUpload(leftRectified, workspace->leftGrey, workspace->leftGreyStaging, "the left image");
   convertAndUpload(rightRectified, workspace->rightGrey, workspace->rightGreyStaging, "the right image");
 
+  t.download = 0;
   if (cuda) stereo::runStereoPipelineCuda(*workspace, p, t, explanation);
   else stereo::runStereoPipelineCpu(*workspace, p, t, explanation);
-
-  const auto start = std::chrono::steady_clock::now();
-  cv::Mat disparity(leftRectified.rows, leftRectified.cols, CV_32F);
-  workspace->smoothed.buffer().download(disparity.ptr<float>());
-  t.download = millisecondsSince(start);
-  return disparity;
 }
 
 cv::Mat StereoMatcher::lastZnccDisparity() const {
@@ -176,6 +197,28 @@ cv::Mat StereoMatcher::lastHighlightNeighbourhood() const {
   cv::Mat result(mask.height(), mask.width(), CV_8U);
   mask.buffer().download(result.ptr<uint8_t>());
   return result;
+}
+
+ImageView<const float> StereoMatcher::lastDisparityAwayFromHighlightsView() const {
+  require(impl_->workspace != nullptr, "no disparity has been computed yet");
+  return impl_->workspace->awayFromHighlights.view();
+}
+
+std::vector<float> StereoMatcher::sampleLastDisparityAwayFromHighlights(const std::vector<cv::Point2f>& pointsPx) const {
+  const ImageView<const float> map = lastDisparityAwayFromHighlightsView();
+  std::vector<float> disparitiesPx(pointsPx.size());
+  if (pointsPx.empty()) return disparitiesPx;
+  if (impl_->device == Device::Cpu) {
+    for (std::size_t i = 0; i < pointsPx.size(); ++i) disparitiesPx[i] = sampleDisparityPx(map, pointsPx[i].x, pointsPx[i].y);
+    return disparitiesPx;
+  }
+  static_assert(sizeof(cv::Point2f) == 2 * sizeof(float), "points are uploaded as x, y pairs");
+  const int count = static_cast<int>(pointsPx.size());
+  Buffer<float> points(Device::Cuda, 2 * pointsPx.size()), samples(Device::Cuda, pointsPx.size());
+  points.upload(&pointsPx[0].x);
+  sampleDisparitiesCuda(map, points.data(), samples.data(), count);
+  samples.download(disparitiesPx.data());
+  return disparitiesPx;
 }
 
 cv::Mat StereoMatcher::lastDisparityAwayFromHighlights() const {

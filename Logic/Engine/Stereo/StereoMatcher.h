@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 
 #include <memory>
+#include <vector>
 
 namespace tissuemosaic {
 
@@ -41,6 +42,13 @@ public:
   /// the stage timings of such a call include those waits.
   cv::Mat computeDisparity(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
                            StereoTimingsMs* timings = nullptr, StereoExplanation* explanation = nullptr);
+  /// computeDisparity without the download: the result stays where it was computed (lastDisparity(),
+  /// lastDisparityAwayFromHighlightsView()), for callers that read it there or take only part of it to the host
+  /// (8 MB a frame at 1920x1080). timings->download is 0.
+  void match(const cv::Mat& leftRectified, const cv::Mat& rightRectified, StereoTimingsMs* timings = nullptr,
+             StereoExplanation* explanation = nullptr);
+  /// A host copy (CV_32F) of the last call's disparity: what computeDisparity returned. Throws Error before the first call.
+  cv::Mat downloadLastDisparity() const;
 
   /// Intermediate results of the last call, for tests and the GUI: integer ZNCC winners (NaN where none),
   /// and the discrete disparities after outlier removal and hole filling.
@@ -61,6 +69,12 @@ public:
   /// tracking lifts its features with and that fusion takes its points from. Made by the matcher's device, so that
   /// one map comes down instead of the mask and a copy masked on the host.
   cv::Mat lastDisparityAwayFromHighlights() const;
+  /// The same map where it was computed (device memory on CUDA), valid as lastDisparity() is: what fusion's surface
+  /// measurement reads without an upload.
+  ImageView<const float> lastDisparityAwayFromHighlightsView() const;
+  /// That map at sub-pixel points of the left image (DisparitySampling.h's rule; NaN: none), sampled where it lies:
+  /// on CUDA the points go up and the samples come down (8 KB each way for 1000 features, not the 2-8 MB map).
+  std::vector<float> sampleLastDisparityAwayFromHighlights(const std::vector<cv::Point2f>& pointsPx) const;
 
   /// Matches later pairs over this range (between frames: never while computeDisparity runs). Throws Error for a
   /// range StereoParameters refuses. A range of the same count keeps the workspace (the cost volumes); another count

@@ -189,7 +189,10 @@ int FrameTracker::frameCount() const { return impl_->frames; }
 const FrameTrackerOptions& FrameTracker::options() const { return impl_->options; }
 
 TrackResult FrameTracker::track(const cv::Mat& leftRectified, const cv::Mat& disparityPx) {
-  return track(leftRectified, [&disparityPx] { return disparityPx; });
+  const cv::Size size = impl_->geometry.imageSize;
+  return track(leftRectified, [&disparityPx, size](const std::vector<cv::Point2f>& pointsPx) {
+    return sampleDisparityMap(disparityPx, size, pointsPx);
+  });
 }
 
 TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySource& disparityPx,
@@ -214,9 +217,9 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
   const auto liftWithDisparity = [&] {
     if (lifted) return;
     lifted = true;
-    const cv::Mat disparity = disparityPx();
+    const std::vector<float> disparities = disparityPx(keypointPositions(s.lastFeatures));
     const auto liftStart = std::chrono::steady_clock::now();
-    liftFeatures(s.lastFeatures, disparity, s.geometry);
+    liftFeatures(s.lastFeatures, disparities, s.geometry);
     result.featuresWithDepth = s.lastFeatures.withDepth;
     const double liftMs = millisecondsSince(liftStart);
     result.timesMs.extract += liftMs;

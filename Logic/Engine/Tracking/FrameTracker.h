@@ -92,9 +92,10 @@ public:
   /// Tracks the next frame: the rectified left image (8-bit grey or BGR) and its left-view disparity (CV_32F,
   /// NaN = none). Throws Error only for misuse (empty or mismatched images).
   TrackResult track(const cv::Mat& leftRectified, const cv::Mat& disparityPx);
-  /// Supplies the frame's disparity when the tracker needs it; it may block (e.g. on the stereo stage running on
-  /// another thread).
-  using DisparitySource = std::function<cv::Mat()>;
+  /// Supplies the frame's disparity at the given left-image points (its features; DisparitySampling.h's rule, NaN =
+  /// none) when the tracker needs it; it may block (e.g. on the stereo stage running on another thread), and it may
+  /// sample the map where it lies (the GPU) instead of taking it to the host.
+  using DisparitySource = std::function<std::vector<float>(const std::vector<cv::Point2f>& pointsPx)>;
   /// A check of a solved pose before it is taken (e.g. the model agreement): an empty string accepts it, a reason
   /// refuses it (the frame is then lost with that reason). Called after the frame's disparity was taken.
   using PoseCheck = std::function<std::string(const Eigen::Matrix4d& T_world_camera)>;

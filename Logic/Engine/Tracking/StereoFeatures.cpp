@@ -3,6 +3,7 @@
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
 #include "Core/PixelFormat.h"
+#include "Stereo/DisparitySampling.h"
 
 #include <cmath>
 #include <limits>
@@ -10,21 +11,6 @@
 namespace tissuemosaic {
 
 namespace {
-
-/// Disparity at a sub-pixel position: bilinear where the 4 neighbours are estimates, else the nearest pixel's.
-float sampleDisparity(const cv::Mat& disparity, const cv::Point2f& p) {
-  const int x0 = static_cast<int>(std::floor(p.x)), y0 = static_cast<int>(std::floor(p.y));
-  if (x0 >= 0 && y0 >= 0 && x0 + 1 < disparity.cols && y0 + 1 < disparity.rows) {
-    const float a = p.x - x0, b = p.y - y0;
-    const float d00 = disparity.at<float>(y0, x0), d01 = disparity.at<float>(y0, x0 + 1);
-    const float d10 = disparity.at<float>(y0 + 1, x0), d11 = disparity.at<float>(y0 + 1, x0 + 1);
-    const float d = (d00 * (1 - a) + d01 * a) * (1 - b) + (d10 * (1 - a) + d11 * a) * b;
-    if (std::isfinite(d)) return d;
-  }
-  const int x = cvRound(p.x), y = cvRound(p.y);
-  if (x < 0 || y < 0 || x >= disparity.cols || y >= disparity.rows) return std::numeric_limits<float>::quiet_NaN();
-  return disparity.at<float>(y, x);
-}
 
 FeatureDetector orbDetector(cv::ORB& orb) {
   return [&orb](const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
@@ -54,16 +40,40 @@ StereoFeatures detectFeatures(cv::ORB& orb, const cv::Mat& leftRectified) {
   return detectFeatures(orbDetector(orb), leftRectified);
 }
 
-void liftFeatures(StereoFeatures& features, const cv::Mat& disparityPx, const RectifiedGeometry& geometry) {
-  require(disparityPx.type() == CV_32FC1 && disparityPx.size() == features.grey.size(),
+std::vector<cv::Point2f> keypointPositions(const StereoFeatures& features) {
+  std::vector<cv::Point2f> positions;
+  positions.reserve(features.keypoints.size());
+  for (const cv::KeyPoint& k : features.keypoints) positions.push_back(k.pt);
+  return positions;
+}
+
+std::vector<float> sampleDisparityMap(const cv::Mat& disparityPx, cv::Size imageSize,
+                                      const std::vector<cv::Point2f>& pointsPx) {
+  require(disparityPx.type() == CV_32FC1 && disparityPx.size() == imageSize,
           "tracking: the disparity map must be CV_32F and of the left image's size");
+  const cv::Mat map = disparityPx.isContinuous() ? disparityPx : disparityPx.clone();
+  const ImageView<const float> view{map.ptr<float>(), map.cols, map.rows};
+  std::vector<float> samples;
+  samples.reserve(pointsPx.size());
+  for (const cv::Point2f& p : pointsPx) samples.push_back(sampleDisparityPx(view, p.x, p.y));
+  return samples;
+}
+
+void liftFeatures(StereoFeatures& features, const cv::Mat& disparityPx, const RectifiedGeometry& geometry) {
+  liftFeatures(features, sampleDisparityMap(disparityPx, features.grey.size(), keypointPositions(features)), geometry);
+}
+
+void liftFeatures(StereoFeatures& features, const std::vector<float>& disparityAtKeypointsPx,
+                  const RectifiedGeometry& geometry) {
+  require(disparityAtKeypointsPx.size() == features.keypoints.size(),
+          "tracking: one disparity sample per keypoint is needed to lift the features");
   profiling::ScopedTimer timer("host: features lift");
   const double nan = std::numeric_limits<double>::quiet_NaN();
   features.pointsCameraMm.assign(features.keypoints.size(), Eigen::Vector3d(nan, nan, nan));
   features.withDepth = 0;
   for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
     const cv::Point2f p = features.keypoints[i].pt;
-    const double d = sampleDisparity(disparityPx, p);
+    const double d = disparityAtKeypointsPx[i];
     if (!std::isfinite(d) || d + geometry.doffsPx <= 0) continue;
     const double z = geometry.depthMm(d);
     double x, y;

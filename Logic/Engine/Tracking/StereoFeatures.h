@@ -65,6 +65,16 @@ StereoFeatures detectFeatures(cv::ORB& orb, const cv::Mat& leftRectified);
 /// Lifts each feature with the disparity (CV_32F, NaN = none, of the features' image size) sampled bilinearly at
 /// the keypoint when its 4 neighbours have estimates, else at the nearest pixel; sets pointsCameraMm and withDepth.
 void liftFeatures(StereoFeatures& features, const cv::Mat& disparityPx, const RectifiedGeometry& geometry);
+/// The same from the disparity already sampled at each keypoint (DisparitySampling.h; NaN = none), e.g. where the
+/// map lies on the GPU. Throws Error unless there is one sample per keypoint.
+void liftFeatures(StereoFeatures& features, const std::vector<float>& disparityAtKeypointsPx,
+                  const RectifiedGeometry& geometry);
+/// The keypoints' positions, in order: the points to sample a disparity at for liftFeatures.
+std::vector<cv::Point2f> keypointPositions(const StereoFeatures& features);
+/// The disparity (CV_32F, NaN = none) at each point by DisparitySampling.h's rule. Throws Error unless the map is
+/// CV_32FC1 of `imageSize`.
+std::vector<float> sampleDisparityMap(const cv::Mat& disparityPx, cv::Size imageSize,
+                                      const std::vector<cv::Point2f>& pointsPx);
 
 /// detectFeatures, then liftFeatures: detects features on the (grey or BGR, 8-bit) rectified left image and lifts each with the disparity
 /// (CV_32F, NaN = none, same size) sampled bilinearly at the keypoint when its 4 neighbours have estimates, else at
