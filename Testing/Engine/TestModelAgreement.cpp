@@ -1,7 +1,8 @@
 // The model agreement (Fusion/ModelAgreement.h) and the motion evidence on analytic planes: a frame agrees with the
 // model it was fused into and its median difference follows its depth noise; a wrong pose collapses it; a model out
 // of view is not judged. Points that a frame contradicts by more than the threshold lose weight and leave; points
-// with something well in front of them (an instrument) do not; static points keep their weight.
+// with something well in front of them (an instrument) do not, unless fused once and seen through for long (a stereo
+// error behind the tissue); static points keep their weight.
 #include "FusionTestScene.h"
 
 #include "Core/Error.h"
@@ -241,13 +242,23 @@ TEST(ModelAgreement, WhatPassesInFrontIsNoEvidenceAndWithoutPenaltyNothingLeaves
   const double halfWidthMm = 0.5 * g.imageSize.width * 100.0 / g.focalPx;
   const double split = -0.5 * halfWidthMm;
 
-  // An instrument 10 mm in front of the left quarter: beyond the occlusion margin, so no point loses weight.
-  PointFusion fusion = fusedPlane(g, 1);
+  // An instrument 10 mm in front of the left quarter, held there: beyond the occlusion margin, so no point that two
+  // key frames agreed on loses weight (points fused once: ModelAgreement.AStereoErrorBehindTheTissue...).
+  PointFusion covered = fusedPlane(g, 2);
   const cv::Mat occluded = splitPlaneDisparity(g, identity, split, 90.0);
-  for (int frame = 0; frame < 3; ++frame) {
+  for (int frame = 0; frame < 3 * FusionParameters{}.seenThroughFrames; ++frame) {
+    const ModelAgreement a = covered.measureAgreement(occluded, identity, kStride);
+    EXPECT_EQ(covered.updateMotion(occluded, identity, a), 0);
+  }
+  for (const float weight : covered.download().weights) ASSERT_EQ(weight, 2.0f);
+  // One passing over points fused once: fewer frames than seenThroughFrames, no weight lost.
+  PointFusion fusion = fusedPlane(g, 1);
+  for (int frame = 0; frame + 1 < FusionParameters{}.seenThroughFrames; ++frame) {
     const ModelAgreement a = fusion.measureAgreement(occluded, identity, kStride);
     EXPECT_EQ(fusion.updateMotion(occluded, identity, a), 0);
   }
+  for (const float weight : fusion.download().weights) ASSERT_EQ(weight, 1.0f);
+  fusion = fusedPlane(g, 1);
   // Seen through: the left quarter now measured 3 mm behind the points (they float in free space). One such frame
   // is no more than a stereo outlier; the second in a row takes the weight of 1.
   const cv::Mat behind = splitPlaneDisparity(g, identity, split, 103.0);
@@ -271,6 +282,71 @@ TEST(ModelAgreement, WhatPassesInFrontIsNoEvidenceAndWithoutPenaltyNothingLeaves
   const ModelAgreement poor = doubtful.measureAgreement(mostlyMoved, identity, kStride);
   ASSERT_LT(poor.shareWithin1mm, FusionParameters{}.motionMinAgreementShare);
   for (int frame = 0; frame < 3; ++frame) EXPECT_EQ(doubtful.updateMotion(mostlyMoved, identity, poor), 0);
+}
+
+// A stereo error fused behind the tissue (here the left quarter of a one-key-frame model 10 mm too deep) is never
+// measured again where it lies: later frames see the tissue in front of it. Fused once and seen through for
+// seenThroughFrames frames in a row, it leaves without a marker, and the next key frame fuses the tissue in front;
+// one frame fewer (an instrument passing) costs nothing, nor does anything to a point two key frames agreed on.
+TEST(ModelAgreement, AStereoErrorBehindTheTissueLeavesOnceFramesKeepSeeingThroughIt) {
+  const RectifiedGeometry g = fusionGeometry();
+  const Eigen::Matrix4d identity = Eigen::Matrix4d::Identity();
+  const double halfWidthMm = 0.5 * g.imageSize.width * 100.0 / g.focalPx;
+  const double split = -0.5 * halfWidthMm;
+  const cv::Mat withError = splitPlaneDisparity(g, identity, split, 110.0);
+  const cv::Mat tissue = splitPlaneDisparity(g, identity, split, 100.0);
+  const SurfaceMeasurement withErrorSurface = measureSurface(withError, uniformImage(g), g, Device::Cpu);
+  const SurfaceMeasurement tissueSurface = measureSurface(tissue, uniformImage(g), g, Device::Cpu);
+  const FusionParameters parameters;
+  ASSERT_EQ(parameters.seenThroughFrames, 5);
+  const auto frames = [&](PointFusion& fusion, int count) {
+    for (int frame = 0; frame < count; ++frame) {
+      fusion.updateMotion(tissue, identity, fusion.measureAgreement(tissue, identity, kStride));
+    }
+  };
+  const auto pointsBehind = [&](const PointFusion& fusion) {
+    std::size_t n = 0;
+    for (const cv::Point3f& p : fusion.download().cloud.pointsMm) n += p.x < split - 0.5 && p.z > 105;
+    return n;
+  };
+
+  PointFusion fusion(g, parameters, Device::Cpu);
+  fusion.integrate(withErrorSurface, identity);
+  const std::size_t errors = pointsBehind(fusion);
+  ASSERT_GT(errors, 1000u);
+  // The tissue in front is not fused while the error is there (its pixels count as covered), but along the step.
+  EXPECT_LT(fusion.integrate(tissueSurface, identity).added, static_cast<int>(errors / 20));
+  PointFusion once(g, parameters, Device::Cpu);
+  once.integrate(withErrorSurface, identity);
+  frames(once, parameters.seenThroughFrames - 1);
+  EXPECT_EQ(pointsBehind(once), errors) << "seen through for fewer frames: an instrument passing";
+  frames(once, 1);
+  EXPECT_EQ(pointsBehind(once), 0u);
+  // No marker, so nothing keeps the tissue from being fused; markers only along the step's edge, where the
+  // measured depth lies nearer than the occlusion margin (ordinary motion evidence).
+  EXPECT_LT(once.movedTissueMarkerCount(), errors / 20);
+  EXPECT_GE(once.retiredMarkerCount() + once.movedTissueMarkerCount(), errors);
+  EXPECT_GT(once.retiredMarkerCount(), errors * 9 / 10);
+  const FusionStats fused = once.integrate(tissueSurface, identity);
+  std::size_t tissueThere = 0;
+  for (const cv::Point3f& p : once.download().cloud.pointsMm) tissueThere += p.x < split - 0.5 && std::abs(p.z - 100) < 1e-3;
+  std::printf("%zu points fused 10 mm behind the tissue left after %d frames; the next key frame added %d, %zu where "
+              "they were\n", errors, parameters.seenThroughFrames, fused.added, tissueThere);
+  EXPECT_GE(tissueThere, errors / 2);
+
+  // Two key frames agreed on the points (weight 2): no evidence from what lies in front.
+  PointFusion twice(g, parameters, Device::Cpu);
+  twice.integrate(withErrorSurface, identity);
+  twice.integrate(withErrorSurface, identity);
+  frames(twice, 3 * parameters.seenThroughFrames);
+  EXPECT_EQ(pointsBehind(twice), errors);
+  // seenThroughFrames 0: the error stays.
+  FusionParameters off;
+  off.seenThroughFrames = 0;
+  PointFusion kept(g, off, Device::Cpu);
+  kept.integrate(withErrorSurface, identity);
+  frames(kept, 3 * parameters.seenThroughFrames);
+  EXPECT_EQ(pointsBehind(kept), errors);
 }
 
 TEST(ModelAgreement, ParametersAreValidatedAndRoundTrip) {
@@ -297,8 +373,13 @@ TEST(ModelAgreement, ParametersAreValidatedAndRoundTrip) {
   fusion.markerRestFrames = -1;
   EXPECT_THROW(fusion.validate(), Error);
   fusion.markerRestFrames = 90;
+  fusion.seenThroughFrames = -1;
+  EXPECT_THROW(fusion.validate(), Error);
+  fusion.seenThroughFrames = 12;
   cv::FileStorage fusionOut(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
   fusion.write(fusionOut);
   cv::FileStorage fusionIn(fusionOut.releaseAndGetString(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  EXPECT_EQ(FusionParameters::read(fusionIn["fusion"]).markerRestFrames, 90);
+  const FusionParameters read = FusionParameters::read(fusionIn["fusion"]);
+  EXPECT_EQ(read.markerRestFrames, 90);
+  EXPECT_EQ(read.seenThroughFrames, 12);
 }

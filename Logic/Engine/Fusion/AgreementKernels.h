@@ -9,6 +9,8 @@
 #include "Core/SurfaceKernels.h"
 #include "FusionKernels.h"
 
+#include <cmath>
+
 namespace tissuemosaic::fusion {
 
 /// The agreement's histogram: |depth difference| in bins of kAgreementBinMm; the last bin holds everything beyond.
@@ -75,12 +77,22 @@ struct CompareWithModel {
 constexpr float kMotionEvidenceRate = 0.5f;
 constexpr float kMotionEvidenceToPenalise = 0.75f;
 
+/// The evidence rate at which `frames` seeing-through frames in a row, from no evidence, reach
+/// kMotionEvidenceToPenalise (1 - (1 - rate)^frames = 0.75, a little over so that float rounding does not need one
+/// frame more); 0 for 0 frames (off).
+inline float seenThroughEvidenceRate(int frames) {
+  if (frames <= 0) return 0.0f;
+  return static_cast<float>(1.0 - std::pow(1.0 - kMotionEvidenceToPenalise, 1.0 / frames) + 1e-4);
+}
+
 /// Per live model point seen by the frame (in front, inside the image, facing it, with a stereo depth at its
 /// pixel): the frame contradicts it when the measured depth r = z_measured - z_point lies beyond thresholdMm on
 /// either side, and its motion evidence rises; while the evidence is high, each contradicting frame takes `penalty`
 /// of its weight, and at 0 it leaves the model: it stays as a moved-tissue marker (kMovedTissueMarker). A
-/// measurement nearer than occlusionMarginMm in front of the point is something passing in front (an instrument):
-/// no evidence either way.
+/// measurement more than occlusionMarginMm in front of the point is something passing in front (an instrument):
+/// no evidence either way, except against a point fused once (weight 1), whose evidence such frames raise at
+/// seenThroughEvidenceRate: seen through that long, it is a stereo error fused behind the tissue (or tissue fused
+/// once and covered as long), and at weight 0 it retires at once (kRetiredMarker: it blocks no fusion).
 /// Per marker (markerRestFrames > 0): the frames in a row that measure its tissue back within thresholdMm of it, or
 /// all elsewhere, are counted (a frame of the other kind starts the count again). After markerRestFrames back at
 /// its place, the tissue has come back and rests: the marker is a live point again, with the weight of one
@@ -94,6 +106,7 @@ struct UpdateMotionEvidence {
   MeasuredDepth measured;
   float thresholdMm, occlusionMarginMm, penalty;
   int markerRestFrames;  ///< FusionSettings::markerRestFrames
+  float seenThroughEvidenceRate;  ///< FusionSettings::seenThroughEvidenceRate
   /// kAgreementCounters: kRemovedPoints, kRevivedMarkers and kRetiredMarkers count this pass's changes.
   int* counters;
 
@@ -110,21 +123,24 @@ struct UpdateMotionEvidence {
     const float depth = measured.depthMm(x, y);
     if (!(depth > 0)) return;
     const float r = depth - pc.z;
-    if (r < -occlusionMarginMm) return;
-    const bool contradicts = fabsf(r) > thresholdMm;
+    const bool seenThrough = r < -occlusionMarginMm;
+    if (seenThrough && !(live && positionWeight.w <= 1.0f && seenThroughEvidenceRate > 0.0f)) return;
+    const bool contradicts = seenThrough || fabsf(r) > thresholdMm;
     if (!live) {
       restMarker(index, positionWeight, normal, contradicts);
       return;
     }
     if (!contradicts && normal.w == 0.0f) return;  // nothing to record
-    normal.w = normal.w + kMotionEvidenceRate * ((contradicts ? 1.0f : 0.0f) - normal.w);
+    const float rate = seenThrough ? seenThroughEvidenceRate : kMotionEvidenceRate;
+    normal.w = normal.w + rate * ((contradicts ? 1.0f : 0.0f) - normal.w);
     model.normal[index] = normal;
     if (!contradicts || normal.w < kMotionEvidenceToPenalise) return;
     positionWeight.w = positionWeight.w > penalty ? positionWeight.w - penalty : 0.0f;
     model.positionWeight[index] = positionWeight;
     if (isLive(positionWeight)) return;
-    model.normal[index] = {normal.x, normal.y, normal.z, kMovedTissueMarker};
+    model.normal[index] = {normal.x, normal.y, normal.z, seenThrough ? kRetiredMarker : kMovedTissueMarker};
     atomicAddInt(counters + kRemovedPoints, 1);
+    if (seenThrough) atomicAddInt(counters + kRetiredMarkers, 1);
   }
 
   TM_HOST_DEVICE void restMarker(int64_t index, Float4 positionWeight, Float4 normal, bool contradicts) const {

@@ -117,6 +117,9 @@ struct FusionSettings {
   /// A marker whose tissue this many measuring frames in a row put back at its place is live again (weight 1); one
   /// whose tissue they all put elsewhere is retired (kRetiredMarker). 0: markers stay for good.
   int markerRestFrames;
+  /// How far each frame that sees through a point of weight 1 (measures occluderMarginMm or more in front of it)
+  /// moves its motion evidence toward 1 (seenThroughEvidenceRate(FusionParameters::seenThroughFrames)). 0: off.
+  float seenThroughEvidenceRate;
   /// A measurement within this distance (along the ray) of a moved-tissue marker is not fused. 0: off.
   float movedTissueRadiusMm;
 };

@@ -33,6 +33,7 @@ void FusionParameters::validate() const {
   kFusion.requireRange("occlusionMarginMm", occlusionMarginMm, 0.0, 1000.0);
   kFusion.requireRange("movedTissueRadiusMm", movedTissueRadiusMm, 0.0, 1000.0);
   kFusion.requireRange("markerRestFrames", markerRestFrames, 0, 1000000);  // counted in a float: exact to 2^24
+  kFusion.requireRange("seenThroughFrames", seenThroughFrames, 0, 1000);
   kFusion.requireRange("motionMinAgreementShare", motionMinAgreementShare, 0.0, 1.0);
 }
 
@@ -46,7 +47,8 @@ void FusionParameters::write(cv::FileStorage& storage) const {
   storage << "normalRadiusPx" << normalRadiusPx << "maxDepthJumpMm" << maxDepthJumpMm;
   storage << "motionPenalty" << motionPenalty << "motionMinThresholdMm" << motionMinThresholdMm;
   storage << "motionNoiseFactor" << motionNoiseFactor << "occlusionMarginMm" << occlusionMarginMm
-          << "movedTissueRadiusMm" << movedTissueRadiusMm << "markerRestFrames" << markerRestFrames;
+          << "movedTissueRadiusMm" << movedTissueRadiusMm << "markerRestFrames" << markerRestFrames
+          << "seenThroughFrames" << seenThroughFrames;
   storage << "motionMinAgreementShare" << motionMinAgreementShare;
   storage << "}";
 }
@@ -74,6 +76,7 @@ FusionParameters FusionParameters::read(const cv::FileNode& node) {
   kFusion.readKey(node, "occlusionMarginMm", p.occlusionMarginMm);
   kFusion.readKey(node, "movedTissueRadiusMm", p.movedTissueRadiusMm);
   kFusion.readKey(node, "markerRestFrames", p.markerRestFrames);
+  kFusion.readKey(node, "seenThroughFrames", p.seenThroughFrames);
   kFusion.readKey(node, "motionMinAgreementShare", p.motionMinAgreementShare);
   p.validate();
   return p;

@@ -122,6 +122,7 @@ int updateMotionOn(FusionModel& model, const FramePose& pose, const FusionSettin
   parallelFor<Backend>(static_cast<int64_t>(model.count),
                        UpdateMotionEvidence{model.store.arrays(), pose, settings.camera, measured, thresholdMm,
                                             occlusionMarginMm, penalty, settings.markerRestFrames,
+                                            settings.seenThroughEvidenceRate,
                                             model.agreementCounters.data()});
   int head[kHistogramStart] = {};
   model.agreementCounters.downloadPart(head, kHistogramStart);

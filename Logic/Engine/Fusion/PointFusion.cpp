@@ -73,6 +73,7 @@ fusion::FusionSettings fusionSettings(const RectifiedGeometry& geometry, const F
   s.occluderMarginMm = p.motionPenalty > 0 ? static_cast<float>(p.occlusionMarginMm) : 0.0f;
   s.movedTissueRadiusMm = p.motionPenalty > 0 ? static_cast<float>(p.movedTissueRadiusMm) : 0.0f;
   s.markerRestFrames = p.markerRestFrames;
+  s.seenThroughEvidenceRate = p.motionPenalty > 0 ? fusion::seenThroughEvidenceRate(p.seenThroughFrames) : 0.0f;
   return s;
 }
 

@@ -68,6 +68,12 @@ namespace {
 constexpr std::size_t kBandedGreyMinPixels = 1'000'000;
 constexpr int kGreyBands = 8;
 
+cv::Mat downloadMap(const Image<float>& image) {
+  cv::Mat result(image.height(), image.width(), CV_32F);
+  image.buffer().download(result.ptr<float>());
+  return result;
+}
+
 cv::Mat downloadDiscrete(const Image<int16_t>& image) {
   const std::vector<int16_t> values = image.buffer().toHost();
   cv::Mat result(image.height(), image.width(), CV_32F);
@@ -120,10 +126,7 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& leftRectified, const cv::
 
 cv::Mat StereoMatcher::downloadLastDisparity() const {
   require(impl_->workspace != nullptr, "no disparity has been computed yet");
-  const Image<float>& smoothed = impl_->workspace->smoothed;
-  cv::Mat disparity(smoothed.height(), smoothed.width(), CV_32F);
-  smoothed.buffer().download(disparity.ptr<float>());
-  return disparity;
+  return downloadMap(impl_->workspace->smoothed);
 }
 
 void StereoMatcher::match(const cv::Mat& leftRectified, const cv::Mat& rightRectified, StereoTimingsMs* timings,
@@ -223,10 +226,7 @@ std::vector<float> StereoMatcher::sampleLastDisparityAwayFromHighlights(const st
 
 cv::Mat StereoMatcher::lastDisparityAwayFromHighlights() const {
   require(impl_->workspace != nullptr, "no disparity has been computed yet");
-  const Image<float>& kept = impl_->workspace->awayFromHighlights;
-  cv::Mat result(kept.height(), kept.width(), CV_32F);
-  kept.buffer().download(result.ptr<float>());
-  return result;
+  return downloadMap(impl_->workspace->awayFromHighlights);
 }
 
 }  // namespace tissuemosaic
