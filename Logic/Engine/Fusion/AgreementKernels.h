@@ -90,9 +90,10 @@ inline float seenThroughEvidenceRate(int frames) {
 /// either side, and its motion evidence rises; while the evidence is high, each contradicting frame takes `penalty`
 /// of its weight, and at 0 it leaves the model: it stays as a moved-tissue marker (kMovedTissueMarker). A
 /// measurement more than occlusionMarginMm in front of the point is something passing in front (an instrument):
-/// no evidence either way, except against a point fused once (weight 1), whose evidence such frames raise at
-/// seenThroughEvidenceRate: seen through that long, it is a stereo error fused behind the tissue (or tissue fused
-/// once and covered as long), and at weight 0 it retires at once (kRetiredMarker: it blocks no fusion).
+/// no evidence either way, except against a point fused once (weight 1) behind the model's own nearest surface at
+/// its pixel when the frame measures that surface there: such frames raise its evidence at seenThroughEvidenceRate,
+/// and at weight 0 it retires at once (kRetiredMarker: it blocks no fusion). It is a stereo error fused behind the
+/// tissue; an instrument in front is nearer than the model's surface and gives no evidence.
 /// Per marker (markerRestFrames > 0): the frames in a row that measure its tissue back within thresholdMm of it, or
 /// all elsewhere, are counted (a frame of the other kind starts the count again). After markerRestFrames back at
 /// its place, the tissue has come back and rests: the marker is a live point again, with the weight of one
@@ -107,6 +108,8 @@ struct UpdateMotionEvidence {
   float thresholdMm, occlusionMarginMm, penalty;
   int markerRestFrames;  ///< FusionSettings::markerRestFrames
   float seenThroughEvidenceRate;  ///< FusionSettings::seenThroughEvidenceRate
+  /// ProjectToDepthKeys' z-buffer of the model at this pose (read only where seenThroughEvidenceRate > 0).
+  const uint64_t* depthKeys;
   /// kAgreementCounters: kRemovedPoints, kRevivedMarkers and kRetiredMarkers count this pass's changes.
   int* counters;
 
@@ -124,7 +127,10 @@ struct UpdateMotionEvidence {
     if (!(depth > 0)) return;
     const float r = depth - pc.z;
     const bool seenThrough = r < -occlusionMarginMm;
-    if (seenThrough && !(live && positionWeight.w <= 1.0f && seenThroughEvidenceRate > 0.0f)) return;
+    if (seenThrough && !(live && positionWeight.w <= 1.0f && seenThroughEvidenceRate > 0.0f &&
+                         measuresTheModelsFront(x, y, depth))) {
+      return;
+    }
     const bool contradicts = seenThrough || fabsf(r) > thresholdMm;
     if (!live) {
       restMarker(index, positionWeight, normal, contradicts);
@@ -141,6 +147,14 @@ struct UpdateMotionEvidence {
     model.normal[index] = {normal.x, normal.y, normal.z, seenThrough ? kRetiredMarker : kMovedTissueMarker};
     atomicAddInt(counters + kRemovedPoints, 1);
     if (seenThrough) atomicAddInt(counters + kRetiredMarkers, 1);
+  }
+
+  /// Whether the frame's depth at (x, y) is the model's own nearest surface there (within thresholdMm): then a point
+  /// behind it is seen through. Something passing in front (an instrument) is nearer than the model's front.
+  TM_HOST_DEVICE bool measuresTheModelsFront(int x, int y, float depth) const {
+    const uint64_t key = depthKeys[static_cast<int64_t>(y) * camera.width + x];
+    if (key == kEmptyDepthKey) return false;
+    return fabsf(depth - floatFromBits(static_cast<uint32_t>(key >> 32))) <= thresholdMm;
   }
 
   TM_HOST_DEVICE void restMarker(int64_t index, Float4 positionWeight, Float4 normal, bool contradicts) const {

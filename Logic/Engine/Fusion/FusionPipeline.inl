@@ -119,10 +119,16 @@ int updateMotionOn(FusionModel& model, const FramePose& pose, const FusionSettin
     model.agreementCounters = Buffer<int>(model.device, kAgreementCounters);
   }
   model.agreementCounters.setZero();
+  if (settings.seenThroughEvidenceRate > 0) {  // the model's z-buffer at this pose: its nearest surface per pixel
+    const ModelArrays arrays = model.store.arrays();
+    parallelFor<Backend>(static_cast<int64_t>(model.width) * model.height, ClearDepthKeys{model.depthKeys.data()});
+    parallelFor<Backend>(static_cast<int64_t>(model.count), ProjectToDepthKeys{arrays.positionWeight, arrays.normal, pose,
+                                                                               settings.camera, model.depthKeys.data()});
+  }
   parallelFor<Backend>(static_cast<int64_t>(model.count),
                        UpdateMotionEvidence{model.store.arrays(), pose, settings.camera, measured, thresholdMm,
                                             occlusionMarginMm, penalty, settings.markerRestFrames,
-                                            settings.seenThroughEvidenceRate,
+                                            settings.seenThroughEvidenceRate, model.depthKeys.data(),
                                             model.agreementCounters.data()});
   int head[kHistogramStart] = {};
   model.agreementCounters.downloadPart(head, kHistogramStart);
