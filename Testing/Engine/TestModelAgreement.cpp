@@ -41,6 +41,12 @@ PointFusion fusedPlane(const RectifiedGeometry& g, int times, const FusionParame
   return fusion;
 }
 
+/// Half the width (mm) of the plane Z = 100 seen from the identity pose.
+double halfViewWidthMm(const RectifiedGeometry& g) { return 0.5 * g.imageSize.width * 100.0 / g.focalPx; }
+
+/// The world x of the edge of the view's left quarter on that plane (splitPlaneDisparity's split).
+double leftQuarterEdgeMm(const RectifiedGeometry& g) { return -0.5 * halfViewWidthMm(g); }
+
 std::size_t pointsWithXBelow(const ModelPoints& model, double xMm) {
   std::size_t n = 0;
   for (const cv::Point3f& p : model.cloud.pointsMm) n += p.x < xMm;
@@ -99,8 +105,7 @@ TEST(ModelAgreement, PointsThatKeepMovingLeaveTheModelAndStillOnesStay) {
   PointFusion fusion = fusedPlane(g, 5);
   const Eigen::Matrix4d identity = Eigen::Matrix4d::Identity();
   const std::size_t before = fusion.pointCount();
-  const double halfWidthMm = 0.5 * g.imageSize.width * 100.0 / g.focalPx;
-  const double split = -0.5 * halfWidthMm;  // the left quarter of the view moves
+  const double split = leftQuarterEdgeMm(g);  // the left quarter of the view moves
   const std::size_t movingBefore = pointsWithXBelow(fusion.download(), split - 0.5);
   ASSERT_GT(movingBefore, before / 6);
 
@@ -146,8 +151,7 @@ TEST(ModelAgreement, PointsThatKeepMovingLeaveTheModelAndStillOnesStay) {
 TEST(ModelAgreement, TissueThatComesToRestIsFusedAgainAndBreathingTissueIsNot) {
   const RectifiedGeometry g = fusionGeometry();
   const Eigen::Matrix4d identity = Eigen::Matrix4d::Identity();
-  const double halfWidthMm = 0.5 * g.imageSize.width * 100.0 / g.focalPx;
-  const double split = -0.5 * halfWidthMm;
+  const double split = leftQuarterEdgeMm(g);
   const cv::Mat risen = splitPlaneDisparity(g, identity, split, 98.0);
   const cv::Mat still = splitPlaneDisparity(g, identity, split, 100.0);
   const SurfaceMeasurement stillSurface = measureSurface(still, uniformImage(g), g, Device::Cpu);
@@ -239,8 +243,7 @@ TEST(ModelAgreement, TissueThatComesToRestIsFusedAgainAndBreathingTissueIsNot) {
 TEST(ModelAgreement, WhatPassesInFrontIsNoEvidenceAndWithoutPenaltyNothingLeaves) {
   const RectifiedGeometry g = fusionGeometry();
   const Eigen::Matrix4d identity = Eigen::Matrix4d::Identity();
-  const double halfWidthMm = 0.5 * g.imageSize.width * 100.0 / g.focalPx;
-  const double split = -0.5 * halfWidthMm;
+  const double split = leftQuarterEdgeMm(g);
 
   // An instrument 10 mm in front of the left quarter, held there: beyond the occlusion margin, so no point that two
   // key frames agreed on loses weight (points fused once: ModelAgreement.AStereoErrorBehindTheTissue...).
@@ -278,7 +281,7 @@ TEST(ModelAgreement, WhatPassesInFrontIsNoEvidenceAndWithoutPenaltyNothingLeaves
   EXPECT_EQ(kept.pointCount(), count);
   // A frame that agrees too little with the model (its pose or the whole view may be off) gives no evidence.
   PointFusion doubtful = fusedPlane(g, 1);
-  const cv::Mat mostlyMoved = splitPlaneDisparity(g, identity, 0.8 * halfWidthMm, 103.0);
+  const cv::Mat mostlyMoved = splitPlaneDisparity(g, identity, 0.8 * halfViewWidthMm(g), 103.0);
   const ModelAgreement poor = doubtful.measureAgreement(mostlyMoved, identity, kStride);
   ASSERT_LT(poor.shareWithin1mm, FusionParameters{}.motionMinAgreementShare);
   for (int frame = 0; frame < 3; ++frame) EXPECT_EQ(doubtful.updateMotion(mostlyMoved, identity, poor), 0);
@@ -292,8 +295,7 @@ TEST(ModelAgreement, WhatPassesInFrontIsNoEvidenceAndWithoutPenaltyNothingLeaves
 TEST(ModelAgreement, AStereoErrorBehindTheTissueLeavesOnceFramesKeepSeeingThroughIt) {
   const RectifiedGeometry g = fusionGeometry();
   const Eigen::Matrix4d identity = Eigen::Matrix4d::Identity();
-  const double halfWidthMm = 0.5 * g.imageSize.width * 100.0 / g.focalPx;
-  const double split = -0.5 * halfWidthMm;
+  const double split = leftQuarterEdgeMm(g);
   const cv::Mat withError = splitPlaneDisparity(g, identity, split, 110.0);
   const cv::Mat tissue = splitPlaneDisparity(g, identity, split, 100.0);
   const cv::Mat instrument = splitPlaneDisparity(g, identity, split, 90.0);
