@@ -42,7 +42,9 @@ struct FusionModel {
   Buffer<uint8_t> colourBgr;        ///< 3 per pixel
   Buffer<uint8_t> covered;          ///< pixels an agreeing model point lands in or next to
   Buffer<int> flags, offsets;       ///< prefix-sum compaction (new pixels, sample cells)
-  Buffer<uint64_t> depthKeys;       ///< z-buffer of sampleVisible
+  Buffer<uint64_t> depthKeys;       ///< z-buffer at depthKeysPose (sampleVisible, the agreement, motion evidence)
+  FramePose depthKeysPose{};
+  bool depthKeysCurrent = false;    ///< depthKeys is the model's at depthKeysPose: no point changed since it was drawn
   Buffer<int> counters;             ///< [0] merged points
   Buffer<uint8_t> scanScratch;      ///< CUDA prefix-sum scratch
   Buffer<Float4> samplePositions, sampleNormals;  ///< sampleVisible's output

@@ -5,6 +5,7 @@
 #include "FusionPipeline.h"
 
 #include <algorithm>
+#include <cstring>
 #include <type_traits>
 
 namespace tissuemosaic::fusion {
@@ -34,6 +35,7 @@ void reserve(FusionModel& model, std::size_t needed, int maxPoints) {
 
 template <class Backend>
 IntegrateCounts integrateOn(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxPoints) {
+  model.depthKeysCurrent = false;  // points merge (move) and are added
   const int64_t pixels = static_cast<int64_t>(model.width) * model.height;
   const MeasurementView measurement = model.measurement();
   model.covered.setZero();
@@ -59,14 +61,24 @@ IntegrateCounts integrateOn(FusionModel& model, const FramePose& pose, const Fus
   return counts;
 }
 
+/// The model's z-buffer at `pose` (ProjectToDepthKeys) in model.depthKeys. Drawn again only when the pose or the
+/// model's points changed since it was last drawn: the motion evidence reads the one the frame's agreement drew.
+template <class Backend>
+void drawDepthKeys(FusionModel& model, const FramePose& pose, const PinholeCamera& camera) {
+  if (model.depthKeysCurrent && std::memcmp(&model.depthKeysPose, &pose, sizeof pose) == 0) return;
+  const ModelArrays arrays = model.store.arrays();
+  parallelFor<Backend>(static_cast<int64_t>(model.width) * model.height, ClearDepthKeys{model.depthKeys.data()});
+  parallelFor<Backend>(static_cast<int64_t>(model.count),
+                       ProjectToDepthKeys{arrays.positionWeight, arrays.normal, pose, camera, model.depthKeys.data()});
+  model.depthKeysPose = pose;
+  model.depthKeysCurrent = true;
+}
+
 template <class Backend>
 int sampleVisibleOn(FusionModel& model, const FramePose& pose, const FusionSettings& settings, int maxSamples) {
-  const int64_t pixels = static_cast<int64_t>(model.width) * model.height;
   if (model.count == 0 || maxSamples <= 0) return 0;
   ModelArrays arrays = model.store.arrays();
-  parallelFor<Backend>(pixels, ClearDepthKeys{model.depthKeys.data()});
-  parallelFor<Backend>(static_cast<int64_t>(model.count), ProjectToDepthKeys{arrays.positionWeight, arrays.normal, pose,
-                                                                             settings.camera, model.depthKeys.data()});
+  drawDepthKeys<Backend>(model, pose, settings.camera);
   // Visible pixels first, then the coarsest grid stride that keeps the samples within maxSamples.
   const auto flagGrid = [&](const SampleGrid& grid) {
     parallelFor<Backend>(grid.cellCount(), FlagGridSamples{model.depthKeys.data(), arrays.normal, grid, model.flags.data()});
@@ -97,15 +109,11 @@ int sampleVisibleOn(FusionModel& model, const FramePose& pose, const FusionSetti
 template <class Backend>
 std::vector<int> measureAgreementOn(FusionModel& model, const FramePose& pose, const FusionSettings& settings,
                                     const MeasuredDepth& measured, const AgreementGrid& grid) {
-  const int64_t pixels = static_cast<int64_t>(model.width) * model.height;
   if (model.agreementCounters.size() != static_cast<std::size_t>(kAgreementCounters)) {
     model.agreementCounters = Buffer<int>(model.device, kAgreementCounters);
   }
   model.agreementCounters.setZero();
-  const ModelArrays arrays = model.store.arrays();
-  parallelFor<Backend>(pixels, ClearDepthKeys{model.depthKeys.data()});
-  parallelFor<Backend>(static_cast<int64_t>(model.count), ProjectToDepthKeys{arrays.positionWeight, arrays.normal, pose,
-                                                                             settings.camera, model.depthKeys.data()});
+  drawDepthKeys<Backend>(model, pose, settings.camera);
   parallelFor<Backend>(grid.count(), CompareWithModel{measured, model.depthKeys.data(), grid,
                                                       model.agreementCounters.data()});
   return model.agreementCounters.toHost();
@@ -119,12 +127,8 @@ int updateMotionOn(FusionModel& model, const FramePose& pose, const FusionSettin
     model.agreementCounters = Buffer<int>(model.device, kAgreementCounters);
   }
   model.agreementCounters.setZero();
-  if (settings.seenThroughEvidenceRate > 0) {  // the model's z-buffer at this pose: its nearest surface per pixel
-    const ModelArrays arrays = model.store.arrays();
-    parallelFor<Backend>(static_cast<int64_t>(model.width) * model.height, ClearDepthKeys{model.depthKeys.data()});
-    parallelFor<Backend>(static_cast<int64_t>(model.count), ProjectToDepthKeys{arrays.positionWeight, arrays.normal, pose,
-                                                                               settings.camera, model.depthKeys.data()});
-  }
+  // The seen-through test reads the model's nearest surface per pixel at this pose.
+  if (settings.seenThroughEvidenceRate > 0) drawDepthKeys<Backend>(model, pose, settings.camera);
   parallelFor<Backend>(static_cast<int64_t>(model.count),
                        UpdateMotionEvidence{model.store.arrays(), pose, settings.camera, measured, thresholdMm,
                                             occlusionMarginMm, penalty, settings.markerRestFrames,
@@ -135,6 +139,7 @@ int updateMotionOn(FusionModel& model, const FramePose& pose, const FusionSettin
   model.markers += static_cast<std::size_t>(head[kRemovedPoints]);
   model.markers -= static_cast<std::size_t>(head[kRevivedMarkers]);
   model.retiredMarkers += static_cast<std::size_t>(head[kRetiredMarkers]);
+  if (head[kRemovedPoints] > 0 || head[kRevivedMarkers] > 0) model.depthKeysCurrent = false;  // points left or came back
   return head[kRemovedPoints];
 }
 
