@@ -22,10 +22,10 @@ TM_HOST_DEVICE TM_FORCE_INLINE Float3 cross(Float3 a, Float3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 TM_HOST_DEVICE TM_FORCE_INLINE float length(Float3 a) { return sqrtf(dot(a, a)); }
-/// True when every component is finite (NaN marks "no estimate" in measurement maps).
-TM_HOST_DEVICE TM_FORCE_INLINE bool isFinite(Float3 a) {
-  return fabsf(a.x) <= 3.402823466e38f && fabsf(a.y) <= 3.402823466e38f && fabsf(a.z) <= 3.402823466e38f;
-}
+/// True when the value is finite: NaN ("no estimate" in maps) and infinity fail the comparison.
+TM_HOST_DEVICE TM_FORCE_INLINE bool isFinite(float v) { return fabsf(v) <= 3.402823466e38f; }
+/// True when every component is finite.
+TM_HOST_DEVICE TM_FORCE_INLINE bool isFinite(Float3 a) { return isFinite(a.x) && isFinite(a.y) && isFinite(a.z); }
 TM_HOST_DEVICE TM_FORCE_INLINE Float3 nanFloat3() {
   const float nan = NAN;
   return {nan, nan, nan};

@@ -59,7 +59,7 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx,
                                   double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept) {
   require(!disparityPx.empty() && disparityPx.type() == CV_32FC1, "measureSurface: the disparity map must be a non-empty CV_32FC1 image");
-  requireSurfaceInputs(disparityPx.size(), leftRectified, geometry, device, normalRadiusPx, maxDepthJumpMm);
+  requireSurfaceInputs(disparityPx.size(), leftRectified, geometry, device, normalRadiusPx, maxDepthJumpMm);  // before any upload
   const cv::Mat disparity = disparityPx.isContinuous() ? disparityPx : disparityPx.clone();
   Image<float> disparityImage;
   {

@@ -57,13 +57,13 @@ struct FusionParameters {
   /// Breathing tissue passes its markers on every breath and leaves them as they are; 300 frames are 10 s at 30 fps,
   /// two breaths at least. 0: markers stay for good.
   int markerRestFrames = 300;
-  /// A point fused from one key frame only (weight 1) that this many frames in a row see through, their depth at
-  /// its pixel more than occlusionMarginMm in front of it, leaves the model and keeps nothing from being fused. A
-  /// stereo error fused behind the tissue is never measured again where it lies, and motion evidence reads a
-  /// measurement in front of a point as an instrument passing, so such errors stayed for good (1080p synthetic scan,
-  /// 120 frames: 1 798 points 5-63 mm behind the tissue made the model RMSE 0.80 mm against a p95 of 0.085). An
-  /// instrument passes over a point in fewer frames; tissue fused once and covered longer leaves too, and the next
-  /// key frame that sees it again fuses it afresh. 0: off.
+  /// A point fused from one key frame only (weight 1) that this many frames in a row see through leaves the model
+  /// and keeps nothing from being fused: their depth at its pixel lies more than occlusionMarginMm in front of it
+  /// and is the model's own nearest surface there. A stereo error fused behind the tissue is never measured again
+  /// where it lies, and motion evidence reads a measurement in front of a point as an instrument passing, so such
+  /// errors stayed for good (1080p synthetic scan, 120 frames: 1 798 points 5-63 mm behind the tissue made the model
+  /// RMSE 0.80 mm against a p95 of 0.085). An instrument in front is nearer than the model's surface and gives no such
+  /// evidence. 0: off.
   int seenThroughFrames = 5;
   /// Frames whose share of depths within 1 mm of the model is below this give no motion evidence (the pose or the
   /// whole view may be off).

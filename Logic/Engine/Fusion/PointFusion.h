@@ -61,7 +61,8 @@ public:
   std::size_t pointCount() const;
   /// Points that left the model by motion evidence and stay as moved-tissue markers (FusionParameters).
   std::size_t movedTissueMarkerCount() const;
-  /// Markers retired because their tissue came to rest elsewhere (FusionParameters::markerRestFrames).
+  /// Markers retired: their tissue came to rest elsewhere (FusionParameters::markerRestFrames), or they were points
+  /// fused once that frames saw through (FusionParameters::seenThroughFrames).
   std::size_t retiredMarkerCount() const;
   /// True once new points were refused for the budget (until reset()).
   bool budgetReached() const;

@@ -3,6 +3,7 @@
 /// @brief The disparity at a sub-pixel position of the left image, the one rule by which features are lifted to 3D:
 /// bilinear where the 4 neighbours are estimates, else the nearest pixel's (NaN there: none). Host and device
 /// (StereoMatcher::sampleLastDisparityAwayFromHighlights on CUDA) compute the same float.
+#include "Core/Float3.h"
 #include "Core/HostDevice.h"
 #include "Core/Image.h"
 
@@ -17,7 +18,7 @@ TM_HOST_DEVICE inline float sampleDisparityPx(ImageView<const float> disparityPx
     const float d00 = disparityPx.at(x0, y0), d01 = disparityPx.at(x0 + 1, y0);
     const float d10 = disparityPx.at(x0, y0 + 1), d11 = disparityPx.at(x0 + 1, y0 + 1);
     const float d = (d00 * (1 - a) + d01 * a) * (1 - b) + (d10 * (1 - a) + d11 * a) * b;
-    if (fabsf(d) <= 3.402823466e38f) return d;  // finite: NaN and infinity fail
+    if (isFinite(d)) return d;
   }
   const int xn = static_cast<int>(rintf(x)), yn = static_cast<int>(rintf(y));  // halves to even, as cvRound
   if (!disparityPx.contains(xn, yn)) return NAN;

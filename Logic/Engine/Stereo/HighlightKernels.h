@@ -210,7 +210,7 @@ struct DropHighlightFloat {
   ImageView<float> disparity;
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const float d = disparity[index];
-    if (!isFiniteValue(d)) return;
+    if (!isFinite(d)) return;
     int x, y;
     pixelCoordinates(index, disparity.width, x, y);
     if (disagreesWithHighlight(leftNear, rightNear, x, y, static_cast<int>(floorf(d + 0.5f)))) disparity[index] = NAN;

@@ -589,7 +589,7 @@ void ReselectDiscreteRows::consumeRow(int64_t firstIndex, const int64_t* boxSums
   for (int c = 0; c < columns; ++c) {
     const bool takesPart = ReselectDiscrete::takesPart(discrete[c], boxCounts[c]);
     const float corrected = correctedDisparity(current[c], boxSums[c], takesPart ? boxCounts[c] : 1);
-    const bool active = takesPart & isFiniteValue(corrected);
+    const bool active = takesPart & isFinite(corrected);
     current[c] = takesPart ? corrected : current[c];
     d[c] = takesPart ? corrected : 0.0f;
     const float centred = active ? corrected : 0.0f;  // both select arms are evaluated: no NaN to int

@@ -7,6 +7,7 @@
 /// derived from exact sums with the same IEEE operations on both backends (CUDA is built with -fmad=false), and
 /// the discrete steps (outliers, holes) work on integers: the CPU and CUDA paths agree bit for bit up to the
 /// refinement's floating-point averages, which also run in the same order on both.
+#include "Core/Float3.h"
 #include "Core/HostDevice.h"
 #include "Core/Image.h"
 
@@ -25,9 +26,6 @@ constexpr int16_t kNoDisparity = INT16_MIN;
 constexpr int16_t kNoZncc = INT16_MIN;
 constexpr float kZnccScale = 32000.0f;
 constexpr int kZnccMax = 32000;  ///< ZNCC = 1
-
-/// True for finite floats (NaN and infinities compare false), the same on host and device.
-TM_HOST_DEVICE TM_FORCE_INLINE bool isFiniteValue(float v) { return fabsf(v) <= 3.402823466e38f; }
 
 /// (x, y) of a pixel index with 32-bit arithmetic: images have fewer than 2^31 pixels, and a 64-bit division costs
 /// several times more on the CPU and is a long software routine on the GPU.
@@ -601,7 +599,7 @@ struct DropOutsideRightView {
   int windowRadiusPx;
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const float d = disparity[index];
-    if (!isFiniteValue(d)) return;
+    if (!isFinite(d)) return;
     int x, y;
     pixelCoordinates(index, disparity.width, x, y);
     const int xr = x - static_cast<int>(floorf(d + 0.5f));
@@ -739,7 +737,7 @@ struct ReselectDiscrete {
     pixelCoordinates(index, current.width, x, y);
     const float d = correctedDisparity(current[index], boxSum, boxCount);
     current[index] = d;
-    if (!isFiniteValue(d) || keepsFilledValue(x, y, discrete[index])) return;
+    if (!isFinite(d) || keepsFilledValue(x, y, discrete[index])) return;
     const int centre = centreIndex(d);
     float bestCost = INFINITY;
     int best = -1;
