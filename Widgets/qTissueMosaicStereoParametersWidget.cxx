@@ -60,6 +60,10 @@ const std::vector<Field>& fields() {
     {"leftRightMaxDifferencePx", "Left-right check", Matching, TM_PARAMETER_FIELD(StereoParameters, leftRightMaxDifferencePx), -1, 1000, 1, 0, " px",
      "Winners whose right-view winner disagrees by more than this are dropped (occlusions, fattened depth edges). "
      "-1 switches the check off. An addition to the paper."},
+    {"rangeEndMarginPx", "Range-end margin", Matching, TM_PARAMETER_FIELD(StereoParameters, rangeEndMarginPx), -1, 100, 1, 0, " px",
+     "Winners this close to either end of the disparity range are dropped: their match most likely lies beyond it "
+     "(an instrument nearer than the tissue the range follows). 0 drops the end candidates only; -1 switches it off. "
+     "An addition to the paper."},
     {"specularMarginPx", "Highlight margin", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMarginPx), 0, 20, 1, 0, " px",
      "Estimates within this distance of a highlight (the left pixel, or its match in the right eye) that disagree "
      "with the tissue around it are removed and refilled from that tissue. The margin follows the highlight's "

@@ -129,11 +129,12 @@ void runStereo(const StereoOptions& options) {
 
   if (options.explain) {
     writeExplanation(*options.explain, explanation, disparity, parameters);
-    std::printf("removed: outside the right image %ld, textureless window %ld, left-right check %ld, highlight %ld, "
-                "outlier sweeps %ld; hole filling gave back %ld, left %ld unfilled; written to %s\n",
-                explanation.outsideRightImage, explanation.texturelessWindow, explanation.leftRightCheck,
-                explanation.highlight, explanation.outlierSweeps, explanation.filledBack, explanation.notFilled,
-                options.explain->c_str());
+    std::printf("removed: outside the right image %ld, textureless window %ld, at the range's end %ld, left-right "
+                "check %ld, highlight %ld, outlier sweeps %ld; hole filling gave back %ld, left %ld unfilled; written "
+                "to %s\n",
+                explanation.outsideRightImage, explanation.texturelessWindow, explanation.rangeEnd,
+                explanation.leftRightCheck, explanation.highlight, explanation.outlierSweeps, explanation.filledBack,
+                explanation.notFilled, options.explain->c_str());
   }
   if (options.cloud) {
     const ColoredPointCloud cloud = disparityToPointCloud(disparity, left, geometry->rectified);
@@ -184,8 +185,8 @@ void setupStereo(CLI::App& tool) {
       ->group(heading::options);
   command->add_option("--explain", options->explain,
                       "write JSON: how many pixels each step removed (outside the right image, textureless window, "
-                      "left-right check, highlight, outlier sweeps), how many the hole filling gave back and how "
-                      "many it left unfilled (docs/STEREO.md)")
+                      "at the range's end, left-right check, highlight, outlier sweeps), how many the hole filling "
+                      "gave back and how many it left unfilled (docs/STEREO.md)")
       ->type_name("explain.json")
       ->group(heading::output);
   addDisparityRangeOptions(*command, options->range);

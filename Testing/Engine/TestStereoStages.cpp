@@ -157,6 +157,56 @@ TEST(StereoStages, ZnccFindsIntegerShiftOfTexture) {
   EXPECT_GT(checked, 9000);
 }
 
+TEST(StereoStages, WinnersNearTheRangesEndsAreDropped) {
+  // One winner per candidate of the range -3..6; the left-right check off.
+  const int minDisparity = -3, maxDisparity = 6, w = maxDisparity - minDisparity + 1;
+  Image<int16_t> winners = discreteImage(w, 1, 0);
+  for (int x = 0; x < w; ++x) winners.view().at(x, 0) = static_cast<int16_t>(minDisparity + x);
+  winners.view().at(4, 0) = kNoDisparity;
+  const Image<int16_t> right = discreteImage(w, 1, kNoDisparity);
+  for (const int margin : {-1, 0, 1, 2}) {
+    Image<int16_t> kept(Device::Cpu, w, 1);
+    parallelFor<CpuBackend>(w, KeepWinners{winners.view(), right.view(), kept.view(), minDisparity, maxDisparity,
+                                           margin, -1});
+    for (int x = 0; x < w; ++x) {
+      const int16_t d = winners.view().at(x, 0);
+      const bool nearEnd = margin >= 0 && (x <= margin || w - 1 - x <= margin);
+      EXPECT_EQ(kept.view().at(x, 0), nearEnd ? kNoDisparity : d) << "margin " << margin << ", d " << d;
+    }
+  }
+}
+
+TEST(StereoStages, ASurfaceBeyondTheRangeLeavesNoEstimateAtItsEnd) {
+  // A smooth texture (as tissue or an instrument's shaft): its correlation falls off with the distance from the true
+  // shift, so over a range that stops short of a band's true disparity the best candidate is the range's end, in
+  // every pixel of the band. The band (rows 40..79) lies at 23 px, beyond the range 0..20; the rest at 7 px.
+  const int width = 200, height = 120;
+  const cv::Mat left = test::randomTexture(width, height, 5, 3.0);
+  cv::Mat right = test::shiftedView(left, 7);
+  test::shiftedView(left, 23).rowRange(40, 80).copyTo(right.rowRange(40, 80));
+  const auto endEstimates = [&](int marginPx, int& atEnd, int& elsewhere) {
+    StereoParameters parameters;
+    parameters.minDisparityPx = 0;
+    parameters.maxDisparityPx = 20;
+    parameters.rangeEndMarginPx = marginPx;
+    StereoMatcher matcher(Device::Cpu, parameters);
+    const cv::Mat disparity = matcher.computeDisparity(left, right);
+    atEnd = elsewhere = 0;
+    for (int y = 50; y < 70; ++y) {  // the band's rows whose windows and radii stay inside it
+      for (int x = 60; x < width - 20; ++x) {
+        const float d = disparity.at<float>(y, x);
+        if (std::isfinite(d) && d >= 18.0f) ++atEnd;
+        if (std::isfinite(d) && d < 18.0f) ++elsewhere;
+      }
+    }
+  };
+  int atEnd = 0, elsewhere = 0;
+  endEstimates(-1, atEnd, elsewhere);
+  EXPECT_GT(atEnd, 1000) << "without the rule the band sits at the range's end";
+  endEstimates(1, atEnd, elsewhere);
+  EXPECT_EQ(atEnd, 0);
+}
+
 TEST(StereoStages, OutlierRemovalDropsSpikeKeepsSlopeAndStep) {
   const int w = 60, h = 40;
   Image<int16_t> input = discreteImage(w, h, 0);

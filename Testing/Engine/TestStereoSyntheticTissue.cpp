@@ -3,11 +3,16 @@
 #include "Core/StereoRig.h"
 #include "StereoTestUtilities.h"
 #include "Stereo/StereoMatcher.h"
+#include "SyntheticScan.h"
 #include "SyntheticStereoScene.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <string>
+#include <vector>
 
 using namespace tissuemosaic;
 
@@ -59,4 +64,53 @@ TEST(StereoSyntheticTissue, RawPairRectifiedFromCalibrationAgainstGroundTruth) {
   std::printf("raw pair rectified: density %.4f bad-1 %.4f bad-2 %.4f mean abs error %.3f px\n", score.density,
               score.badOver1, score.badOver2, score.meanAbsError);
   EXPECT_EQ(missedBars(score, 0.0007, 0.126), "");
+}
+
+// An instrument's shaft nearer the scope than a range that follows the tissue (the hard-mode scan of
+// docs/SCENE_MOTION.md, frame 90, where the shaft spans 59-92 px and the tissue 48-56): without the range-end rule
+// its pixels take the range's top, the same in every frame, and the fusion took them for a floating surface.
+TEST(StereoSyntheticTissue, AnInstrumentNearerThanTheRangeIsNotPutAtTheRangesEnd) {
+  synthetic::SyntheticScanOptions options;
+  options.frames = 300;
+  options.seed = 3;
+  options.supersampling = 1;
+  options.hardMode.breathingAmplitudeMm = 2;
+  options.hardMode.instruments = 2;
+  const synthetic::SyntheticScan scan(options);
+  const synthetic::SyntheticScanFrame frame = scan.renderFrame(90);
+  ASSERT_GT(cv::countNonZero(frame.instrumentMask), 20000);
+  // The range follows the tissue: its 2 % .. 98 % disparities, widened by 4 px each way.
+  std::vector<float> tissue;
+  for (int y = 0; y < frame.disparityPx.rows; ++y)
+    for (int x = 0; x < frame.disparityPx.cols; ++x)
+      if (frame.instrumentMask.at<uint8_t>(y, x) == 0 && std::isfinite(frame.disparityPx.at<float>(y, x)))
+        tissue.push_back(frame.disparityPx.at<float>(y, x));
+  std::sort(tissue.begin(), tissue.end());
+  StereoParameters parameters;
+  parameters.minDisparityPx = static_cast<int>(std::floor(tissue[tissue.size() / 50])) - 4;
+  parameters.maxDisparityPx = static_cast<int>(std::ceil(tissue[tissue.size() * 49 / 50])) + 4;
+  // Instrument pixels given a value within 2 px of the range's top, and tissue pixels more than 3 px off.
+  const auto count = [&](int marginPx, int& instrumentAtTop, int& tissueOff) {
+    parameters.rangeEndMarginPx = marginPx;
+    StereoMatcher matcher(Device::Cpu, parameters);
+    const cv::Mat disparity = matcher.computeDisparity(frame.leftRectified, frame.rightRectified);
+    instrumentAtTop = tissueOff = 0;
+    for (int y = 0; y < disparity.rows; ++y) {
+      for (int x = 0; x < disparity.cols; ++x) {
+        const float d = disparity.at<float>(y, x), truth = frame.disparityPx.at<float>(y, x);
+        if (!std::isfinite(d)) continue;
+        if (frame.instrumentMask.at<uint8_t>(y, x) != 0) instrumentAtTop += d >= parameters.maxDisparityPx - 2;
+        else if (std::isfinite(truth)) tissueOff += std::abs(d - truth) > 3.0f;
+      }
+    }
+  };
+  int offAtTop = 0, offTissue = 0, onAtTop = 0, onTissue = 0;
+  count(-1, offAtTop, offTissue);
+  count(StereoParameters{}.rangeEndMarginPx, onAtTop, onTissue);
+  std::printf("range %d..%d px: instrument pixels at the range's top %d (%d without the rule), tissue pixels more "
+              "than 3 px off %d (%d)\n", parameters.minDisparityPx, parameters.maxDisparityPx, onAtTop, offAtTop,
+              onTissue, offTissue);
+  EXPECT_GT(offAtTop, 10000);
+  EXPECT_LT(onAtTop, offAtTop / 2);
+  EXPECT_LT(onTissue, offTissue);
 }

@@ -12,7 +12,7 @@ namespace tissuemosaic::test {
 
 /// Numeric fields of StereoParameters, besides the method and the disparity range's mode; the lists below must
 /// name every one of them.
-constexpr std::size_t kStereoParameterNumericFields = 40;
+constexpr std::size_t kStereoParameterNumericFields = 41;
 static_assert(sizeof(StereoParameters) ==
                       sizeof(StereoMethod) + sizeof(DisparityRangeMode) + kStereoParameterNumericFields * sizeof(int) &&
                   sizeof(int) == sizeof(float),
@@ -44,6 +44,7 @@ inline StereoParameters unusualParameters() {
   p.refineEta = 0.025f;
   p.refineSearchPx = 4;
   p.leftRightMaxDifferencePx = 3;
+  p.rangeEndMarginPx = 2;
   p.refineMaxDeviationPx = 1.5f;
   p.holeMaxEdgeDifferencePx = -1.0f;
   p.specularMinGrey = 250.0f;
@@ -83,6 +84,7 @@ struct StereoParameterFields {
       {"refineRadiusPx", &StereoParameters::refineRadiusPx},
       {"refineSearchPx", &StereoParameters::refineSearchPx},
       {"leftRightMaxDifferencePx", &StereoParameters::leftRightMaxDifferencePx},
+      {"rangeEndMarginPx", &StereoParameters::rangeEndMarginPx},
       {"specularMarginPx", &StereoParameters::specularMarginPx},
       {"specularMaxRadiusPx", &StereoParameters::specularMaxRadiusPx},
       {"trackingHighlightMarginPx", &StereoParameters::trackingHighlightMarginPx},

@@ -8,7 +8,8 @@
 namespace tissuemosaic {
 
 /// Pixel counts of one frame. The removed counts are disjoint and follow the pipeline's order, so
-///   estimated = pixels - (outsideRightImage + texturelessWindow + leftRightCheck + highlight + outlierSweeps)
+///   estimated = pixels - (outsideRightImage + texturelessWindow + rangeEnd + leftRightCheck + highlight
+///                         + outlierSweeps)
 ///               + filledBack,
 /// and notFilled = pixels - the estimates after the last round of hole filling. Steps a method does not have
 /// (AD-Census: textureless windows, outlier sweeps, hole filling) count 0.
@@ -17,6 +18,8 @@ struct StereoExplanation {
   long outsideRightImage = 0;  ///< no candidate match inside the right image, or (at the output) the match's
                                ///< matching window leaves it
   long texturelessWindow = 0;  ///< no ZNCC: the left window, or every candidate's right window, is textureless
+  long rangeEnd = 0;           ///< winners at (or within rangeEndMarginPx of) an end of the range: the true match
+                               ///< most likely lies beyond it
   long leftRightCheck = 0;     ///< winners the right view's winner disagrees with
   long highlight = 0;          ///< estimates on or matched into a specular highlight (HighlightKernels.h)
   long outlierSweeps = 0;      ///< removed by the outlier tests of all rounds (a pixel refilled and removed again
@@ -26,11 +29,11 @@ struct StereoExplanation {
   long estimated = 0;          ///< with an estimate in the output
 
   long removed() const {
-    return outsideRightImage + texturelessWindow + leftRightCheck + highlight + outlierSweeps;
+    return outsideRightImage + texturelessWindow + rangeEnd + leftRightCheck + highlight + outlierSweeps;
   }
   /// One JSON object: {"pixels": .., "estimated": .., "density": .., "removed": {"outside_right_image": ..,
-  /// "textureless_window": .., "left_right_check": .., "highlight": .., "outlier_sweeps": ..}, "filled_back": ..,
-  /// "not_filled": ..}.
+  /// "textureless_window": .., "range_end": .., "left_right_check": .., "highlight": .., "outlier_sweeps": ..},
+  /// "filled_back": .., "not_filled": ..}.
   std::string json() const;
 };
 

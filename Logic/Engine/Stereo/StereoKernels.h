@@ -774,17 +774,31 @@ TM_HOST_DEVICE TM_FORCE_INLINE int16_t unpackRightWinner(uint32_t key, int minDi
   return key == 0 ? kNoDisparity : static_cast<int16_t>(minDisparity + (0xFFFF - static_cast<int>(key & 0xFFFF)));
 }
 
-/// Left-right consistency: a left winner d at x survives when the right view's winner at x - d is within
-/// maxDifferencePx of d (occlusions and window fattening at depth edges fail it).
-struct LeftRightCheck {
+/// The left winners kept for the outlier removal. A winner within rangeEndMarginPx of either end of the range
+/// (minDisparity..maxDisparity) is dropped where that test is on (margin >= 0): its cost was still improving at the
+/// range's end, so its match most likely lies beyond. Left-right consistency, where on (maxDifferencePx >= 0): a
+/// left winner d at x survives when the right view's winner at x - d is within maxDifferencePx of d (occlusions and
+/// window fattening at depth edges fail it).
+struct KeepWinners {
   ImageView<const int16_t> leftDisparity, rightDisparity;
   ImageView<int16_t> output;
+  int minDisparity, maxDisparity;
+  int rangeEndMarginPx;
   int maxDifferencePx;
+
+  TM_HOST_DEVICE bool nearRangeEnd(int d) const {
+    return rangeEndMarginPx >= 0 && (d - minDisparity <= rangeEndMarginPx || maxDisparity - d <= rangeEndMarginPx);
+  }
 
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const int16_t d = leftDisparity[index];
     output[index] = d;
     if (d == kNoDisparity) return;
+    if (nearRangeEnd(d)) {
+      output[index] = kNoDisparity;
+      return;
+    }
+    if (maxDifferencePx < 0) return;
     int x, y;
     pixelCoordinates(index, leftDisparity.width, x, y);
     const int xr = x - d;

@@ -56,6 +56,7 @@ void StereoParameters::validate() const {
   if (znccWindowPx % 2 == 0) throw Error("stereo parameter znccWindowPx must be odd");
   kStereo.requireRange("minWindowStdDev", minWindowStdDev, 0.0f, 100.0f);
   kStereo.requireRange("leftRightMaxDifferencePx", leftRightMaxDifferencePx, -1, 1000);
+  kStereo.requireRange("rangeEndMarginPx", rangeEndMarginPx, -1, 100);
   kStereo.requireRange("refineMaxDeviationPx", refineMaxDeviationPx, -1.0f, 1000.0f);
   kStereo.requireRange("holeMaxEdgeDifferencePx", holeMaxEdgeDifferencePx, -1.0f, 1000.0f);
   kStereo.requireRange("specularMinGrey", specularMinGrey, 1.0f, 256.0f);
@@ -104,7 +105,7 @@ void StereoParameters::write(cv::FileStorage& storage) const {
   storage << "workingDistanceNearMm" << workingDistanceNearMm << "workingDistanceFarMm" << workingDistanceFarMm;
   storage << "znccWindowPx" << znccWindowPx << "minWindowStdDev" << minWindowStdDev;
   storage << "leftRightMaxDifferencePx" << leftRightMaxDifferencePx << "refineMaxDeviationPx" << refineMaxDeviationPx;
-  storage << "holeMaxEdgeDifferencePx" << holeMaxEdgeDifferencePx;
+  storage << "rangeEndMarginPx" << rangeEndMarginPx << "holeMaxEdgeDifferencePx" << holeMaxEdgeDifferencePx;
   storage << "specularMinGrey" << specularMinGrey << "specularMarginPx" << specularMarginPx;
   storage << "specularMaxRadiusPx" << specularMaxRadiusPx << "specularMinContrastGrey" << specularMinContrastGrey;
   storage << "specularViewToleranceGrey" << specularViewToleranceGrey;
@@ -146,6 +147,7 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
   kStereo.readKey(node, "znccWindowPx", p.znccWindowPx);
   kStereo.readKey(node, "minWindowStdDev", p.minWindowStdDev);
   kStereo.readKey(node, "leftRightMaxDifferencePx", p.leftRightMaxDifferencePx);
+  kStereo.readKey(node, "rangeEndMarginPx", p.rangeEndMarginPx);
   kStereo.readKey(node, "refineMaxDeviationPx", p.refineMaxDeviationPx);
   kStereo.readKey(node, "holeMaxEdgeDifferencePx", p.holeMaxEdgeDifferencePx);
   kStereo.readKey(node, "specularMinGrey", p.specularMinGrey);

@@ -53,6 +53,11 @@ struct StereoParameters {
 
   // Additions to the paper (set to -1 to switch off).
   int leftRightMaxDifferencePx = 1;   ///< ZNCC winners failing the left-right check by more are dropped
+  /// Winners this close to either end of the range (0: on the end candidate itself; -1: off) are dropped: the cost
+  /// was still improving toward the end, so the true match most likely lies beyond it (an instrument nearer than the
+  /// range that follows the tissue), and the winner is whatever the end resembles. 1 px: the end's neighbour wins
+  /// as often where the correlation is flat (docs/STEREO.md, "Surfaces beyond the range").
+  int rangeEndMarginPx = 1;
   float refineMaxDeviationPx = 2.0f;  ///< output o_i instead of d_i where they differ by more than this
   float holeMaxEdgeDifferencePx = 2.5f;  ///< radial filling skips lines whose ends differ by more (depth edges)
   // Specular highlights sit on a different surface point in each eye and match consistently but falsely. A

@@ -73,14 +73,17 @@ struct PipelineSteps {
   int64_t pixels() const { return static_cast<int64_t>(w.width) * w.height; }
 
   /// Explanation of the matching step: pixels without a winner (no candidate match inside the right image, or
-  /// textureless windows; AD-Census has a winner everywhere) and winners the left-right check removed.
+  /// textureless windows; AD-Census has a winner everywhere), winners near the range's ends, and winners the
+  /// left-right check removed.
   void explainWinners() {
     const std::vector<int16_t> winners = w.znccDisparity.buffer().toHost();
     const std::vector<float> inverseNorm = w.paper() ? w.inverseNormLeft.buffer().toHost() : std::vector<float>();
-    long outside = 0, textureless = 0, withWinner = 0;
+    const KeepWinners keep = keepWinners();
+    long outside = 0, textureless = 0, withWinner = 0, nearRangeEnd = 0;
     for (int64_t i = 0; i < pixels(); ++i) {
       if (winners[i] != kNoDisparity) {
         ++withWinner;
+        if (keep.nearRangeEnd(winners[i])) ++nearRangeEnd;
         continue;
       }
       const int x = static_cast<int>(i % w.width);
@@ -93,7 +96,8 @@ struct PipelineSteps {
     explain->pixels = pixels();
     explain->outsideRightImage = outside;
     explain->texturelessWindow = textureless;
-    explain->leftRightCheck = withWinner - countEstimates(w.discrete);
+    explain->rangeEnd = nearRangeEnd;
+    explain->leftRightCheck = withWinner - nearRangeEnd - countEstimates(w.discrete);
   }
 
   void windowStatistics(Image<float>& image, Image<float>& sum, Image<float>& inverseNorm) {
@@ -135,15 +139,14 @@ struct PipelineSteps {
     std::swap(w.discrete, w.discreteScratch);
   }
 
-  /// w.discrete = the left winners, without those failing the left-right check where it is on (LeftRightCheck
-  /// writes every pixel, so the plain copy is only needed where it is off).
-  void winnersAfterLeftRightCheck() {
-    if (p.leftRightMaxDifferencePx >= 0) {
-      parallelFor<Backend>(pixels(), LeftRightCheck{w.znccDisparity.view(), w.rightZnccDisparity.view(),
-                                                    w.discrete.view(), p.leftRightMaxDifferencePx});
-    } else {
-      w.discrete.buffer().copyFrom(w.znccDisparity.buffer());
-    }
+  /// w.discrete = the left winners without those near the range's ends or failing the left-right check, where
+  /// those tests are on (KeepWinners).
+  void keptWinners() {
+    parallelFor<Backend>(pixels(), keepWinners());
+  }
+  KeepWinners keepWinners() const {
+    return KeepWinners{w.znccDisparity.view(), w.rightZnccDisparity.view(), w.discrete.view(), p.minDisparityPx,
+                       p.maxDisparityPx, p.rangeEndMarginPx, p.leftRightMaxDifferencePx};
   }
 
   bool specularMasking() const { return p.specularMinGrey <= 255.0f; }
@@ -175,7 +178,7 @@ struct PipelineSteps {
   }
 
   void outliersAndHoles() {
-    winnersAfterLeftRightCheck();
+    keptWinners();
     if (explain) explainWinners();
     long estimates = explain ? countEstimates(w.discrete) : 0;
     /// With an explanation: the change in the number of estimates since the last call.
@@ -315,7 +318,7 @@ struct PipelineSteps {
 
   void adCensusFinish() {
     parallelFor<Backend>(pixels(), Median3x3{w.correction.view(), w.smoothed.view()});
-    winnersAfterLeftRightCheck();
+    keptWinners();
     if (explain) explainWinners();
     // Always: pixels without a winner (uniform costs) are dropped even where the left-right check is off.
     parallelFor<Backend>(pixels(), DropWhereNoDiscrete{w.discrete.view(), w.smoothed.view()});
