@@ -178,6 +178,7 @@ bool vtkTissueMosaicStereoLogic::ComputeReconstruction(const cv::Mat& leftRectif
         history.mode = this->Parameters.disparityRangeMode;
         std::optional<tissuemosaic::DisparityRange> range =
             tissuemosaic::requestedDisparityRange(this->Parameters, &this->Geometry);
+        cv::Mat rightAligned = rightRectified;  // moved onto the left's rows where the check finds them apart
         if (!range) {
           if (!this->RangeEstimator || this->RangeEstimator->device() != device ||
               this->RangeEstimator->options().infinityDisparityPx != -this->Geometry.doffsPx) {
@@ -185,15 +186,18 @@ bool vtkTissueMosaicStereoLogic::ComputeReconstruction(const cv::Mat& leftRectif
             options.infinityDisparityPx = -this->Geometry.doffsPx;
             this->RangeEstimator = std::make_unique<tissuemosaic::DisparityRangeEstimator>(device, options);
           }
-          const tissuemosaic::DisparitySample sample = this->RangeEstimator->measure(leftRectified, rightRectified);
+          const tissuemosaic::DisparitySample sample = this->RangeEstimator->measure(
+              leftRectified, rightRectified, tissuemosaic::DisparityRangeEstimator::RowCheck::Measure);
           range = this->RangeEstimator->wantedRange(sample);
           history.firstMatches = sample.matches();
+          history.rowOffsetPx = sample.rowOffsetPx;
+          rightAligned = tissuemosaic::alignRightRows(rightRectified, sample.rowOffsetPx);
         }
         this->Matcher->setDisparityRange(*range);
         history.first = history.current = *range;
         this->LastDisparityRange = *range;
         this->LastDisparityRangeText = tissuemosaic::describeDisparityRange(history, this->Parameters);
-        this->LastDisparityPx = this->Matcher->computeDisparity(leftRectified, rightRectified, &this->LastTimingsMs);
+        this->LastDisparityPx = this->Matcher->computeDisparity(leftRectified, rightAligned, &this->LastTimingsMs);
         cloud = tissuemosaic::disparityToPointCloud(this->LastDisparityPx, leftRectified, this->Geometry);
       },
       this->LastErrorText);

@@ -127,6 +127,10 @@ void runReconstruct(const ReconstructOptions& options) {
     } catch (const DisparityRangeError& error) {
       rethrowWithRangeOptions(error);
     }
+    if (index == 0) {
+      const std::string warning = rowOffsetWarning(pipeline->disparityRangeHistory());
+      if (!warning.empty()) progress.message("warning: the stereo pair is " + warning);
+    }
     result.timesMs.videoReading += readMs;
     result.timesMs.total += readMs;
     timing.add(result);

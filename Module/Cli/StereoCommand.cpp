@@ -107,6 +107,9 @@ void runStereo(const StereoOptions& options) {
     rethrowWithRangeOptions(error);
   }
   std::printf("disparity range %s\n", range.description().c_str());
+  const std::string rowWarning = rowOffsetWarning(range.history());
+  if (!rowWarning.empty()) std::fprintf(stderr, "warning: the stereo pair is %s\n", rowWarning.c_str());
+  right = range.alignedRight(right);
   StereoTimingsMs timings;
   StereoExplanation explanation;
   const cv::Mat disparity =

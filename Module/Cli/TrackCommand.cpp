@@ -116,6 +116,10 @@ void runTrack(const TrackOptions& options) {
     } catch (const DisparityRangeError& error) {
       rethrowWithRangeOptions(error);
     }
+    if (count == 1 && !rowOffsetWarning(range.history()).empty()) {
+      std::cerr << "warning: the stereo pair is " << rowOffsetWarning(range.history()) << "\n";
+    }
+    right = range.alignedRight(right);
     // As the reconstruction pipeline does: features near a highlight get no depth (StereoMatcher.h).
     matcher.computeDisparity(left, right);
     const cv::Mat disparity = matcher.lastDisparityAwayFromHighlights();

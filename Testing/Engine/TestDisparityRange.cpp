@@ -172,12 +172,36 @@ TEST(LeftRightMatching, FindsTheShiftOfATexturedPair) {
   int acrossRows = 0;
   for (const LeftRightMatch& m : matchLeftRight(l, extractor.extract(rightDown))) acrossRows += m.disparityPx == 23.0f;
   EXPECT_EQ(acrossRows, 0);
+  // ... unless the band is moved to where the right view's rows are: 5 rows above the left's.
+  LeftRightMatchOptions offsetRows;
+  offsetRows.rowOffsetPx = -5;
+  const std::vector<LeftRightMatch> alongOffset = matchLeftRight(l, extractor.extract(rightDown), offsetRows);
+  int offsetRight23 = 0;
+  for (const LeftRightMatch& m : alongOffset) {
+    offsetRight23 += m.disparityPx == 23.0f && m.rowOffsetPx == -5.0f;
+  }
+  EXPECT_GE(offsetRight23, 0.9 * alongOffset.size());
+  EXPECT_GT(alongOffset.size(), 0.5 * matches.size());
   // The candidates stay within the disparities asked for.
   LeftRightMatchOptions narrow;
   narrow.minDisparityPx = 0;
   narrow.maxDisparityPx = 20;
   EXPECT_TRUE(matchLeftRight(l, r, narrow).size() < 0.05 * matches.size());
   EXPECT_TRUE(matchLeftRight(l, OrbFeatures{}).empty());
+}
+
+TEST(DisparityRangeFollower, AlignRightRowsMovesTheRightViewOntoTheLeftsRows) {
+  cv::Mat right(6, 3, CV_8UC3);
+  for (int y = 0; y < right.rows; ++y) right.row(y).setTo(cv::Scalar::all(10 * (y + 1)));
+  // Rows 2 below the left's: moved 2 up, black rows enter at the bottom.
+  const cv::Mat up = alignRightRows(right, 2);
+  for (int y = 0; y < 6; ++y) {
+    EXPECT_EQ(up.at<cv::Vec3b>(y, 1)[0], y < 4 ? 10 * (y + 3) : 0) << "row " << y;
+  }
+  const cv::Mat down = alignRightRows(right, -1);
+  for (int y = 0; y < 6; ++y) EXPECT_EQ(down.at<cv::Vec3b>(y, 2)[2], y == 0 ? 0 : 10 * y) << "row " << y;
+  EXPECT_EQ(alignRightRows(right, 0.4).data, right.data) << "under half a row: the same image, no copy";
+  EXPECT_EQ(cv::countNonZero(alignRightRows(right, 9).reshape(1)), 0);
 }
 
 TEST(DisparityRangeEstimator, WantedRangeIsTheRobustEndsWithAMargin) {

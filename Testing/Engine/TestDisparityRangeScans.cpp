@@ -183,3 +183,84 @@ TEST(DisparityRangeScans, ApproachingScopeKeepsItsDensity) {
               pipeline.disparityRangeDescription().c_str());
   EXPECT_GE(pipeline.disparityRangeHistory().changes, 2) << "the range followed the tissue";
 }
+
+namespace {
+
+/// The right view of a pair whose rows lie `rowsBelow` below the left's (a calibration off in the vertical, a capture
+/// card that shifts one eye): a point on left row y shows on right row y + rowsBelow.
+cv::Mat rightRowsBelow(const cv::Mat& right, int rowsBelow) {
+  cv::Mat moved;
+  const cv::Matx23d shift(1, 0, 0, 0, 1, rowsBelow);
+  cv::warpAffine(right, moved, shift, right.size(), cv::INTER_NEAREST, cv::BORDER_REFLECT);
+  return moved;
+}
+
+}  // namespace
+
+TEST(DisparityRangeScans, APairOutOfRectificationIsFoundAndMatchedAlongItsRows) {
+  // A pair 4 rows out of rectification (a real in-vivo sample pair is) used to find a handful of wrong row matches
+  // and a range over the whole image width. The first frame's check finds the offset, the range comes from matches
+  // along the offset rows, and the pipeline moves the right view onto the left's rows before the dense matching.
+  const ScopeCase c{"default scope", 640, 360, 0, 5.0, 0, 70, 70};
+  const SyntheticScan scan(scanOptions(c, 1, 30));
+  const SyntheticScanFrame frame = scan.renderFrame(0);
+  const ReconstructionParameters parameters;
+  const auto firstFrame = [&](const cv::Mat& right, const ReconstructionParameters& p) {
+    ReconstructionPipeline pipeline(scan.geometry(), p, Device::Cpu, scan.T_world_camera(0));
+    const FrameResult result = pipeline.process(frame.leftRectified, right, frame.timeS);
+    return std::make_pair(result, pipeline.disparityRangeHistory());
+  };
+  const auto [rectified, rectifiedHistory] = firstFrame(frame.rightRectified, parameters);
+  EXPECT_EQ(rectifiedHistory.rowOffsetPx, 0);
+  EXPECT_TRUE(rowOffsetWarning(rectifiedHistory).empty());
+  const DisparityScore reference = scoreDisparity(rectified.disparityPx, frame.disparityPx);
+
+  for (const int rowsBelow : {-4, 3, 7}) {
+    const cv::Mat right = rightRowsBelow(frame.rightRectified, rowsBelow);
+    const auto [result, history] = firstFrame(right, parameters);
+    const RangeCheck check = checkRange(result.disparityRange, frame.disparityPx);
+    const DisparityScore score = scoreDisparity(result.disparityPx, frame.disparityPx);
+    // The same range without the move: the matcher compares equal rows.
+    ReconstructionParameters unmoved = parameters;
+    unmoved.stereo.setFixedDisparityRange(result.disparityRange.minPx, result.disparityRange.maxPx);
+    const DisparityScore unmovedScore = scoreDisparity(firstFrame(right, unmoved).first.disparityPx, frame.disparityPx);
+    std::printf("rows %+d: found %+g, range %s (coverage %.4f, width %.2f of the allowed); density / bad-1 %.3f / %.3f "
+                "moved, %.3f / %.3f unmoved, %.3f / %.3f rectified\n",
+                rowsBelow, history.rowOffsetPx, result.disparityRange.text().c_str(), check.coverage, check.widthRatio,
+                score.density, score.badOver1, unmovedScore.density, unmovedScore.badOver1, reference.density,
+                reference.badOver1);
+    EXPECT_EQ(history.rowOffsetPx, rowsBelow);
+    EXPECT_NE(rowOffsetWarning(history).find("not rectified"), std::string::npos);
+    EXPECT_NE(describeDisparityRange(history, parameters.stereo).find(rowOffsetWarning(history)), std::string::npos);
+    EXPECT_GE(check.coverage, 0.995);
+    EXPECT_LE(check.widthRatio, 1.0);
+    // As dense and as right as the rectified pair but for the rows that entered the view.
+    EXPECT_GE(score.density, reference.density - 0.03);
+    EXPECT_LE(score.badOver1, reference.badOver1 + 0.01);
+    EXPECT_GT(unmovedScore.badOver1, score.badOver1 + 0.05) << "the move is what makes the difference";
+  }
+}
+
+TEST(DisparityRangeScans, RowOffsetMeasuredAtHalfSizeInFullSizePixels) {
+  const ScopeCase c{"half size", 640, 360, 0, 5.0, 0, 55, 55};
+  const SyntheticScan scan(scanOptions(c, 1, 30));
+  const SyntheticScanFrame frame = scan.renderFrame(0);
+  DisparityRangeEstimatorOptions half;
+  half.measureWidthPx = 320;
+  DisparityRangeEstimator halved(Device::Cpu, half);
+  const cv::Mat right = rightRowsBelow(frame.rightRectified, -6);
+  const DisparitySample checked = halved.measure(frame.leftRectified, right, DisparityRangeEstimator::RowCheck::Measure);
+  EXPECT_EQ(checked.rowOffsetPx, -6);
+  const RangeCheck check = checkRange(halved.wantedRange(checked), frame.disparityPx);
+  EXPECT_GE(check.coverage, 0.995);
+  EXPECT_LE(check.widthRatio, 1.0);
+  // Without the check the same pair is matched along equal rows: no offset said, fewer matches.
+  const DisparitySample unchecked = halved.measure(frame.leftRectified, right);
+  EXPECT_EQ(unchecked.rowOffsetPx, 0);
+  EXPECT_LT(unchecked.matches(), checked.matches());
+  // A rectified pair measured with the check: nothing found, the same sample as without it.
+  const DisparitySample rectified =
+      halved.measure(frame.leftRectified, frame.rightRectified, DisparityRangeEstimator::RowCheck::Measure);
+  EXPECT_EQ(rectified.rowOffsetPx, 0);
+  EXPECT_EQ(rectified.disparitiesPx, halved.measure(frame.leftRectified, frame.rightRectified).disparitiesPx);
+}

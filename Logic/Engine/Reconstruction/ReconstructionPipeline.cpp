@@ -161,6 +161,8 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   const bool firstRange = !s.disparityRange.history().current;
   const auto rangeStart = Clock::now();
   result.disparityRange = s.disparityRange.beforeFrame(result.leftRectified, result.rightRectified);
+  // A pair whose rows the first frame found apart is matched with its right view moved onto the left's rows.
+  result.rightRectified = s.disparityRange.alignedRight(result.rightRectified);
   s.matcher.setDisparityRange(result.disparityRange);
   if (s.disparityRange.automatic() && firstRange) result.disparityRangeMs = millisecondsSince(rangeStart);
   if (s.disparityRange.automatic() && !firstRange && !s.rangeSample && result.frameIndex % sampleEvery == 0) {

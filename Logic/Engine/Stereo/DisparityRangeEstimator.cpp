@@ -109,6 +109,8 @@ void DisparityRangeEstimatorOptions::validate() const {
   kEstimator.requireRange("maxWidthSlackPx", maxWidthSlackPx, 0.0, 1000.0);
   kEstimator.requireRange("maxSpanGrowth", maxSpanGrowth, 1.0, 1000.0);
   kEstimator.requireRange("sampleEveryFrames", sampleEveryFrames, 1, 30);
+  kEstimator.requireRange("rowSearchPx", rowSearchPx, 1.5, 100.0);
+  kEstimator.requireRange("maxRowOffsetPx", maxRowOffsetPx, 0.0, 100.0);
 }
 
 namespace {
@@ -156,20 +158,27 @@ struct DisparityRangeEstimator::Impl {
     return disparityRangeOnGrid(lowPx - margins.belowPx, highPx + margins.abovePx);
   }
 
-  /// The kept matches' disparities and left positions, with one extractor.
+  /// Both views' features, with one extractor.
+  struct ViewFeatures {
+    OrbFeatures left, right;
+  };
+  /// The kept matches' disparities and left positions.
   struct Matched {
     std::vector<float> disparitiesPx;
+    std::vector<float> rowOffsetsPx;  ///< right y - left y, one per disparity
     std::vector<cv::Point2f> pointsPx;
     int leftFeatures = 0, rightFeatures = 0;
   };
-  Matched match(OrbExtractor& orb, const cv::Mat& left, const cv::Mat& right, const cv::Mat& leftSaturated,
-                const cv::Mat& rightSaturated) const {
-    const OrbFeatures leftFeatures = orb.extract(left);
-    const OrbFeatures rightFeatures = orb.extract(right);
+  /// Matches along the rows left y + rowOffsetPx (+- rowTolerancePx) of the right view, at the measuring scale.
+  Matched match(const ViewFeatures& features, int imageWidth, int borderPx, const cv::Mat& leftSaturated,
+                const cv::Mat& rightSaturated, double rowOffsetPx, double rowTolerancePx) const {
+    const OrbFeatures &leftFeatures = features.left, &rightFeatures = features.right;
     // What a rectified rig can show at all: up to half the image width either way.
     LeftRightMatchOptions matching;
-    matching.minDisparityPx = -0.5 * left.cols;
-    matching.maxDisparityPx = 0.5 * left.cols;
+    matching.minDisparityPx = -0.5 * imageWidth;
+    matching.maxDisparityPx = 0.5 * imageWidth;
+    matching.rowOffsetPx = rowOffsetPx;
+    matching.rowTolerancePx = rowTolerancePx;
     std::vector<LeftRightMatch> matches;
     for (const LeftRightMatch& m : matchLeftRight(leftFeatures, rightFeatures, matching)) {
       const OrbKeypoint &l = leftFeatures.keypoints[m.left], &r = rightFeatures.keypoints[m.right];
@@ -188,17 +197,37 @@ struct DisparityRangeEstimator::Impl {
     for (const LeftRightMatch& m : matches) kept.disparitiesPx.push_back(m.disparityPx);
     const double typicalPx = quantile(sortedCopy(kept.disparitiesPx), 0.5);
     kept.disparitiesPx.clear();
-    const int border = orb.parameters().edgeThresholdPx;
-    const auto featured = [&](double x) { return x >= border && x <= left.cols - 1 - border; };
+    const auto featured = [&](double x) { return x >= borderPx && x <= imageWidth - 1 - borderPx; };
     for (const LeftRightMatch& m : matches) {
       const OrbKeypoint& keypoint = leftFeatures.keypoints[m.left];
       if (featured(keypoint.xPx - typicalPx) && featured(rightFeatures.keypoints[m.right].xPx + typicalPx)) {
         kept.disparitiesPx.push_back(m.disparityPx);
+        kept.rowOffsetsPx.push_back(m.rowOffsetPx);
         kept.pointsPx.emplace_back(keypoint.xPx, keypoint.yPx);
       }
     }
     return kept;
   }
+
+  /// The offset between the views' rows at the measuring scale: the median row offset of the matches found over
+  /// rowSearchPx either way, where it is more than maxRowOffsetPx (full-size) and finds more matches than the
+  /// rectified rows do; else 0. A pair whose rows disagree finds few, and mostly wrong, matches along equal rows, and
+  /// their disparities spread over the whole image width.
+  double measuredRowOffset(const ViewFeatures& features, int imageWidth, int borderPx, const cv::Mat& leftSaturated,
+                           const cv::Mat& rightSaturated, int scale) const {
+    const Matched searched = match(features, imageWidth, borderPx, leftSaturated, rightSaturated, 0,
+                                   options.rowSearchPx / scale);
+    if (static_cast<int>(searched.rowOffsetsPx.size()) < options.minMatches) return 0;
+    const double offsetPx = std::round(quantile(sortedCopy(searched.rowOffsetsPx), 0.5));
+    if (std::abs(offsetPx) * scale <= options.maxRowOffsetPx) return 0;
+    const std::size_t alongRows =
+        match(features, imageWidth, borderPx, leftSaturated, rightSaturated, 0, kRowTolerancePx).disparitiesPx.size();
+    const std::size_t alongOffset =
+        match(features, imageWidth, borderPx, leftSaturated, rightSaturated, offsetPx, kRowTolerancePx).disparitiesPx.size();
+    return alongOffset > alongRows ? offsetPx : 0;
+  }
+
+  static constexpr double kRowTolerancePx = LeftRightMatchOptions{}.rowTolerancePx;
 };
 
 DisparityRangeEstimator::DisparityRangeEstimator(Device device, const DisparityRangeEstimatorOptions& options)
@@ -209,7 +238,8 @@ DisparityRangeEstimator::~DisparityRangeEstimator() = default;
 const DisparityRangeEstimatorOptions& DisparityRangeEstimator::options() const { return impl_->options; }
 Device DisparityRangeEstimator::device() const { return impl_->device; }
 
-DisparitySample DisparityRangeEstimator::measure(const cv::Mat& leftRectified, const cv::Mat& rightRectified) {
+DisparitySample DisparityRangeEstimator::measure(const cv::Mat& leftRectified, const cv::Mat& rightRectified,
+                                                 RowCheck rows) {
   const cv::Mat fullLeft = toGrey8(leftRectified, "disparity range: the left image");
   const cv::Mat fullRight = toGrey8(rightRectified, "disparity range: the right image");
   require(fullLeft.size() == fullRight.size(), "disparity range: the left and right images differ in size");
@@ -229,20 +259,30 @@ DisparitySample DisparityRangeEstimator::measure(const cv::Mat& leftRectified, c
 
   const cv::Mat leftSaturated = saturatedNeighbourhood(left, s.options.saturatedGrey);
   const cv::Mat rightSaturated = saturatedNeighbourhood(right, s.options.saturatedGrey);
-  Impl::Matched matched = s.match(s.extractor, left, right, leftSaturated, rightSaturated);
+  const int borderPx = orb.edgeThresholdPx;
+  const Impl::ViewFeatures features{s.extractor.extract(left), s.extractor.extract(right)};
+  const double rowOffsetPx = rows == RowCheck::Measure
+                                 ? s.measuredRowOffset(features, left.cols, borderPx, leftSaturated, rightSaturated, scale)
+                                 : 0.0;
+  Impl::Matched matched =
+      s.match(features, left.cols, borderPx, leftSaturated, rightSaturated, rowOffsetPx, Impl::kRowTolerancePx);
   if (static_cast<int>(matched.disparitiesPx.size()) < s.options.weakTextureMatches &&
       s.options.weakFastThreshold < s.options.fastThreshold) {
     if (!s.weakExtractor) {
       s.weakExtractor = std::make_unique<OrbExtractor>(s.device, sparseOrbParameters(s.options, s.options.weakFastThreshold));
     }
-    Impl::Matched weak = s.match(*s.weakExtractor, left, right, leftSaturated, rightSaturated);
+    const Impl::ViewFeatures weakFeatures{s.weakExtractor->extract(left), s.weakExtractor->extract(right)};
+    Impl::Matched weak =
+        s.match(weakFeatures, left.cols, borderPx, leftSaturated, rightSaturated, rowOffsetPx, Impl::kRowTolerancePx);
     if (weak.disparitiesPx.size() > matched.disparitiesPx.size()) matched = std::move(weak);
   }
   // Back to full-size pixels (pixel centres: x = (x' + 0.5) scale - 0.5).
   for (float& d : matched.disparitiesPx) d *= static_cast<float>(scale);
   for (cv::Point2f& p : matched.pointsPx) p = (p + cv::Point2f(0.5f, 0.5f)) * static_cast<float>(scale) - cv::Point2f(0.5f, 0.5f);
-  return sample(std::move(matched.disparitiesPx), matched.leftFeatures, matched.rightFeatures,
-                std::move(matched.pointsPx), fullLeft.size());
+  DisparitySample measured = sample(std::move(matched.disparitiesPx), matched.leftFeatures, matched.rightFeatures,
+                                    std::move(matched.pointsPx), fullLeft.size());
+  measured.rowOffsetPx = rowOffsetPx * scale;
+  return measured;
 }
 
 DisparitySample DisparityRangeEstimator::sample(std::vector<float> disparitiesPx, int leftFeatures, int rightFeatures,

@@ -59,6 +59,13 @@ struct DisparityRangeEstimatorOptions {
   /// sample decides the range from this many frames after its own on: the measurement (ORB on both views) costs
   /// more than the rest of a frame on the GPU, and the tissue's distance changes little in a tenth of a second.
   int sampleEveryFrames = 3;
+  // The rectification check (measure with RowCheck::Measure: a first frame).
+  /// Rows searched either way (full-size px) for the offset between the views' rows.
+  double rowSearchPx = 12;
+  /// Rows offset by more than this (full-size px): the pair is not rectified. Its matches are then sought along the
+  /// offset rows (where they are found more often than along equal rows), so that the range is the scene's, and the
+  /// sample says so (DisparitySample::rowOffsetPx).
+  double maxRowOffsetPx = 1.0;
 
   /// Throws Error naming the first option out of range.
   void validate() const;
@@ -76,6 +83,11 @@ struct DisparitySample {
   /// blurred tissue) have no matches of their own. 0 when there are no matches.
   double lowPx = 0, highPx = 0;
   double medianPx = 0;  ///< of disparitiesPx: how the tissue moves from frame to frame
+  /// Right view's row minus left view's row of the same point (full-size px, whole measuring pixels), where the
+  /// rectification check ran and found more than maxRowOffsetPx; else 0. Not 0: the pair is not rectified (a wrong
+  /// calibration, a capture that shifts one eye) and the disparities were measured along the offset rows; the dense
+  /// matching compares equal rows, so the right view must be moved to match (alignRightRows).
+  double rowOffsetPx = 0;
   int matches() const { return static_cast<int>(disparitiesPx.size()); }
 };
 
@@ -93,7 +105,10 @@ public:
   /// matches that disagree with their neighbours, lie in a highlight, or come from a part of one view that the other
   /// does not see. An image too small for ORB's border gives an empty sample. Throws Error only for misuse (empty,
   /// mismatched or unsupported images). One call at a time per estimator.
-  DisparitySample measure(const cv::Mat& leftRectified, const cv::Mat& rightRectified);
+  /// RowCheck::Measure (a video's first frame) also measures how far the views' rows are apart (options'
+  /// maxRowOffsetPx), and matches along the offset rows; Skip matches along equal rows (a pair already aligned).
+  enum class RowCheck { Skip, Measure };
+  DisparitySample measure(const cv::Mat& leftRectified, const cv::Mat& rightRectified, RowCheck rows = RowCheck::Skip);
   /// A sample of given disparities, with its robust ends (what measure() returns for these matches). pointsPx (one
   /// per disparity, in an image of imageSize) or empty: then the ends are the quantiles only.
   DisparitySample sample(std::vector<float> disparitiesPx, int leftFeatures, int rightFeatures,

@@ -3,6 +3,7 @@
 #include "Core/Error.h"
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/core.hpp>
 
 namespace tissuemosaic {
@@ -49,8 +50,10 @@ bool DisparityRangeFollower::automatic() const { return impl_->estimator != null
 DisparityRange DisparityRangeFollower::beforeFrame(const cv::Mat& leftRectified, const cv::Mat& rightRectified) {
   Impl& s = *impl_;
   if (!s.history.current) {
-    DisparitySample sample = s.estimator->measure(leftRectified, rightRectified);
+    DisparitySample sample =
+        s.estimator->measure(leftRectified, rightRectified, DisparityRangeEstimator::RowCheck::Measure);
     s.history.firstMatches = sample.matches();
+    s.history.rowOffsetPx = sample.rowOffsetPx;
     s.use(s.estimator->wantedRange(sample));
     s.previous = std::move(sample);
   } else if (s.next) {
@@ -82,6 +85,10 @@ int DisparityRangeFollower::sampleEveryFrames() const {
 
 const DisparityRangeHistory& DisparityRangeFollower::history() const { return impl_->history; }
 
+cv::Mat DisparityRangeFollower::alignedRight(const cv::Mat& rightRectified) const {
+  return alignRightRows(rightRectified, impl_->history.rowOffsetPx);
+}
+
 std::string DisparityRangeFollower::description() const {
   return describeDisparityRange(impl_->history, impl_->parameters);
 }
@@ -106,7 +113,29 @@ std::string describeDisparityRange(const DisparityRangeHistory& history, const S
               (history.changes == 1 ? " change" : " changes") + ", widest " + history.widest.text() + ")";
     }
   }
-  return text;
+  const std::string warning = rowOffsetWarning(history);
+  return warning.empty() ? text : text + "; " + warning;
+}
+
+std::string rowOffsetWarning(const DisparityRangeHistory& history) {
+  if (history.rowOffsetPx == 0) return {};
+  const double rows = std::abs(history.rowOffsetPx);
+  const bool below = history.rowOffsetPx > 0;
+  return cv::format("not rectified: the right view's rows lay %g px %s the left's; it is moved %g rows %s before "
+                    "matching (check the calibration)",
+                    rows, below ? "below" : "above", std::round(rows), below ? "up" : "down");
+}
+
+cv::Mat alignRightRows(const cv::Mat& rightRectified, double rowOffsetPx) {
+  const int down = -static_cast<int>(std::lround(rowOffsetPx));
+  if (down == 0) return rightRectified;
+  cv::Mat aligned(rightRectified.size(), rightRectified.type(), cv::Scalar::all(0));
+  const int rows = rightRectified.rows - std::abs(down);
+  if (rows <= 0) return aligned;
+  // aligned(y) = right(y - down)
+  rightRectified.rowRange(std::max(0, -down), std::max(0, -down) + rows)
+      .copyTo(aligned.rowRange(std::max(0, down), std::max(0, down) + rows));
+  return aligned;
 }
 
 std::string disparityRangeJson(const DisparityRangeHistory& history) {
@@ -118,7 +147,8 @@ std::string disparityRangeJson(const DisparityRangeHistory& history) {
                      pair(history.first ? std::optional<DisparityRange>(history.widest) : std::nullopt) +
                      ", \"changes\": " + std::to_string(history.changes);
   if (history.mode == DisparityRangeMode::Automatic) {
-    json += ", \"first_frame_matches\": " + std::to_string(history.firstMatches);
+    json += ", \"first_frame_matches\": " + std::to_string(history.firstMatches) +
+            cv::format(", \"row_offset_px\": %g", history.rowOffsetPx);
   }
   return json + "}";
 }

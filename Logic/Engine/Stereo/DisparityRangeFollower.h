@@ -24,6 +24,9 @@ struct DisparityRangeHistory {
   DisparityRange widest;       ///< the union of every range used (valid once first is set)
   int changes = 0;             ///< range changes after the first frame
   int firstMatches = 0;        ///< Automatic: left-right feature matches of the first frame
+  /// Automatic: the first frame's right row minus left row of the same point, px (DisparitySample::rowOffsetPx);
+  /// not 0: the pair is not rectified, and the description says so.
+  double rowOffsetPx = 0;
 };
 
 class DisparityRangeFollower {
@@ -54,9 +57,12 @@ public:
   void afterFrame(const cv::Mat& leftRectified, const cv::Mat& rightRectified);
 
   const DisparityRangeHistory& history() const;
+  /// The right rectified view moved onto the left's rows when the first frame found them apart (history().rowOffsetPx;
+  /// alignRightRows), else the same image. Callers give the dense matcher and measure() the aligned view.
+  cv::Mat alignedRight(const cv::Mat& rightRectified) const;
   /// One line for logs and the GUI, e.g. "auto: 64..95 px (from 412 left-right feature matches)", "auto: 72..103 px
   /// (first 64..95 px from 412 left-right feature matches; 2 changes, widest 64..103 px)", "fixed: -20..80 px" or
-  /// "working distance 30..150 mm: 28..143 px".
+  /// "working distance 30..150 mm: 28..143 px"; followed by rowOffsetWarning() where the rows disagree.
   std::string description() const;
 
 private:
@@ -67,8 +73,17 @@ private:
 /// description() of a history, for whoever holds only the history (the app's logic).
 std::string describeDisparityRange(const DisparityRangeHistory& history, const StereoParameters& parameters);
 
+/// Empty for a rectified pair; else one sentence: "not rectified: the right view's rows lay 4 px above the left's; it
+/// is moved 4 rows down before matching (check the calibration)".
+std::string rowOffsetWarning(const DisparityRangeHistory& history);
+
+/// The right view moved by -rowOffsetPx rows (rounded), so that a point lies on the same row in both views; rows that
+/// enter are black (textureless: the matcher gives them no estimate). The same image for an offset under half a row.
+cv::Mat alignRightRows(const cv::Mat& rightRectified, double rowOffsetPx);
+
 /// A history as one JSON object: {"mode": "auto", "first": [min, max], "last": [min, max], "widest": [min, max],
-/// "changes": n, "first_frame_matches": n} (ranges null before the first frame; matches only for auto).
+/// "changes": n, "first_frame_matches": n, "row_offset_px": x} (ranges null before the first frame; matches and the
+/// row offset only for auto).
 std::string disparityRangeJson(const DisparityRangeHistory& history);
 
 }  // namespace tissuemosaic

@@ -70,8 +70,9 @@ std::vector<LeftRightMatch> matchLeftRight(const OrbFeatures& left, const OrbFea
   std::vector<Nearest> nearestLeft(static_cast<std::size_t>(rightCount));
   for (int l = 0; l < leftCount; ++l) {
     const OrbKeypoint& k = left.keypoints[l];
-    const auto first = std::lower_bound(rows.begin(), rows.end(), static_cast<float>(k.yPx - options.rowTolerancePx));
-    for (auto it = first; it != rows.end() && *it <= k.yPx + options.rowTolerancePx; ++it) {
+    const double bandCentre = k.yPx + options.rowOffsetPx;
+    const auto first = std::lower_bound(rows.begin(), rows.end(), static_cast<float>(bandCentre - options.rowTolerancePx));
+    for (auto it = first; it != rows.end() && *it <= bandCentre + options.rowTolerancePx; ++it) {
       const int r = byRow[static_cast<std::size_t>(it - rows.begin())];
       const double disparity = k.xPx - right.keypoints[r].xPx;
       if (disparity < options.minDisparityPx || disparity > options.maxDisparityPx) continue;
@@ -91,6 +92,7 @@ std::vector<LeftRightMatch> matchLeftRight(const OrbFeatures& left, const OrbFea
     match.left = l;
     match.right = n.index;
     match.disparityPx = left.keypoints[l].xPx - right.keypoints[n.index].xPx;
+    match.rowOffsetPx = right.keypoints[n.index].yPx - left.keypoints[l].yPx;
     match.distance = n.distance;
     matches.push_back(match);
   }

@@ -12,7 +12,10 @@
 namespace tissuemosaic {
 
 struct LeftRightMatchOptions {
-  double rowTolerancePx = 1.5;  ///< a right feature more rows away than this is not a candidate
+  double rowTolerancePx = 1.5;  ///< a right feature more rows away than this (from rowOffsetPx) is not a candidate
+  /// Where the band lies: a left feature's partner is sought about row left y + rowOffsetPx. 0 for a rectified pair;
+  /// the automatic range measures a pair whose rows disagree (DisparityRangeEstimator) with its measured offset.
+  double rowOffsetPx = 0;
   /// Candidates only with disparity (left x - right x) in [minDisparityPx, maxDisparityPx]: what a rectified rig can
   /// show at all (the caller sets it from the image width).
   double minDisparityPx = -1000, maxDisparityPx = 1000;
@@ -23,6 +26,7 @@ struct LeftRightMatchOptions {
 struct LeftRightMatch {
   int left = 0, right = 0;  ///< keypoint indices
   float disparityPx = 0;    ///< left x - right x
+  float rowOffsetPx = 0;    ///< right y - left y
   int distance = 0;         ///< Hamming, bits
 };
 
