@@ -114,3 +114,52 @@ TEST(StereoSyntheticTissue, AnInstrumentNearerThanTheRangeIsNotPutAtTheRangesEnd
   EXPECT_LT(onAtTop, offAtTop / 2);
   EXPECT_LT(onTissue, offTissue);
 }
+
+// The scope light's highlights at 1920x1080 (the second key frame, frame 10, of `bench reconstruct --width 1920
+// --height 1080`'s scan): twice as many pixels across as at 960x540. With the highlight sizes of 960x540 most were classed as bright
+// tissue, ZNCC matched their mirror images 40-60 px below the tissue's disparity, and, the mirror image of a curved
+// surface lying at about the same place from every viewpoint, the fusion merged them into blobs 10-63 mm behind the
+// tissue (the 1080p model RMSE 0.31 mm, against 0.07 without them). The sizes now scale with the width.
+TEST(StereoSyntheticTissue, HighlightsAtHdAreNotMatchedBehindTheTissue) {
+  synthetic::SyntheticScanOptions options;
+  options.width = 1920;
+  options.height = 1080;
+  options.frames = 120;
+  options.supersampling = 1;
+  const synthetic::SyntheticScan scan(options);
+  const synthetic::SyntheticScanFrame frame = scan.renderFrame(10);
+  const auto behindTheTissue = [&](const StereoParameters& parameters) {
+    StereoMatcher matcher(Device::Cpu, parameters);
+    matcher.computeDisparity(frame.leftRectified, frame.rightRectified);
+    const cv::Mat fused = matcher.lastDisparityAwayFromHighlights();  // what tracking and fusion take
+    int count = 0;
+    for (int y = 0; y < fused.rows; ++y) {
+      for (int x = 0; x < fused.cols; ++x) {
+        const float d = fused.at<float>(y, x), truth = frame.disparityPx.at<float>(y, x);
+        count += std::isfinite(d) && std::isfinite(truth) && d < truth - 10;
+      }
+    }
+    return count;
+  };
+  StereoParameters parameters;
+  parameters.setFixedDisparityRange(-40, 215);  // bench reconstruct's at 1920 px
+  const StereoParameters sized = parameters.forImageWidth(1920);
+  EXPECT_EQ(sized.specularMaxRadiusPx, 96);
+  EXPECT_EQ(sized.specularMarginPx, 6);
+  EXPECT_EQ(sized.trackingHighlightMarginPx, 28);
+  const StereoParameters paper = parameters.forImageWidth(960);
+  EXPECT_EQ(paper.specularMaxRadiusPx, 48);
+  EXPECT_EQ(parameters.forImageWidth(640).specularMarginPx, 3) << "narrower images keep the sizes";
+  EXPECT_EQ(parameters.forImageWidth(1280).specularMaxRadiusPx, 64);
+  // Half the sizes, scaled by 2 at this width: about the sizes of 960x540 as they were used at 1920x1080 before.
+  StereoParameters halfSized = parameters;
+  halfSized.specularMaxRadiusPx = 24;
+  halfSized.specularMarginPx = 2;
+  halfSized.trackingHighlightMarginPx = 7;
+  const int scaled = behindTheTissue(parameters), unscaled = behindTheTissue(halfSized);
+  std::printf("fused pixels more than 10 px behind the tissue: %d with the sizes scaled, %d with those of 960x540\n",
+              scaled, unscaled);
+  // Measured 2026-11-26: 0 scaled, 1 262 with the sizes of 960x540 (frames 20 and 40: 0 / 1 145, 0 / 59).
+  EXPECT_LE(scaled, 50);
+  EXPECT_GT(unscaled, 5 * std::max(scaled, 20));
+}

@@ -175,8 +175,9 @@ void StereoMatcher::match(const cv::Mat& leftRectified, const cv::Mat& rightRect
   convertAndUpload(rightRectified, workspace->rightGrey, workspace->rightGreyStaging, "the right image");
 
   t.download = 0;
-  if (cuda) stereo::runStereoPipelineCuda(*workspace, p, t, explanation);
-  else stereo::runStereoPipelineCpu(*workspace, p, t, explanation);
+  const StereoParameters sized = p.forImageWidth(leftRectified.cols);
+  if (cuda) stereo::runStereoPipelineCuda(*workspace, sized, t, explanation);
+  else stereo::runStereoPipelineCpu(*workspace, sized, t, explanation);
 }
 
 cv::Mat StereoMatcher::lastZnccDisparity() const {

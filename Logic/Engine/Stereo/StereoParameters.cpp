@@ -124,6 +124,18 @@ void StereoParameters::write(cv::FileStorage& storage) const {
   storage << "}";
 }
 
+StereoParameters StereoParameters::forImageWidth(int widthPx) const {
+  StereoParameters scaled = *this;
+  if (widthPx <= kHighlightSizesWidthPx) return scaled;
+  const auto scale = [widthPx](int px) {
+    return static_cast<int>((static_cast<long>(px) * widthPx + kHighlightSizesWidthPx / 2) / kHighlightSizesWidthPx);
+  };
+  scaled.specularMarginPx = scale(specularMarginPx);
+  scaled.specularMaxRadiusPx = scale(specularMaxRadiusPx);
+  scaled.trackingHighlightMarginPx = scale(trackingHighlightMarginPx);
+  return scaled;
+}
+
 StereoParameters StereoParameters::read(const cv::FileNode& node) {
   StereoParameters p;
   if (node.empty()) return p;

@@ -37,6 +37,9 @@ const char* disparityRangeModeName(DisparityRangeMode mode);
 /// Throws Error naming the choices for anything else.
 DisparityRangeMode parseDisparityRangeMode(const std::string& name);
 
+/// The image width (px) the highlight sizes of StereoParameters are given for: the paper's 960x540.
+constexpr int kHighlightSizesWidthPx = 960;
+
 struct StereoParameters {
   StereoMethod method = StereoMethod::Paper;
 
@@ -64,6 +67,9 @@ struct StereoParameters {
   // highlight seed is near saturation, brighter than its surroundings, and view-dependent (HighlightKernels.h);
   // estimates within specularMarginPx of a seed (left pixel, or its match in the right eye) are removed, and hole
   // filling gives them the surrounding tissue's disparity.
+  // The three highlight sizes in px (margin, max. radius, tracking margin) are for images kHighlightSizesWidthPx
+  // wide; wider images scale them up with their width (forImageWidth): a highlight covers as much of the view at
+  // every resolution.
   float specularMinGrey = 240.0f;          ///< seeds are at least this bright (256: highlight removal off)
   int specularMarginPx = 3;                ///< margin around the seeds, following their outline
   int specularMaxRadiusPx = 48;            ///< a saturated core this far on both sides of a pixel is tissue
@@ -114,6 +120,10 @@ struct StereoParameters {
     maxDisparityPx = maxPx;
   }
   int znccRadiusPx() const { return znccWindowPx / 2; }
+  /// The parameters the matcher uses on images widthPx wide: the highlight sizes times widthPx / kHighlightSizesWidthPx
+  /// (rounded) where that is more than 1, else as they are. At 1920x1080 the 48 px radius would class most of the
+  /// scope light's highlights as bright tissue, and their mirror images, matched behind the tissue, were fused.
+  StereoParameters forImageWidth(int widthPx) const;
 
   /// Throws Error naming the first parameter that is out of range.
   void validate() const;
