@@ -41,6 +41,26 @@ vtkSmartPointer<vtkPolyData> withoutDegenerateTriangles(vtkPolyData* triangles) 
   return output;
 }
 
+/// The barycentric weights of `point` (on the triangle's plane) in triangle `cell`, and its vertex ids; false for a
+/// triangle that is not one.
+bool barycentricWeights(vtkPolyData* triangles, vtkIdType cell, const Eigen::Vector3d& point, const vtkIdType*& ids,
+                        double weight[3]) {
+  vtkIdType count = 0;
+  triangles->GetCellPoints(cell, count, ids);
+  if (count != 3) return false;
+  Eigen::Vector3d v[3];
+  for (int k = 0; k < 3; ++k) triangles->GetPoint(ids[k], v[k].data());
+  const Eigen::Vector3d e0 = v[1] - v[0], e1 = v[2] - v[0], p = point - v[0];
+  const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = p.dot(e0), d21 = p.dot(e1);
+  const double denominator = d00 * d11 - d01 * d01;
+  if (!(denominator > 0)) return false;
+  const double w1 = (d11 * d20 - d01 * d21) / denominator, w2 = (d00 * d21 - d01 * d20) / denominator;
+  weight[0] = 1 - w1 - w2;
+  weight[1] = w1;
+  weight[2] = w2;
+  return true;
+}
+
 }  // namespace
 
 TargetSurface::TargetSurface(vtkPolyData* surfaceLps) {
@@ -101,6 +121,8 @@ TargetSurface::TargetSurface(vtkPolyData* surfaceLps) {
       vertexOnEdge_[static_cast<std::size_t>(a)] = vertexOnEdge_[static_cast<std::size_t>(b)] = 1;
     }
   }
+  triangles_->BuildLinks();  // the triangles around a point or an edge (lowestTriangleHolding)
+  neighbours_ = vtkSmartPointer<vtkIdList>::New();
   locator_ = vtkSmartPointer<vtkStaticCellLocator>::New();
   locator_->SetDataSet(triangles_);
   locator_->BuildLocator();
@@ -117,6 +139,7 @@ TargetSurface::Closest TargetSurface::closest(const Eigen::Vector3d& queryLps) c
   int subId = 0;
   double distance2 = 0;
   locator_->FindClosestPoint(queryLps.data(), result.pointLps.data(), scratch_, cellId, subId, distance2);
+  if (cellId >= 0) cellId = lowestTriangleHolding(cellId, result.pointLps);
   double normal[3] = {0, 0, 1};
   if (cellId >= 0) normals_->GetTuple(cellId, normal);
   result.normal = Eigen::Vector3d(normal[0], normal[1], normal[2]).normalized();
@@ -126,22 +149,39 @@ TargetSurface::Closest TargetSurface::closest(const Eigen::Vector3d& queryLps) c
   return result;
 }
 
+vtkIdType TargetSurface::lowestTriangleHolding(vtkIdType cell, const Eigen::Vector3d& pointLps) const {
+  const vtkIdType* ids = nullptr;
+  double weight[3];
+  if (!barycentricWeights(triangles_, cell, pointLps, ids, weight)) return cell;
+  constexpr double kOnBoundary = 1e-9;
+  int zeros = 0, inside = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(weight[k]) <= kOnBoundary) ++zeros;
+    else inside = k;
+  }
+  if (zeros == 0) return cell;  // inside the triangle: no other holds the point
+  if (zeros == 2) {
+    triangles_->GetPointCells(ids[inside], neighbours_);  // at vertex `inside`
+  } else {
+    int a = -1, b = -1;  // the edge: the two vertices with non-zero weights
+    for (int k = 0; k < 3; ++k) {
+      if (std::abs(weight[k]) > kOnBoundary) (a < 0 ? a : b) = k;
+    }
+    triangles_->GetCellEdgeNeighbors(cell, ids[a], ids[b], neighbours_);
+  }
+  vtkIdType lowest = cell;
+  for (vtkIdType i = 0; i < neighbours_->GetNumberOfIds(); ++i) lowest = std::min(lowest, neighbours_->GetId(i));
+  return lowest;
+}
+
 bool TargetSurface::onSurfaceEdge(const Closest& closest) const {
   const vtkIdType* ids = nullptr;
-  vtkIdType count = 0;
-  if (closest.cellId >= 0) triangles_->GetCellPoints(closest.cellId, count, ids);
+  double weight[3];
+  if (closest.cellId < 0 || !barycentricWeights(triangles_, closest.cellId, closest.pointLps, ids, weight)) return false;
   const auto onEdge = [&](vtkIdType point) { return vertexOnEdge_[static_cast<std::size_t>(point)] != 0; };
-  if (count != 3 || !(onEdge(ids[0]) || onEdge(ids[1]) || onEdge(ids[2]))) return false;
+  if (!(onEdge(ids[0]) || onEdge(ids[1]) || onEdge(ids[2]))) return false;
   // Where on its triangle the closest point lies: on edge k when the barycentric weight of the vertex opposite it is
   // zero (to rounding), on vertex k when its own weight is one.
-  Eigen::Vector3d v[3];
-  for (int k = 0; k < 3; ++k) triangles_->GetPoint(ids[k], v[k].data());
-  const Eigen::Vector3d e0 = v[1] - v[0], e1 = v[2] - v[0], p = closest.pointLps - v[0];
-  const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = p.dot(e0), d21 = p.dot(e1);
-  const double denominator = d00 * d11 - d01 * d01;
-  if (!(denominator > 0)) return false;
-  const double w1 = (d11 * d20 - d01 * d21) / denominator, w2 = (d00 * d21 - d01 * d20) / denominator;
-  const double weight[3] = {1 - w1 - w2, w1, w2};
   constexpr double kTolerance = 1e-6;
   const uint8_t edges = edgeOfSurface_[static_cast<std::size_t>(closest.cellId)];
   for (int k = 0; k < 3; ++k) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 class vtkGenericCell;
+class vtkIdList;
 class vtkPolyData;
 class vtkStaticCellLocator;
 class vtkDataArray;
@@ -42,9 +43,15 @@ public:
   vtkPolyData* triangles() const;
 
 private:
+  /// A closest point on an edge or at a vertex lies on every triangle that shares it, all at the same distance, and
+  /// the locator (its bins filled in parallel) returns any of them from one build to the next: the lowest id holding
+  /// the point is taken, so that the normal, and ICP's result, are the same on every run.
+  vtkIdType lowestTriangleHolding(vtkIdType cell, const Eigen::Vector3d& pointLps) const;
+
   vtkSmartPointer<vtkPolyData> triangles_;
   vtkSmartPointer<vtkStaticCellLocator> locator_;
   vtkSmartPointer<vtkGenericCell> scratch_;
+  vtkSmartPointer<vtkIdList> neighbours_;
   vtkDataArray* normals_ = nullptr;
   std::vector<uint8_t> edgeOfSurface_;    ///< per triangle: bit k set when its edge k (vertex k to k+1) is on no other
   std::vector<uint8_t> vertexOnEdge_;     ///< per point: 1 when it ends such an edge

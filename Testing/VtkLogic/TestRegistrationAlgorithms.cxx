@@ -9,11 +9,16 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <vtkCellArray.h>
+#include <vtkIdList.h>
 #include <vtkNew.h>
+#include <vtkPoints.h>
 #include <vtkPlaneSource.h>
 #include <vtkPolyData.h>
 #include <vtkSphereSource.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -259,4 +264,63 @@ TEST(RegistrationDistances, PointsAtKnownDistancesFromASphere) {
   EXPECT_NEAR(percentile({3, 1, 2, 4}, 50), 2.5, 1e-12);
   EXPECT_NEAR(percentile({3, 1, 2, 4}, 95), 3.85, 1e-12);
   EXPECT_THROW(distanceStatistics({}), Error);
+}
+
+// A closest point on a shared edge or vertex lies on every triangle around it at the same distance; the locator may
+// return any of them (its bins are filled in parallel), which made ICP's result differ by about 1e-5 mm between runs.
+// The lowest triangle id holding the point is taken, whatever the triangles' order.
+TEST(RegistrationIcp, ClosestPointsOnSharedEdgesAndVerticesTakeTheLowestTriangle) {
+  // A roof: two slopes meeting at the ridge x = 0 (z = 1), and a pyramid's tip at (5, 0, 1) over four faces.
+  const auto mesh = [](bool reversed) {
+    vtkNew<vtkPoints> points;
+    for (const auto& p : {Eigen::Vector3d(-1, -1, 0), Eigen::Vector3d(0, -1, 1), Eigen::Vector3d(1, -1, 0),
+                          Eigen::Vector3d(-1, 1, 0), Eigen::Vector3d(0, 1, 1), Eigen::Vector3d(1, 1, 0),
+                          Eigen::Vector3d(4, -1, 0), Eigen::Vector3d(6, -1, 0), Eigen::Vector3d(6, 1, 0),
+                          Eigen::Vector3d(4, 1, 0), Eigen::Vector3d(5, 0, 1)}) {
+      points->InsertNextPoint(p.data());
+    }
+    std::vector<std::array<vtkIdType, 3>> triangles{{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4},
+                                                    {6, 7, 10}, {7, 8, 10}, {8, 9, 10}, {9, 6, 10}};
+    if (reversed) std::reverse(triangles.begin(), triangles.end());
+    vtkNew<vtkCellArray> polys;
+    for (const auto& t : triangles) polys->InsertNextCell(3, t.data());
+    vtkNew<vtkPolyData> surface;
+    surface->SetPoints(points);
+    surface->SetPolys(polys);
+    return vtkSmartPointer<vtkPolyData>(surface.GetPointer());
+  };
+  for (const bool reversed : {false, true}) {
+    const TargetSurface surface(mesh(reversed));
+    // Above the ridge: the closest point is on the edge (0, -0.2, 1) of the two middle triangles.
+    const TargetSurface::Closest ridge = surface.closest(Eigen::Vector3d(0, -0.2, 3));
+    EXPECT_LT((ridge.pointLps - Eigen::Vector3d(0, -0.2, 1)).norm(), 1e-12);
+    EXPECT_EQ(ridge.cellId, reversed ? 4 : 0) << "the lower of the two triangles that share the ridge";
+    // Above the tip: every face of the pyramid holds it.
+    const TargetSurface::Closest tip = surface.closest(Eigen::Vector3d(5, 0, 4));
+    EXPECT_LT((tip.pointLps - Eigen::Vector3d(5, 0, 1)).norm(), 1e-12);
+    EXPECT_EQ(tip.cellId, reversed ? 0 : 4);
+  }
+  // Above every vertex of a finely triangulated plane: the point is the vertex, held by up to six triangles that the
+  // locator's bins split between them.
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetOrigin(0, 0, 0);
+  plane->SetPoint1(37, 0, 0);
+  plane->SetPoint2(0, 29, 0);
+  plane->SetResolution(60, 45);
+  plane->Update();
+  const TargetSurface grid(plane->GetOutput());
+  vtkPolyData* triangles = grid.triangles();
+  vtkNew<vtkIdList> around;
+  int vertices = 0, notLowest = 0;
+  for (vtkIdType v = 0; v < triangles->GetNumberOfPoints(); ++v) {
+    Eigen::Vector3d point;
+    triangles->GetPoint(v, point.data());
+    triangles->GetPointCells(v, around);
+    vtkIdType lowest = triangles->GetNumberOfCells();
+    for (vtkIdType i = 0; i < around->GetNumberOfIds(); ++i) lowest = std::min(lowest, around->GetId(i));
+    const TargetSurface::Closest closest = grid.closest(point + Eigen::Vector3d(0, 0, 1));
+    ++vertices;
+    notLowest += closest.cellId != lowest;
+  }
+  EXPECT_EQ(notLowest, 0) << "of " << vertices << " vertices";
 }
