@@ -123,6 +123,7 @@ void SyntheticStereoOptions::validate() const {
   kSyntheticStereo.requireRange("eye rotation (degrees)", eyeRotationDeg, 0, 5);
   kSyntheticStereo.requireRange("noise (grey levels)", noiseStdGrey, 0, 50);
   kSyntheticStereo.requireRange("supersampling", supersampling, 1, 4);
+  kSyntheticStereo.requireRange("right view's rows below the left's (px)", rightRowsBelowPx, -100, 100);
 }
 
 StereoCalibration syntheticStereoCalibration(const SyntheticStereoOptions& options) {
@@ -188,7 +189,9 @@ SyntheticStereoPair renderSyntheticStereoPair(const SyntheticStereoOptions& opti
     shading.realistic = realistic.get();
   }
   pair.leftRectified = renderView(leftRect, leftRaw, surface, texture, shading, options.seed, 1, &pair.highlightMaskLeft);
-  pair.rightRectified = renderView(rightRect, rightRaw, surface, texture, shading, options.seed, 2);
+  SyntheticCamera rightRectShown = rightRect;  // a point on left row v shows on right row v + rightRowsBelowPx
+  rightRectShown.K(1, 2) += options.rightRowsBelowPx;
+  pair.rightRectified = renderView(rightRectShown, rightRaw, surface, texture, shading, options.seed, 2);
   pair.leftRaw = renderView(leftRaw, leftRaw, surface, texture, shading, options.seed, 3);
   pair.rightRaw = renderView(rightRaw, rightRaw, surface, texture, shading, options.seed, 4);
   renderRectifiedGroundTruth(leftRect, rightRect, surface, pair.disparityPx, pair.depthMm);

@@ -29,6 +29,10 @@ struct SyntheticStereoOptions {
   double noiseStdGrey = 1.5;       ///< sensor read noise in 8-bit grey levels (0: noise-free)
   int supersampling = 2;           ///< n x n rays per pixel (anti-aliasing)
   SyntheticLighting lighting = SyntheticLighting::Standard;  ///< the look (SyntheticLighting.h)
+  /// The rectified right view's rows lie this many px below the left's (negative: above), as with a calibration off
+  /// in the vertical or a capture that shifts one eye: rightRectified is rendered so, the raw pair, the calibration
+  /// and the ground truth (the left view's) are not. 0: a rectified pair.
+  int rightRowsBelowPx = 0;
 
   /// The default scene's disparities lie within about [45, 75] px at 960x540, inside the paper's [-20, 80].
   /// This variant (close, oblique view, 8 mm baseline) spans about 100 px at 960 px wide (twice that at 1920) for

@@ -26,7 +26,7 @@ The scene options default to the preset's values (default | wide).)";
 
 struct SynthPairOptions {
   std::string out, preset = "default", lighting = "standard";
-  std::optional<int> seed, width, height, supersampling;
+  std::optional<int> seed, width, height, supersampling, rightRowsBelowPx;
   std::optional<double> workingDistanceMm, tiltDeg, reliefMm, baselineMm, focalPx, noiseStdGrey, distortion,
       eyeRotationDeg;
 };
@@ -59,6 +59,7 @@ void runSynthPair(const SynthPairOptions& given) {
   override(options.distortion, given.distortion);
   override(options.eyeRotationDeg, given.eyeRotationDeg);
   override(options.supersampling, given.supersampling);
+  override(options.rightRowsBelowPx, given.rightRowsBelowPx);
   options.lighting = synthetic::parseSyntheticLighting(given.lighting);
 
   const synthetic::SyntheticStereoPair pair = synthetic::renderSyntheticStereoPair(options);
@@ -99,6 +100,9 @@ void setupSynthPair(CLI::App& synth) {
   add("--supersampling", options->supersampling, "N x N rays per pixel (default 2)");
   add("--lighting", options->lighting, "the light's look: standard (default) or realistic (see above)");
   command->get_option("--lighting")->type_name("standard|realistic");
+  add("--right-rows-below", options->rightRowsBelowPx,
+      "right.png's rows lie N px below the left's (negative: above): a pair out of rectification, as with a "
+      "calibration off in the vertical; the ground truth is the rectified pair's (default 0)");
   command->callback([options] { runSynthPair(*options); });
 }
 

@@ -75,6 +75,15 @@ SyntheticScanOptions scanOptions(const ScopeCase& c, int frames, double fps) {
 /// there that disagree with the tissue around and refills them; the score outside them is that of the tissue.
 cv::Mat highlightPixels(const SyntheticScanFrame& frame, const StereoParameters&) { return frame.highlightMaskLeft; }
 
+/// The right view of a pair whose rows lie `rowsBelow` below the left's (a calibration off in the vertical, a capture
+/// card that shifts one eye): a point on left row y shows on right row y + rowsBelow.
+cv::Mat rightRowsBelow(const cv::Mat& right, int rowsBelow) {
+  cv::Mat moved;
+  const cv::Matx23d shift(1, 0, 0, 0, 1, rowsBelow);
+  cv::warpAffine(right, moved, shift, right.size(), cv::INTER_NEAREST, cv::BORDER_REFLECT);
+  return moved;
+}
+
 }  // namespace
 
 TEST(DisparityRangeScans, FirstFrameAtSeveralWorkingDistancesAndScopes) {
@@ -100,7 +109,8 @@ TEST(DisparityRangeScans, FirstFrameAtSeveralWorkingDistancesAndScopes) {
 }
 
 TEST(DisparityRangeScans, WideImagesMeasuredAtHalfSize) {
-  // Images wider than measureWidthPx are measured at half size, the disparities scaled back to full-size pixels.
+  // Images wider than measureWidthPx are measured at half size, the disparities scaled back to full-size pixels, and
+  // so is the row offset of a pair out of rectification.
   const ScopeCase c{"half size", 640, 360, 0, 5.0, 0, 55, 55};
   const SyntheticScan scan(scanOptions(c, 1, 30));
   const SyntheticScanFrame frame = scan.renderFrame(0);
@@ -119,6 +129,23 @@ TEST(DisparityRangeScans, WideImagesMeasuredAtHalfSize) {
   EXPECT_NEAR(b.highPx, a.highPx, 3.0);
   EXPECT_GE(check.coverage, 0.995);
   EXPECT_LE(check.widthRatio, 1.0);
+
+  // The rectification check at half size: the row offset in full-size pixels (whole measuring pixels: 2 px steps).
+  const cv::Mat right = rightRowsBelow(frame.rightRectified, -6);
+  const DisparitySample checked = halved.measure(frame.leftRectified, right, DisparityRangeEstimator::RowCheck::Measure);
+  EXPECT_EQ(checked.rowOffsetPx, -6);
+  const RangeCheck offsetCheck = checkRange(halved.wantedRange(checked), frame.disparityPx);
+  EXPECT_GE(offsetCheck.coverage, 0.995);
+  EXPECT_LE(offsetCheck.widthRatio, 1.0);
+  // Without the check the same pair is matched along equal rows: no offset said, fewer matches.
+  const DisparitySample unchecked = halved.measure(frame.leftRectified, right);
+  EXPECT_EQ(unchecked.rowOffsetPx, 0);
+  EXPECT_LT(unchecked.matches(), checked.matches());
+  // A rectified pair measured with the check: nothing found, the same sample as without it.
+  const DisparitySample rectified =
+      halved.measure(frame.leftRectified, frame.rightRectified, DisparityRangeEstimator::RowCheck::Measure);
+  EXPECT_EQ(rectified.rowOffsetPx, 0);
+  EXPECT_EQ(rectified.disparitiesPx, b.disparitiesPx);
 }
 
 TEST(DisparityRangeScans, FollowsAnOscillatingScope) {
@@ -184,19 +211,6 @@ TEST(DisparityRangeScans, ApproachingScopeKeepsItsDensity) {
   EXPECT_GE(pipeline.disparityRangeHistory().changes, 2) << "the range followed the tissue";
 }
 
-namespace {
-
-/// The right view of a pair whose rows lie `rowsBelow` below the left's (a calibration off in the vertical, a capture
-/// card that shifts one eye): a point on left row y shows on right row y + rowsBelow.
-cv::Mat rightRowsBelow(const cv::Mat& right, int rowsBelow) {
-  cv::Mat moved;
-  const cv::Matx23d shift(1, 0, 0, 0, 1, rowsBelow);
-  cv::warpAffine(right, moved, shift, right.size(), cv::INTER_NEAREST, cv::BORDER_REFLECT);
-  return moved;
-}
-
-}  // namespace
-
 TEST(DisparityRangeScans, APairOutOfRectificationIsFoundAndMatchedAlongItsRows) {
   // A pair 4 rows out of rectification (a real in-vivo sample pair is) used to find a handful of wrong row matches
   // and a range over the whole image width. The first frame's check finds the offset, the range comes from matches
@@ -239,28 +253,4 @@ TEST(DisparityRangeScans, APairOutOfRectificationIsFoundAndMatchedAlongItsRows) 
     EXPECT_LE(score.badOver1, reference.badOver1 + 0.01);
     EXPECT_GT(unmovedScore.badOver1, score.badOver1 + 0.05) << "the move is what makes the difference";
   }
-}
-
-TEST(DisparityRangeScans, RowOffsetMeasuredAtHalfSizeInFullSizePixels) {
-  const ScopeCase c{"half size", 640, 360, 0, 5.0, 0, 55, 55};
-  const SyntheticScan scan(scanOptions(c, 1, 30));
-  const SyntheticScanFrame frame = scan.renderFrame(0);
-  DisparityRangeEstimatorOptions half;
-  half.measureWidthPx = 320;
-  DisparityRangeEstimator halved(Device::Cpu, half);
-  const cv::Mat right = rightRowsBelow(frame.rightRectified, -6);
-  const DisparitySample checked = halved.measure(frame.leftRectified, right, DisparityRangeEstimator::RowCheck::Measure);
-  EXPECT_EQ(checked.rowOffsetPx, -6);
-  const RangeCheck check = checkRange(halved.wantedRange(checked), frame.disparityPx);
-  EXPECT_GE(check.coverage, 0.995);
-  EXPECT_LE(check.widthRatio, 1.0);
-  // Without the check the same pair is matched along equal rows: no offset said, fewer matches.
-  const DisparitySample unchecked = halved.measure(frame.leftRectified, right);
-  EXPECT_EQ(unchecked.rowOffsetPx, 0);
-  EXPECT_LT(unchecked.matches(), checked.matches());
-  // A rectified pair measured with the check: nothing found, the same sample as without it.
-  const DisparitySample rectified =
-      halved.measure(frame.leftRectified, frame.rightRectified, DisparityRangeEstimator::RowCheck::Measure);
-  EXPECT_EQ(rectified.rowOffsetPx, 0);
-  EXPECT_EQ(rectified.disparitiesPx, halved.measure(frame.leftRectified, frame.rightRectified).disparitiesPx);
 }
