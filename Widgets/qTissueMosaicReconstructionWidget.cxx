@@ -377,6 +377,8 @@ void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
   agreementLabel->setProperty("agreementLevel", level);
   disparityRangeLabel->setText(
       QObject::tr("Disparities: %1").arg(QString::fromStdString(logic->GetDisparityRangeText())));
+  // A pair out of rectification is matched after a correction the user should know of: the line stands out.
+  disparityRangeLabel->setStyleSheet(status.rowOffsetPx != 0 ? "QLabel { color: #e65100; font-weight: bold; }" : QString());
   tissuemosaic::RectifiedGeometry geometry;
   const bool known = logic->GetRectifiedGeometry(geometry);
   parameters->stereoPanel()->setRigGeometry(known ? &geometry : nullptr);

@@ -67,16 +67,18 @@ const std::vector<Field>& fields() {
     {"specularMarginPx", "Highlight margin", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMarginPx), 0, 20, 1, 0, " px",
      "Estimates within this distance of a highlight (the left pixel, or its match in the right eye) that disagree "
      "with the tissue around it are removed and refilled from that tissue. The margin follows the highlight's "
-     "outline. An addition to the paper."},
+     "outline. For 960 px wide images: wider ones scale it with their width. An addition to the paper."},
     {"specularMaxRadiusPx", "Highlight max. radius", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMaxRadiusPx), 1, 100, 1, 0,
      " px",
      "A saturated area reaching this far on both sides of a pixel (along a row or column) is bright tissue, not a "
-     "highlight. Surroundings are sampled just beyond the bright spot and its matching windows."},
+     "highlight. Surroundings are sampled just beyond the bright spot and its matching windows. For 960 px wide "
+     "images: wider ones scale it with their width."},
     {"trackingHighlightMarginPx", "Tracking highlight margin", Matching,
      TM_PARAMETER_FIELD(StereoParameters, trackingHighlightMarginPx), 0, 50, 1, 0, " px",
      "Tracking and fusion leave out the pixels within this distance (a square) of a highlight in the left image. "
      "The stereo output keeps the refilled tissue depth there, but a highlight slides over the tissue as the camera "
-     "moves, so features on it would mislead tracking. An addition to the paper."},
+     "moves, so features on it would mislead tracking. For 960 px wide images: wider ones scale it with their width. "
+     "An addition to the paper."},
     {"znccWindowPx", "ZNCC window", Zncc, TM_PARAMETER_FIELD(StereoParameters, znccWindowPx), 3, 21, 2, 0, " px",
      "Side of the square ZNCC matching window, odd. Paper II.A: 11x11, using every other pixel (a chessboard)."},
     {"outlierIterations", "Iterations", Outliers, TM_PARAMETER_FIELD(StereoParameters, outlierIterations), 0, 10, 1, 0, "",

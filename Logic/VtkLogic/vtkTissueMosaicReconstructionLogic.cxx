@@ -227,6 +227,7 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           status.elapsedS = busyS;
           status.disparityRange = result.disparityRange;
           status.disparityRangeText = pipeline->disparityRangeDescription();
+          status.rowOffsetPx = pipeline->disparityRangeHistory().rowOffsetPx;
           if (recentFrameEnds.size() >= 2) {
             const double spanS = std::chrono::duration<double>(recentFrameEnds.back() - recentFrameEnds.front()).count();
             status.framesPerSecond = spanS > 0 ? (recentFrameEnds.size() - 1) / spanS : 0;

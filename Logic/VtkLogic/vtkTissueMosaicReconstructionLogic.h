@@ -218,6 +218,9 @@ public:
     double elapsedS = 0;          ///< since the scan started, pauses excluded
     tissuemosaic::DisparityRange disparityRange;  ///< the last frame's
     std::string disparityRangeText;  ///< how the ranges were chosen (ReconstructionPipeline::disparityRangeDescription)
+    /// Right row minus left row of a point, as the first frame found it: not 0, the pair is not rectified (the text
+    /// says so; DisparityRangeHistory::rowOffsetPx).
+    double rowOffsetPx = 0;
     std::string device;           ///< where the pipeline runs ("cpu", "cuda")
     std::string errorText;        ///< StateFailed: why
   };
