@@ -10,6 +10,7 @@
 #include "Core/Device.h"
 #include "Core/StereoRig.h"
 #include "IO/StereoFrameSource.h"
+#include "SyntheticStereoScene.h"
 
 #include <gtest/gtest.h>
 
@@ -92,6 +93,28 @@ public:
   int frameCount() const override { return 0; }
   cv::Size frameSize() const override { return {64, 48}; }
   std::string description() const override { return "empty"; }
+};
+
+/// `count` frames of one pair.
+class RepeatedPairSource : public tissuemosaic::StereoFrameSource {
+public:
+  RepeatedPairSource(cv::Mat left, cv::Mat right, int count) : left_(left), right_(right), count_(count) {}
+  bool next(tissuemosaic::StereoFrame& frame) override {
+    if (next_ >= count_) return false;
+    frame.index = next_;
+    frame.timeS = next_ / 30.0;
+    frame.left = left_;
+    frame.right = right_;
+    ++next_;
+    return true;
+  }
+  int frameCount() const override { return count_; }
+  cv::Size frameSize() const override { return left_.size(); }
+  std::string description() const override { return "one pair, repeated"; }
+
+private:
+  cv::Mat left_, right_;
+  int count_, next_ = 0;
 };
 
 tissuemosaic::RectifiedGeometry emptyGeometry() {
@@ -333,6 +356,37 @@ TEST(ReconstructionModulePanel, ControlsFollowTheScanState) {
   reset->click();
   EXPECT_TRUE(start->isEnabled());
   EXPECT_TRUE(panel.parametersPanel()->isEnabled());
+}
+
+TEST(ReconstructionModulePanel, APairOutOfRectificationStandsOutInTheDisparityLine) {
+  tissuemosaic::synthetic::SyntheticStereoOptions options;
+  options.width = 320;
+  options.height = 180;
+  options.supersampling = 1;
+  options.rightRowsBelowPx = 4;
+  const tissuemosaic::synthetic::SyntheticStereoPair pair = tissuemosaic::synthetic::renderSyntheticStereoPair(options);
+  qTissueMosaicReconstructionWidget panel;
+  auto* range = panel.findChild<QLabel*>("disparityRangeLabel");
+  ASSERT_NE(range, nullptr);
+  vtkTissueMosaicReconstructionLogic* logic = panel.reconstructionLogic();
+  ASSERT_TRUE(logic->SetFrameSourceFactory(
+      [pair] { return std::make_unique<RepeatedPairSource>(pair.leftRectified, pair.rightRectified, 2); }));
+  logic->SetRectifiedGeometry(pair.geometry);
+  logic->SetDeviceChoice(vtkTissueMosaicReconstructionLogic::DeviceCpu);
+  panel.updateFromLogic();
+  EXPECT_TRUE(range->styleSheet().isEmpty());
+  ASSERT_TRUE(panel.start()) << panel.lastMessage().toStdString();
+  ASSERT_TRUE(logic->WaitForScanEnd(60));
+  panel.updateFromLogic();
+  EXPECT_TRUE(range->text().contains("not rectified: the right view's rows lay 4 px below the left's"))
+      << range->text().toStdString();
+  EXPECT_TRUE(range->styleSheet().contains("#e65100")) << range->styleSheet().toStdString();
+  // A reset forgets the scan and its warning.
+  auto* reset = panel.findChild<QPushButton*>("resetButton");
+  ASSERT_NE(reset, nullptr);
+  reset->click();
+  panel.updateFromLogic();
+  EXPECT_TRUE(range->styleSheet().isEmpty()) << range->text().toStdString();
 }
 
 TEST(ReconstructionModulePanel, ARefusedValueIsRedAtItsFieldAndStartSaysWhy) {
