@@ -116,8 +116,9 @@ void runTrack(const TrackOptions& options) {
     } catch (const DisparityRangeError& error) {
       rethrowWithRangeOptions(error);
     }
-    if (count == 1 && !rowOffsetWarning(range.history()).empty()) {
-      std::cerr << "warning: the stereo pair is " << rowOffsetWarning(range.history()) << "\n";
+    if (count == 1) {
+      const std::string warning = rowOffsetWarning(range.history());
+      if (!warning.empty()) std::cerr << "warning: the stereo pair is " << warning << "\n";
     }
     right = range.alignedRight(right);
     // As the reconstruction pipeline does: features near a highlight get no depth (StereoMatcher.h).

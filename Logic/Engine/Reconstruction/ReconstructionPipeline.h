@@ -91,7 +91,9 @@ struct FrameResult {
   RefinementPartsMs refinementPartsMs;  ///< key frames only
   StereoTimingsMs stereoPartsMs;        ///< the stereo stage's parts (its GPU stages in device time)
   TrackingPartsMs trackingPartsMs;
-  cv::Mat leftRectified, rightRectified;  ///< 8-bit BGR
+  /// 8-bit BGR; the right view moved onto the left's rows where the first frame found the pair out of rectification
+  /// (DisparityRangeFollower::alignedRight)
+  cv::Mat leftRectified, rightRectified;
   cv::Mat disparityPx;                    ///< CV_32F, NaN = none; empty when the pipeline keeps none (setFrameDisparityKept)
   DisparityRange disparityRange;          ///< the range this frame was matched over
   /// Automatic range: milliseconds of the sparse left-right matching: the first frame's, before its stereo on the

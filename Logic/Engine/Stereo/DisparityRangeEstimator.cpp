@@ -209,22 +209,17 @@ struct DisparityRangeEstimator::Impl {
     return kept;
   }
 
-  /// The offset between the views' rows at the measuring scale: the median row offset of the matches found over
-  /// rowSearchPx either way, where it is more than maxRowOffsetPx (full-size) and finds more matches than the
-  /// rectified rows do; else 0. A pair whose rows disagree finds few, and mostly wrong, matches along equal rows, and
-  /// their disparities spread over the whole image width.
-  double measuredRowOffset(const ViewFeatures& features, int imageWidth, int borderPx, const cv::Mat& leftSaturated,
-                           const cv::Mat& rightSaturated, int scale) const {
+  /// The offset between the views' rows at the measuring scale that the matches found over rowSearchPx either way
+  /// suggest: their median, where it is more than maxRowOffsetPx (full-size); else 0. measure() takes it where more
+  /// matches come out along the offset rows than along equal ones: a pair whose rows disagree finds few, and mostly
+  /// wrong, matches along equal rows, and their disparities spread over the whole image width.
+  double suggestedRowOffset(const ViewFeatures& features, int imageWidth, int borderPx, const cv::Mat& leftSaturated,
+                            const cv::Mat& rightSaturated, int scale) const {
     const Matched searched = match(features, imageWidth, borderPx, leftSaturated, rightSaturated, 0,
                                    options.rowSearchPx / scale);
     if (static_cast<int>(searched.rowOffsetsPx.size()) < options.minMatches) return 0;
     const double offsetPx = std::round(quantile(sortedCopy(searched.rowOffsetsPx), 0.5));
-    if (std::abs(offsetPx) * scale <= options.maxRowOffsetPx) return 0;
-    const std::size_t alongRows =
-        match(features, imageWidth, borderPx, leftSaturated, rightSaturated, 0, kRowTolerancePx).disparitiesPx.size();
-    const std::size_t alongOffset =
-        match(features, imageWidth, borderPx, leftSaturated, rightSaturated, offsetPx, kRowTolerancePx).disparitiesPx.size();
-    return alongOffset > alongRows ? offsetPx : 0;
+    return std::abs(offsetPx) * scale <= options.maxRowOffsetPx ? 0 : offsetPx;
   }
 
   static constexpr double kRowTolerancePx = LeftRightMatchOptions{}.rowTolerancePx;
@@ -261,11 +256,19 @@ DisparitySample DisparityRangeEstimator::measure(const cv::Mat& leftRectified, c
   const cv::Mat rightSaturated = saturatedNeighbourhood(right, s.options.saturatedGrey);
   const int borderPx = orb.edgeThresholdPx;
   const Impl::ViewFeatures features{s.extractor.extract(left), s.extractor.extract(right)};
-  const double rowOffsetPx = rows == RowCheck::Measure
-                                 ? s.measuredRowOffset(features, left.cols, borderPx, leftSaturated, rightSaturated, scale)
-                                 : 0.0;
-  Impl::Matched matched =
-      s.match(features, left.cols, borderPx, leftSaturated, rightSaturated, rowOffsetPx, Impl::kRowTolerancePx);
+  Impl::Matched matched = s.match(features, left.cols, borderPx, leftSaturated, rightSaturated, 0, Impl::kRowTolerancePx);
+  double rowOffsetPx = 0;  // at the measuring scale
+  if (rows == RowCheck::Measure) {
+    const double suggestedPx = s.suggestedRowOffset(features, left.cols, borderPx, leftSaturated, rightSaturated, scale);
+    if (suggestedPx != 0) {
+      Impl::Matched alongOffset =
+          s.match(features, left.cols, borderPx, leftSaturated, rightSaturated, suggestedPx, Impl::kRowTolerancePx);
+      if (alongOffset.disparitiesPx.size() > matched.disparitiesPx.size()) {
+        matched = std::move(alongOffset);
+        rowOffsetPx = suggestedPx;
+      }
+    }
+  }
   if (static_cast<int>(matched.disparitiesPx.size()) < s.options.weakTextureMatches &&
       s.options.weakFastThreshold < s.options.fastThreshold) {
     if (!s.weakExtractor) {
