@@ -36,6 +36,24 @@ SurfaceSwell SyntheticBreathing::swellAt(double timeS) const {
   return swell;
 }
 
+double SyntheticBreathing::phaseAt(double timeS) const {
+  constexpr double twoPi = 6.283185307179586;
+  return active() ? 0.5 * (1 - std::cos(twoPi * breathTimeS(timeS) / periodS_)) : 0.0;
+}
+
+void SyntheticBreathing::setLateral(double lateralMm, const cv::Vec2d& direction) {
+  require(lateralMm >= 0 && cv::norm(direction) > 0, "synthetic breathing: the lateral part needs mm >= 0 and a direction");
+  lateralMm_ = lateralMm;
+  lateralDirection_ = direction / cv::norm(direction);
+}
+
+SurfaceSlide SyntheticBreathing::slideAt(double timeS) const {
+  SurfaceSlide slide;
+  slide.shape = shape_;
+  if (lateralMm_ > 0) slide.displacementMm = lateralMm_ * phaseAt(timeS) * lateralDirection_;
+  return slide;
+}
+
 SurfaceSwell SyntheticBreathing::peakSwell() const {
   SurfaceSwell swell = shape_;
   swell.amplitudeMm = -amplitudeMm_;

@@ -76,6 +76,19 @@ double TissueSurface::distanceMm(double xMm, double yMm, double zMm) const {
 }
 
 double TissueSurface::heightMm(double x, double y, double* dhdx, double* dhdy) const {
+  if (!slide_.active()) return materialHeightMm(x, y, dhdx, dhdy);
+  double wx = 0, wy = 0;
+  const double w = slide_.shape.weight(x, y, &wx, &wy);
+  const double sx = slide_.displacementMm[0], sy = slide_.displacementMm[1];
+  double gx = 0, gy = 0;
+  const double h = materialHeightMm(x - sx * w, y - sy * w, &gx, &gy);
+  // Chain rule through q = p - s w(p): dq/dp = I - s grad(w)^T.
+  if (dhdx) *dhdx = gx * (1 - sx * wx) - gy * sy * wx;
+  if (dhdy) *dhdy = -gx * sx * wy + gy * (1 - sy * wy);
+  return h;
+}
+
+double TissueSurface::materialHeightMm(double x, double y, double* dhdx, double* dhdy) const {
   const double s2 = parameters_.domeRadiusMm * parameters_.domeRadiusMm;
   const double root = std::sqrt(1.0 + (x * x + y * y) / s2);
   double h = parameters_.domeDepthMm * (root - 1.0);
@@ -102,6 +115,13 @@ double TissueSurface::heightMm(double x, double y, double* dhdx, double* dhdy) c
     gx += swell_.amplitudeMm * wx;
     gy += swell_.amplitudeMm * wy;
   }
+  for (const SurfaceSwell& swell : extraSwells_) {
+    if (swell.amplitudeMm == 0) continue;
+    double wx = 0, wy = 0;
+    h += swell.amplitudeMm * swell.weight(x, y, &wx, &wy);
+    gx += swell.amplitudeMm * wx;
+    gy += swell.amplitudeMm * wy;
+  }
   if (dhdx) *dhdx = gx;
   if (dhdy) *dhdy = gy;
   return h;
@@ -112,6 +132,37 @@ TissueSurface TissueSurface::swollen(const SurfaceSwell& swell) const {
   copy.minHeightMm_ = minHeightMm_ - std::abs(swell_.amplitudeMm) - std::abs(swell.amplitudeMm);
   copy.swell_ = swell;
   return copy;
+}
+
+TissueSurface TissueSurface::deformed(const SurfaceDeformation& deformation) const {
+  TissueSurface copy = *this;
+  copy.extraSwells_ = deformation.swells;
+  copy.slide_ = deformation.slide;
+  // The slide only moves the relief sideways: h keeps its lower bound; each swell can lower it by its amplitude.
+  copy.minHeightMm_ = minHeightMm_;
+  for (const SurfaceSwell& swell : extraSwells_) copy.minHeightMm_ += std::abs(swell.amplitudeMm);
+  for (const SurfaceSwell& swell : deformation.swells) copy.minHeightMm_ -= std::abs(swell.amplitudeMm);
+  return copy;
+}
+
+cv::Vec2d TissueSurface::materialXYMm(double x, double y) const {
+  if (!slide_.active()) return {x, y};
+  const double w = slide_.shape.weight(x, y);
+  return {x - slide_.displacementMm[0] * w, y - slide_.displacementMm[1] * w};
+}
+
+cv::Vec3d TissueSurface::materialPointMm(double restX, double restY) const {
+  // p = q + s w(p): a contraction (|s| max|grad w| < 1), so p converges from p = q.
+  double x = restX, y = restY;
+  for (int iteration = 0; iteration < 100 && slide_.active(); ++iteration) {
+    const double w = slide_.shape.weight(x, y);
+    const double nextX = restX + slide_.displacementMm[0] * w, nextY = restY + slide_.displacementMm[1] * w;
+    const bool converged = std::abs(nextX - x) + std::abs(nextY - y) < 1e-10;
+    x = nextX;
+    y = nextY;
+    if (converged) break;
+  }
+  return {x, y, heightMm(x, y)};
 }
 
 cv::Vec3d TissueSurface::normal(double x, double y) const {

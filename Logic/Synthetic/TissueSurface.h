@@ -5,6 +5,7 @@
 /// bumps are compactly supported polynomials (1 - r^2/s^2)^3: smooth, and cheap to evaluate millions of times. The world Z axis
 /// points into the tissue (away from the scope), so a camera looking "down" at the tissue looks along +Z.
 /// Every term is analytic, so heights, normals and ray intersections are exact (to the Newton tolerance).
+#include "SurfaceDeformation.h"
 #include "SurfaceSwell.h"
 
 #include <opencv2/core.hpp>
@@ -45,6 +46,15 @@ public:
   double minHeightMm() const { return minHeightMm_; }
   /// This surface with `swell` added to its height (the breathing at one instant, SyntheticBreathing.h).
   TissueSurface swollen(const SurfaceSwell& swell) const;
+  /// This surface (its swell kept) further deformed by `deformation` (SurfaceDeformation.h): the in-vivo tissue at
+  /// one instant. Replaces any earlier deformation.
+  TissueSurface deformed(const SurfaceDeformation& deformation) const;
+  /// World XY at which the tissue point now above (x, y) rested (the slide's inverse): (x, y) itself without a slide.
+  /// The texture is painted on these coordinates.
+  cv::Vec2d materialXYMm(double xMm, double yMm) const;
+  /// Where the material point that rests at XY (restXMm, restYMm) now lies: on this surface, world frame, mm (the
+  /// slide's forward map, solved by fixed-point iteration to 1e-9 mm).
+  cv::Vec3d materialPointMm(double restXMm, double restYMm) const;
 
   /// Ray parameter t > 0 where origin + t * direction meets the surface (direction need not be unit, but must
   /// point into the tissue: direction[2] > 0). warmStart: a nearby ray's t (0: none). Returns NaN if none.
@@ -63,6 +73,11 @@ private:
   std::vector<std::vector<Bump>> grid_;
   double minHeightMm_ = 0;
   SurfaceSwell swell_;  ///< amplitude 0: none
+  std::vector<SurfaceSwell> extraSwells_;  ///< the deformation's swells (deformed())
+  SurfaceSlide slide_;
+
+  /// h at material coordinates: the rest relief plus every swell (no slide).
+  double materialHeightMm(double xMm, double yMm, double* dhdx, double* dhdy) const;
 };
 
 }  // namespace tissuemosaic::synthetic
