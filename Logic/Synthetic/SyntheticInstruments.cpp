@@ -132,7 +132,7 @@ bool InstrumentOccluder::hits(const cv::Vec3d& origin, const cv::Vec3d& directio
 
 SyntheticInstruments::SyntheticInstruments(int count, int frames, double fps, uint32_t seed,
                                            const std::function<bool(int, cv::Vec3d&)>& viewCentreMm,
-                                           const TissueSurface& highest)
+                                           const TissueSurface& highest, const cv::Vec2d& borderReachMm)
     : fps_(fps) {
   require(count >= 0 && frames > 0 && fps > 0, "synthetic instruments: invalid count, frames or frame rate");
   std::mt19937 generator(seed ^ 0x1257u);
@@ -155,8 +155,15 @@ SyntheticInstruments::SyntheticInstruments(int count, int frames, double fps, ui
       }
     }
     require(found, "synthetic instruments: no frame shows tissue");
-    plan.anchorMm = {centre[0] + uniform(generator, -8, 8), centre[1] + uniform(generator, -5, 5)};
+    const double offsetX = uniform(generator, -8, 8), offsetY = uniform(generator, -5, 5);
     const double azimuth = firstAzimuth + 2 * pi * i / std::max(count, 1) + uniform(generator, -0.3, 0.3);
+    plan.anchorMm = {centre[0] + offsetX, centre[1] + offsetY};
+    if (borderReachMm[0] != 0 || borderReachMm[1] != 0) {
+      // Near the border on the trocar's side: the shaft crosses little of the view. The random offset shrinks
+      // with the reach so that the tip stays in view.
+      plan.anchorMm = {centre[0] + borderReachMm[0] * std::cos(azimuth) + 0.25 * offsetX,
+                       centre[1] + borderReachMm[1] * std::sin(azimuth) + 0.25 * offsetY};
+    }
     plan.trocarMm = {plan.anchorMm[0] + kTrocarLateralMm * std::cos(azimuth),
                      plan.anchorMm[1] + kTrocarLateralMm * std::sin(azimuth),
                      highest.heightMm(plan.anchorMm[0], plan.anchorMm[1]) - kTrocarHeightMm};
@@ -181,9 +188,14 @@ std::pair<int, int> SyntheticInstruments::span(int instrument) const {
   return {plans_[static_cast<std::size_t>(instrument)].enter, plans_[static_cast<std::size_t>(instrument)].leave};
 }
 
-InstrumentPose SyntheticInstruments::pose(const Plan& plan, int index) const {
-  const double t = index / fps_;
-  const double u = static_cast<double>(index - plan.enter) / std::max(1, plan.leave - plan.enter);
+double SyntheticInstruments::spanFraction(int instrument, int index, double offsetS) const {
+  const Plan& plan = plans_.at(static_cast<std::size_t>(instrument));
+  return (static_cast<double>(index - plan.enter) + offsetS * fps_) / std::max(1, plan.leave - plan.enter);
+}
+
+InstrumentPose SyntheticInstruments::pose(const Plan& plan, int index, double offsetS) const {
+  const double t = index / fps_ + offsetS;
+  const double u = (static_cast<double>(index - plan.enter) + offsetS * fps_) / std::max(1, plan.leave - plan.enter);
   // In along the shaft over the first 15 % of the span, out over the last 15 %.
   const double inserted = smoothstep(0.0, 0.15, u) * (1 - smoothstep(0.85, 1.0, u));
   const cv::Vec2d xy = plan.anchorMm + cv::Vec2d(plan.wanderMm[0] * std::sin(plan.wanderOmega[0] * t + plan.wanderPhase[0]),
@@ -227,10 +239,10 @@ InstrumentPose SyntheticInstruments::pose(const Plan& plan, int index) const {
   return pose;
 }
 
-std::vector<InstrumentPose> SyntheticInstruments::posesAt(int index) const {
+std::vector<InstrumentPose> SyntheticInstruments::posesAt(int index, double offsetS) const {
   std::vector<InstrumentPose> poses;
   for (const Plan& plan : plans_) {
-    if (index >= plan.enter && index <= plan.leave) poses.push_back(pose(plan, index));
+    if (index >= plan.enter && index <= plan.leave) poses.push_back(pose(plan, index, offsetS));
   }
   return poses;
 }

@@ -64,12 +64,18 @@ public:
   /// tissue point at the centre of the view at a frame (false for a frame without tissue): an instrument works
   /// around where the scope looks in the middle of its span. highest: the tissue at its highest (breathing at its
   /// peak), for the clearance.
+  /// borderReachMm (in-vivo, SyntheticInVivoOptions::instrumentsAtBorder): when not zero, each tip works this far
+  /// from the view's centre (world X, Y semi-axes of an ellipse, mm) toward its trocar, near the view's border.
   SyntheticInstruments(int count, int frames, double fps, uint32_t seed,
-                       const std::function<bool(int, cv::Vec3d&)>& viewCentreMm, const TissueSurface& highest);
+                       const std::function<bool(int, cv::Vec3d&)>& viewCentreMm, const TissueSurface& highest,
+                       const cv::Vec2d& borderReachMm = {0, 0});
 
   int count() const { return static_cast<int>(plans_.size()); }
-  /// The instruments in the scene at frame `index` (those whose span holds it).
-  std::vector<InstrumentPose> posesAt(int index) const;
+  /// The instruments in the scene at frame `index` (those whose span holds it), offsetS seconds after the frame's
+  /// time (a sub-frame instant of a blurred or interlaced frame; the span is the frame's).
+  std::vector<InstrumentPose> posesAt(int index, double offsetS = 0) const;
+  /// How far through its span instrument i is at frame index + offsetS: 0 at its first frame, 1 at its last.
+  double spanFraction(int instrument, int index, double offsetS = 0) const;
   /// First and last frame of instrument i's span.
   std::pair<int, int> span(int instrument) const;
   /// Triangles of every instrument at each listed frame (shaft meshed kMeshedShaftLengthMm from the tip), one mesh:
@@ -90,7 +96,7 @@ private:
     double jawOmega = 1, jawPhase = 0, rollOmega = 1, rollPhase = 0;
     const TissueSurface* highest = nullptr;  ///< the tissue at its highest, for the clearance
   };
-  InstrumentPose pose(const Plan& plan, int index) const;
+  InstrumentPose pose(const Plan& plan, int index, double offsetS) const;
   std::vector<Plan> plans_;
   double fps_ = 30;
 };

@@ -84,9 +84,9 @@ cv::Vec3f RealisticLighting::sample(double xMm, double yMm) const {
 
 SurfaceRadiance RealisticLighting::shade(const cv::Vec3d& point, const cv::Vec2d& gradient, const cv::Vec3f& albedo,
                                          const cv::Vec3d& lightMm, const cv::Vec3d& eyeMm,
-                                         double lightReferenceMm) const {
+                                         double lightReferenceMm, const cv::Vec2d* materialXYMm) const {
   const RealisticLightingParameters& p = parameters_;
-  const cv::Vec3f micro = sample(point[0], point[1]);
+  const cv::Vec3f micro = materialXYMm ? sample((*materialXYMm)[0], (*materialXYMm)[1]) : sample(point[0], point[1]);
   // The surface is Z = h: its normal toward the scope is (dh/dx, dh/dy, -1), tilted by the micro-relief.
   const cv::Vec3d normal = cv::normalize(cv::Vec3d(gradient[0] + micro[0], gradient[1] + micro[1], -1.0));
   cv::Vec3d toLight = lightMm - point;

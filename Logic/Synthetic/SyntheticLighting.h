@@ -64,9 +64,11 @@ public:
 
   /// Radiance of the surface point `pointMm` (world), whose height-field gradient is `gradient`, with albedo
   /// `albedo` (linear BGR), lit from `lightMm` and seen from `eyeMm`; `lightReferenceMm` is the distance at which
-  /// the exposure holds. Inverse-square fall-off from the light.
+  /// the exposure holds. Inverse-square fall-off from the light. materialXYMm: where the wet-tissue maps are read
+  /// (the tissue's rest XY where it has slid, TissueSurface::materialXYMm); null: the point's own XY.
   SurfaceRadiance shade(const cv::Vec3d& pointMm, const cv::Vec2d& gradient, const cv::Vec3f& albedo,
-                        const cv::Vec3d& lightMm, const cv::Vec3d& eyeMm, double lightReferenceMm) const;
+                        const cv::Vec3d& lightMm, const cv::Vec3d& eyeMm, double lightReferenceMm,
+                        const cv::Vec2d* materialXYMm = nullptr) const;
 
   const RealisticLightingParameters& parameters() const { return parameters_; }
 

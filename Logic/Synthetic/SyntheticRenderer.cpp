@@ -33,11 +33,13 @@ double vignettingFactor(const SyntheticCamera& lens, const cv::Vec3d& rayWorld, 
 /// Linear BGR radiance of the surface point at ray parameter t (Lambert + Blinn-Phong, light at the scope tip, or
 /// the realistic lighting), its diffuse and specular parts apart.
 SurfaceRadiance shade(const cv::Vec3d& origin, const cv::Vec3d& ray, double t, const cv::Vec2d& gradient,
-                      const TissueTexture& texture, const ShadingParameters& shading) {
+                      const TissueSurface& surface, const TissueTexture& texture, const ShadingParameters& shading) {
   const cv::Vec3d point = origin + t * ray;
+  // The texture moves with the tissue: read where this tissue point rested (its own XY unless it slid).
+  const cv::Vec2d material = surface.materialXYMm(point[0], point[1]);
   if (shading.realistic) {
-    return shading.realistic->shade(point, gradient, texture.albedo(point[0], point[1]), shading.lightWorldMm, origin,
-                                    shading.lightReferenceMm);
+    return shading.realistic->shade(point, gradient, texture.albedo(material[0], material[1]), shading.lightWorldMm,
+                                    origin, shading.lightReferenceMm, &material);
   }
   const cv::Vec3d normal = cv::normalize(cv::Vec3d(gradient[0], gradient[1], -1.0));
   cv::Vec3d toLight = shading.lightWorldMm - point;
@@ -49,7 +51,7 @@ SurfaceRadiance shade(const cv::Vec3d& origin, const cv::Vec3d& ray, double t, c
   // Below 0.97 the highlight term is < 1e-11 at the shininess used: skip the power.
   const double specular = halfway > 0.97 ? shading.specularStrength * powInt(halfway, shading.shininess) : 0.0;
   const double irradiance = shading.lightReferenceMm * shading.lightReferenceMm / distance2;
-  const cv::Vec3f albedo = texture.albedo(point[0], point[1]);
+  const cv::Vec3f albedo = texture.albedo(material[0], material[1]);
   const double lit = (diffuse + shading.ambient) * irradiance * 1.2;
   return {{albedo[0] * lit, albedo[1] * lit, albedo[2] * lit}, specular * irradiance};
 }
@@ -69,8 +71,11 @@ cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCam
                    uint32_t noiseStream, cv::Mat* highlightMask, const RayOccluder* occluder) {
   const int width = camera.imageSize.width, height = camera.imageSize.height;
   const int n = std::max(1, shading.supersampling);
-  cv::Mat image(camera.imageSize, CV_8UC3);
-  if (highlightMask) highlightMask->create(camera.imageSize, CV_8U);
+  cv::Mat image = shading.rowParity >= 0 ? cv::Mat::zeros(camera.imageSize, CV_8UC3) : cv::Mat(camera.imageSize, CV_8UC3);
+  if (highlightMask) {
+    if (shading.rowParity >= 0) *highlightMask = cv::Mat::zeros(camera.imageSize, CV_8U);
+    else highlightMask->create(camera.imageSize, CV_8U);
+  }
   // 8-bit gamma table (sRGB-like 1/2.2) over linear values in [0, 1].
   constexpr int tableSize = 4096;
   std::vector<float> gamma(tableSize + 1);
@@ -80,6 +85,7 @@ cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCam
     // The last two hits of each sub-row predict the next one (linear extrapolation): one Newton step then suffices.
     std::vector<double> last(n), beforeLast(n);
     for (int y = rows.start; y < rows.end; ++y) {
+      if (shading.rowParity >= 0 && (y & 1) != shading.rowParity) continue;
       std::fill(last.begin(), last.end(), 0.0);
       std::fill(beforeLast.begin(), beforeLast.end(), 0.0);
       cv::Vec3b* out = image.ptr<cv::Vec3b>(y);
@@ -106,7 +112,7 @@ cv::Mat renderView(const SyntheticCamera& camera, const SyntheticCamera& lensCam
               sum += occluded;
               diffuseSum += occluded;
             } else if (std::isfinite(t)) {  // else looking away from the tissue: black
-              const SurfaceRadiance radiance = shade(camera.centreWorldMm, ray, t, gradient, texture, shading);
+              const SurfaceRadiance radiance = shade(camera.centreWorldMm, ray, t, gradient, surface, texture, shading);
               const cv::Vec3d specular(radiance.specular, radiance.specular, radiance.specular);
               sum += radiance.diffuse + specular;
               diffuseSum += radiance.diffuse;

@@ -27,6 +27,8 @@ struct ShadingParameters {
   int supersampling = 2;            ///< n x n rays per pixel
   /// Realistic lighting (SyntheticLighting.h) instead of the terms above, and sensor clipping; null: the standard look.
   const RealisticLighting* realistic = nullptr;
+  /// 0 or 1: render only the even or the odd rows (one field of an interlaced frame), the others left black; -1: all.
+  int rowParity = -1;
 };
 
 /// Renders one 8-bit BGR image seen by `camera`. `lensCamera` is the physical (unrectified) camera of the same

@@ -6,8 +6,11 @@
 #include "SyntheticBreathing.h"
 #include "SyntheticCamera.h"
 #include "SyntheticCameraOut.h"
+#include "SyntheticCapture.h"
 #include "SyntheticHaze.h"
 #include "SyntheticInstruments.h"
+#include "SyntheticPulse.h"
+#include "SyntheticPush.h"
 #include "SyntheticRandom.h"
 #include "SyntheticRenderer.h"
 #include "SyntheticStereoScene.h"
@@ -31,8 +34,11 @@ constexpr double pi = 3.141592653589793;
 constexpr double degree = pi / 180.0;
 /// Smoke (--smoke): the most a pixel moves toward the smoke's colour where the haze is densest.
 constexpr double kSmokeStrength = 0.45;
-/// The breathing part of the surface: full amplitude within the inner radius, none beyond the outer (SurfaceSwell).
-constexpr double kBreathingInnerShare = 10.0 / 18.0;  ///< the flat top's share of the breathing radius
+/// In-vivo instruments at the border (SyntheticInVivoOptions::instrumentsAtBorder): their tips work this share of the
+/// way from the view's centre to its edge.
+constexpr double kInstrumentBorderShare = 0.6;
+/// The pulsing patch lies within this share of the view's half extent from its centre.
+constexpr double kPulseOffsetShare = 0.35;
 
 constexpr parameters::Group kSyntheticScan{"synthetic scan"};
 
@@ -166,6 +172,7 @@ void SyntheticScanOptions::validate() const {
   kSyntheticScan.requireRange("noise (grey levels)", noiseStdGrey, 0, 50);
   kSyntheticScan.requireRange("supersampling", supersampling, 1, 4);
   hardMode.validate(frames);
+  inVivo.validate(fps, hardMode);
 }
 
 struct SyntheticScan::Impl {
@@ -185,12 +192,15 @@ struct SyntheticScan::Impl {
   SyntheticBreathing breathing;
   std::unique_ptr<TissueSurface> highestSurface;  ///< the tissue at the breathing's peak: the instruments' clearance
   SyntheticInstruments instruments;
+  // The in-vivo mode (SyntheticInVivo.h).
+  SyntheticPulse pulse;
 
-  /// The left rectified camera at frame index: the path's, offset after a camera-out; a camera-out frame's is the
-  /// scope withdrawn 40 mm from where it left (no tissue is rendered for it).
-  void pose(int index, cv::Matx33d& R_world_leftRect, cv::Vec3d& leftCentre) const {
-    const int at = cameraOut.contains(index) ? cameraOut.start() - 1 : index;
-    path->pose(options, *surface, at / options.fps, R_world_leftRect, leftCentre);
+  /// The left rectified camera at frame index, offsetS after its time: the path's, offset after a camera-out; a
+  /// camera-out frame's is the scope withdrawn 40 mm from where it left (no tissue is rendered for it).
+  void pose(int index, double offsetS, cv::Matx33d& R_world_leftRect, cv::Vec3d& leftCentre) const {
+    const bool out = cameraOut.contains(index);
+    const int at = out ? cameraOut.start() - 1 : index;
+    path->pose(options, *surface, at / options.fps + (out ? 0.0 : offsetS), R_world_leftRect, leftCentre);
     if (cameraOut.contains(index)) {
       leftCentre -= 40.0 * R_world_leftRect * cv::Vec3d(0, 0, 1);
     } else if (cameraOut.active() && index >= cameraOut.end()) {
@@ -199,9 +209,42 @@ struct SyntheticScan::Impl {
     }
   }
 
-  /// The tissue at time t (breathing applied), or the surface itself without breathing.
-  std::unique_ptr<TissueSurface> surfaceAt(double timeS) const {
-    return std::make_unique<TissueSurface>(breathing.active() ? surface->swollen(breathing.swellAt(timeS)) : *surface);
+  bool deformsInVivo() const {
+    return breathing.lateralMm() > 0 || pulse.active() || options.inVivo.push();
+  }
+
+  /// What moves at one instant: the tissue and the instruments (pressed into it with a push) and their dents.
+  struct Scene {
+    std::unique_ptr<TissueSurface> surface;
+    std::vector<InstrumentPose> instruments;
+    std::vector<SurfaceSwell> dents;
+  };
+
+  /// The scene at frame index, offsetS after its time: the tissue breathing, pulsing and pushed, the instruments.
+  Scene sceneAt(int index, double offsetS) const {
+    const double timeS = index / options.fps + offsetS;
+    Scene scene;
+    scene.instruments = instruments.posesAt(index, offsetS);
+    TissueSurface breathed = breathing.active() ? surface->swollen(breathing.swellAt(timeS)) : *surface;
+    if (!deformsInVivo()) {
+      scene.surface = std::make_unique<TissueSurface>(std::move(breathed));
+      return scene;
+    }
+    SurfaceDeformation deformation;
+    deformation.slide = breathing.slideAt(timeS);
+    if (pulse.active()) deformation.swells.push_back(pulse.swellAt(timeS));
+    if (options.inVivo.push()) {
+      const TissueSurface undented = breathed.deformed(deformation);
+      for (InstrumentPose& pose : scene.instruments) {
+        const double weight = pushWeight(instruments.spanFraction(pose.instrument, index, offsetS));
+        const PressedInstrument pressed = pressInstrument(pose, weight, options.inVivo.pushMm, undented);
+        pose = pressed.pose;
+        if (pressed.dent.amplitudeMm > 0) scene.dents.push_back(pressed.dent);
+      }
+      deformation.swells.insert(deformation.swells.end(), scene.dents.begin(), scene.dents.end());
+    }
+    scene.surface = std::make_unique<TissueSurface>(breathed.deformed(deformation));
+    return scene;
   }
 
   /// The tissue point at the centre of the left view at frame index (false for a camera-out frame).
@@ -220,10 +263,10 @@ struct SyntheticScan::Impl {
     cv::Vec3d lightMm;
   };
 
-  Cameras cameras(int index) const {
+  Cameras cameras(int index, double offsetS = 0) const {
     cv::Matx33d R_world_leftRect;
     cv::Vec3d leftCentre;
-    pose(index, R_world_leftRect, leftCentre);
+    pose(index, offsetS, R_world_leftRect, leftCentre);
     const cv::Matx33d R = matx33(calibration.R);
     const cv::Vec3d T(calibration.T.ptr<double>());
     // X_rect = R1 X_raw; X_right = R X_left + T: the right eye's centre in the raw left frame is -R^T T.
@@ -239,6 +282,56 @@ struct SyntheticScan::Impl {
     // The light guide sits at the tip between the eyes, a little below them.
     c.lightMm = 0.5 * (leftCentre + rightCentre) + R_world_leftRect * cv::Vec3d(0, 2.0, 0);
     return c;
+  }
+
+  /// Both rectified views of `scene` seen at frame index, offsetS after its time (rows of one parity, or all: -1).
+  void renderViews(int index, double offsetS, const Scene& scene, int rowParity, cv::Mat& left, cv::Mat& right,
+                   cv::Mat* highlightMaskLeft) const {
+    const Cameras c = cameras(index, offsetS);
+    const InstrumentOccluder occluding(scene.instruments);
+    const RayOccluder* occluder = occluding.empty() ? nullptr : &occluding;
+    ShadingParameters shading;
+    shading.lightWorldMm = c.lightMm;
+    shading.lightReferenceMm = options.autoExposure
+                                   ? path->workingDistanceMm(options, index / options.fps + offsetS)
+                                   : 0.5 * (options.minWorkingDistanceMm + options.maxWorkingDistanceMm);
+    shading.noiseStdGrey = options.noiseStdGrey;
+    shading.supersampling = options.supersampling;
+    shading.realistic = realisticLighting.get();
+    shading.rowParity = rowParity;
+    // Each frame and eye has its own noise stream (the same at every instant of a frame: a still pixel's noise
+    // survives the blur's average).
+    const auto stream = static_cast<uint32_t>(2 * index);
+    left = renderView(c.leftRect, c.leftRaw, *scene.surface, *texture, shading, options.seed, stream + 1,
+                      highlightMaskLeft, occluder);
+    right = renderView(c.rightRect, c.rightRaw, *scene.surface, *texture, shading, options.seed, stream + 2, nullptr,
+                       occluder);
+  }
+
+  /// Frame index at one instant, offsetS after its time: views, truth and masks (no smoke).
+  SyntheticScanFrame renderInstant(int index, double offsetS) const {
+    SyntheticScanFrame frame;
+    frame.index = index;
+    frame.timeS = index / options.fps;
+    const Scene scene = sceneAt(index, offsetS);
+    renderViews(index, offsetS, scene, -1, frame.leftRectified, frame.rightRectified, &frame.highlightMaskLeft);
+    const Cameras c = cameras(index, offsetS);
+    renderRectifiedGroundTruth(c.leftRect, c.rightRect, *scene.surface, frame.disparityPx, frame.depthMm);
+    if (instruments.count() > 0) {
+      const cv::Size size = calibration.imageSize;
+      const InstrumentOccluder occluding(scene.instruments);
+      frame.instrumentMask = cv::Mat::zeros(size, CV_8U);
+      if (!occluding.empty()) {
+        cv::parallel_for_(cv::Range(0, size.height), [&](const cv::Range& rows) {
+          for (int y = rows.start; y < rows.end; ++y) {
+            for (int x = 0; x < size.width; ++x) {
+              if (occluding.hits(c.leftRect.centreWorldMm, c.leftRect.rayWorld(x, y))) frame.instrumentMask.at<uint8_t>(y, x) = 255;
+            }
+          }
+        });
+      }
+    }
+    return frame;
   }
 };
 
@@ -343,18 +436,59 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
     cv::Vec3d centre;
     require(s.viewCentreMm(at, centre), "synthetic scan: no tissue at the centre of the view for the breathing");
     s.breathing = SyntheticBreathing(hard.breathingAmplitudeMm, hard.breathingPeriodS, {centre[0], centre[1]},
-                                     kBreathingInnerShare * hard.breathingRadiusMm, hard.breathingRadiusMm);
+                                     SyntheticBreathing::kInnerShare * hard.breathingRadiusMm, hard.breathingRadiusMm);
     if (hard.breathHold()) s.breathing.holdBreath(hard.breathHoldStartS, hard.breathHoldEndS);
     require(s.surface->swollen(s.breathing.peakSwell()).maxSlope(s.domainMm) * maxTangent < 0.98,
             "synthetic scan: the breathing makes the surface too steep for these views; lower --breathing-mm");
   }
-  if (hard.instruments > 0) {
+  const SyntheticInVivoOptions& inVivo = options.inVivo;
+  // The view's half extent on the tissue (mm, world X and Y for a scope without roll) at the middle working distance.
+  const double middleDistanceMm = 0.5 * (options.minWorkingDistanceMm + options.maxWorkingDistanceMm);
+  const cv::Vec2d viewHalfMm(middleDistanceMm * 0.5 * options.width / s.geometry.focalPx,
+                             middleDistanceMm * 0.5 * options.height / s.geometry.focalPx);
+  if (inVivo.breathingLateralMm > 0 || inVivo.pulse()) {
+    std::mt19937 generator(options.seed ^ 0x9a15eu);
+    const double lateralAngle = uniform(generator, 0, 2 * pi);
+    if (inVivo.breathingLateralMm > 0) {
+      s.breathing.setLateral(inVivo.breathingLateralMm, {std::cos(lateralAngle), std::sin(lateralAngle)});
+    }
+    if (inVivo.pulse()) {
+      // A seeded place near the middle of the view where the scope looks a little before the middle of the scan.
+      int at = static_cast<int>(std::lround(0.45 * (options.frames - 1)));
+      if (s.cameraOut.contains(at)) at = s.cameraOut.start() - 1;
+      cv::Vec3d centre;
+      require(s.viewCentreMm(at, centre), "synthetic scan: no tissue at the centre of the view for the pulse");
+      const double dx = uniform(generator, -kPulseOffsetShare, kPulseOffsetShare) * viewHalfMm[0];
+      const double dy = uniform(generator, -kPulseOffsetShare, kPulseOffsetShare) * viewHalfMm[1];
+      s.pulse = SyntheticPulse(inVivo.pulseAmplitudeMm, inVivo.pulsePeriodS, {centre[0] + dx, centre[1] + dy},
+                               inVivo.pulseRadiusMm);
+    }
+  }
+  if (s.deformsInVivo()) {
+    // The tissue nearest the scope (breath and pulse at their peaks, the slide at its largest) and the steepest a
+    // dent can make it must still show every point to every ray once.
+    SurfaceDeformation peak;
+    peak.slide = s.breathing.slideAt(0.5 * hard.breathingPeriodS);
+    if (s.pulse.active()) peak.swells.push_back(s.pulse.peakSwell());
     const TissueSurface highest =
-        s.breathing.active() ? s.surface->swollen(s.breathing.peakSwell()) : *s.surface;
+        (s.breathing.active() ? s.surface->swollen(s.breathing.peakSwell()) : *s.surface).deformed(peak);
+    SurfaceSwell dent;
+    dent.innerRadiusMm = kPushInnerRadiusMm;
+    dent.outerRadiusMm = kPushOuterRadiusMm;
+    const double dentSlope = inVivo.pushMm * dent.maxWeightSlopePerMm();
+    require((highest.maxSlope(s.domainMm) + dentSlope) * maxTangent < 0.98,
+            "synthetic scan: the breathing, pulse and push make the surface too steep for these views; lower them or "
+            "the tilt");
+  }
+  if (hard.instruments > 0) {
+    TissueSurface highest = s.breathing.active() ? s.surface->swollen(s.breathing.peakSwell()) : *s.surface;
+    if (s.pulse.active()) highest = highest.deformed({{s.pulse.peakSwell()}, {}});
     s.highestSurface = std::make_unique<TissueSurface>(highest);
+    const cv::Vec2d borderReachMm = inVivo.instrumentsAtBorder ? kInstrumentBorderShare * viewHalfMm : cv::Vec2d(0, 0);
     s.instruments = SyntheticInstruments(
         hard.instruments, options.frames, options.fps, options.seed,
-        [&s](int index, cv::Vec3d& point) { return s.viewCentreMm(index, point); }, *s.highestSurface);
+        [&s](int index, cv::Vec3d& point) { return s.viewCentreMm(index, point); }, *s.highestSurface,
+        borderReachMm);
   }
 }
 
@@ -373,7 +507,7 @@ Eigen::Matrix4d SyntheticScan::T_world_camera(int index) const {
                                                   std::to_string(frameCount()) + ")");
   cv::Matx33d R;
   cv::Vec3d centre;
-  impl_->pose(index, R, centre);
+  impl_->pose(index, 0.0, R, centre);
   Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) T(r, c) = R(r, c);
@@ -383,13 +517,13 @@ Eigen::Matrix4d SyntheticScan::T_world_camera(int index) const {
 }
 
 SyntheticScanFrame SyntheticScan::renderFrame(int index) const {
-  SyntheticScanFrame frame;
-  frame.index = index;
-  frame.timeS = timeS(index);
-  frame.T_world_camera = T_world_camera(index);
   const Impl& s = *impl_;
   const cv::Size size = s.calibration.imageSize;
   if (s.cameraOut.contains(index)) {
+    SyntheticScanFrame frame;
+    frame.index = index;
+    frame.timeS = timeS(index);
+    frame.T_world_camera = T_world_camera(index);
     frame.tissueInView = false;
     s.cameraOut.render(index, size, s.options.fps, s.options.noiseStdGrey, frame.leftRectified, frame.rightRectified);
     frame.disparityPx = cv::Mat(size, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
@@ -398,42 +532,56 @@ SyntheticScanFrame SyntheticScan::renderFrame(int index) const {
     frame.highlightMaskLeft = cv::Mat::zeros(size, CV_8U);
     return frame;
   }
-  const Impl::Cameras c = s.cameras(index);
-  const std::unique_ptr<TissueSurface> surface = s.surfaceAt(frame.timeS);
-  const InstrumentOccluder instruments(s.instruments.posesAt(index));
-  const RayOccluder* occluder = instruments.empty() ? nullptr : &instruments;
-  ShadingParameters shading;
-  shading.lightWorldMm = c.lightMm;
-  shading.lightReferenceMm = s.options.autoExposure
-                                 ? s.path->workingDistanceMm(s.options, frame.timeS)
-                                 : 0.5 * (s.options.minWorkingDistanceMm + s.options.maxWorkingDistanceMm);
-  shading.noiseStdGrey = s.options.noiseStdGrey;
-  shading.supersampling = s.options.supersampling;
-  shading.realistic = s.realisticLighting.get();
-  // Each frame and eye has its own noise stream.
-  const auto stream = static_cast<uint32_t>(2 * index);
-  frame.leftRectified =
-      renderView(c.leftRect, c.leftRaw, *surface, *s.texture, shading, s.options.seed, stream + 1,
-                 &frame.highlightMaskLeft, occluder);
-  frame.rightRectified =
-      renderView(c.rightRect, c.rightRaw, *surface, *s.texture, shading, s.options.seed, stream + 2,
-                 nullptr, occluder);
-  renderRectifiedGroundTruth(c.leftRect, c.rightRect, *surface, frame.disparityPx, frame.depthMm);
-  if (s.instruments.count() > 0) {
-    frame.instrumentMask = cv::Mat::zeros(size, CV_8U);
-    if (occluder) {
-      cv::parallel_for_(cv::Range(0, size.height), [&](const cv::Range& rows) {
-        for (int y = rows.start; y < rows.end; ++y) {
-          for (int x = 0; x < size.width; ++x) {
-            if (instruments.hits(c.leftRect.centreWorldMm, c.leftRect.rayWorld(x, y))) frame.instrumentMask.at<uint8_t>(y, x) = 255;
-          }
+  // The truth, the masks and the exposure at the frame's time.
+  SyntheticScanFrame frame = s.renderInstant(index, 0.0);
+  frame.T_world_camera = T_world_camera(index);
+  if (s.options.inVivo.timedCapture()) {
+    // Each field averages its exposure's instants; the even field's middle instant is the render above.
+    const std::vector<double> fields = fieldOffsetsS(s.options.inVivo.interlaced, s.options.fps);
+    const std::vector<double> exposure = exposureOffsetsS(s.options.inVivo.motionBlurMs);
+    cv::Mat leftSum, rightSum;
+    for (std::size_t f = 0; f < fields.size(); ++f) {
+      const int parity = fields.size() > 1 ? static_cast<int>(f) : -1;
+      for (double offset : exposure) {
+        const double at = fields[f] + offset;
+        if (at == 0.0) {
+          accumulateField(frame.leftRectified, parity, leftSum);
+          accumulateField(frame.rightRectified, parity, rightSum);
+          continue;
         }
-      });
+        cv::Mat left, right;
+        s.renderViews(index, at, s.sceneAt(index, at), parity, left, right, nullptr);
+        accumulateField(left, parity, leftSum);
+        accumulateField(right, parity, rightSum);
+      }
     }
+    const int count = static_cast<int>(exposure.size());
+    frame.leftRectified = averagedImage(leftSum, count);
+    frame.rightRectified = averagedImage(rightSum, count);
   }
   if (s.options.hardMode.smoke) {
     // Thin smoke over the tissue, drifting; the same density in both eyes (it has no texture to match).
     const cv::Mat density = hazeDensity(size, frame.timeS, s.options.seed);
+    for (cv::Mat* image : {&frame.leftRectified, &frame.rightRectified}) {
+      applyHaze(*image, density, kSmokeStrength, cv::Vec3d(185, 190, 200));
+    }
+  }
+  return frame;
+}
+
+SyntheticScanFrame SyntheticScan::renderFrameAt(int index, double offsetS) const {
+  require(index >= 0 && index < frameCount() && tissueInView(index),
+          "synthetic scan: frame " + std::to_string(index) + " is not a frame with tissue");
+  SyntheticScanFrame frame = impl_->renderInstant(index, offsetS);
+  cv::Matx33d R;
+  cv::Vec3d centre;
+  impl_->pose(index, offsetS, R, centre);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) frame.T_world_camera(r, c) = R(r, c);
+    frame.T_world_camera(r, 3) = centre[r];
+  }
+  if (impl_->options.hardMode.smoke) {
+    const cv::Mat density = hazeDensity(impl_->calibration.imageSize, frame.timeS + offsetS, impl_->options.seed);
     for (cv::Mat* image : {&frame.leftRectified, &frame.rightRectified}) {
       applyHaze(*image, density, kSmokeStrength, cv::Vec3d(185, 190, 200));
     }
@@ -457,6 +605,41 @@ std::vector<int> SyntheticScan::tissueFrames() const {
 
 const SyntheticBreathing& SyntheticScan::breathing() const { return impl_->breathing; }
 const SyntheticInstruments& SyntheticScan::instruments() const { return impl_->instruments; }
+const SyntheticPulse& SyntheticScan::pulse() const { return impl_->pulse; }
+
+bool SyntheticScan::tissueDeforms() const { return impl_->breathing.active() || impl_->deformsInVivo(); }
+
+TissueSurface SyntheticScan::surfaceAt(int index, double offsetS) const {
+  require(index >= 0 && index < frameCount(), "synthetic scan: frame " + std::to_string(index) + " is outside [0, " +
+                                                  std::to_string(frameCount()) + ")");
+  return *impl_->sceneAt(index, offsetS).surface;
+}
+
+double SyntheticScan::surfaceHeightMm(double xMm, double yMm, int index) const {
+  return surfaceAt(index).heightMm(xMm, yMm);
+}
+
+cv::Vec3d SyntheticScan::displacementMm(double restXMm, double restYMm, int index) const {
+  return surfaceAt(index).materialPointMm(restXMm, restYMm) -
+         cv::Vec3d(restXMm, restYMm, impl_->surface->heightMm(restXMm, restYMm));
+}
+
+TriangleMesh SyntheticScan::frameSurfaceMesh(const TriangleMesh& restMesh, int index) const {
+  const TissueSurface now = surfaceAt(index);
+  TriangleMesh mesh = restMesh;
+  parallelFor<CpuBackend>(static_cast<int64_t>(mesh.verticesMm.size()), [&](int64_t v) {
+    cv::Point3f& vertex = mesh.verticesMm[static_cast<std::size_t>(v)];
+    const cv::Vec3d p = now.materialPointMm(vertex.x, vertex.y);
+    vertex = cv::Point3f(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]));
+  }, 4096);
+  return mesh;
+}
+
+std::vector<SurfaceSwell> SyntheticScan::pushDentsAt(int index, double offsetS) const {
+  require(index >= 0 && index < frameCount(), "synthetic scan: frame " + std::to_string(index) + " is outside [0, " +
+                                                  std::to_string(frameCount()) + ")");
+  return impl_->sceneAt(index, offsetS).dents;
+}
 
 TriangleMesh SyntheticScan::surfaceMesh(double spacingMm) const {
   require(spacingMm > 0, "synthetic scan: mesh spacing must be positive");
@@ -526,16 +709,31 @@ TriangleMesh SyntheticScan::seenSurfaceMesh(double spacingMm, int frameStep) con
   return mesh;
 }
 
-TriangleMesh SyntheticScan::staticSurfaceMesh(double spacingMm, int frameStep) const {
+TriangleMesh SyntheticScan::staticSurfaceMesh(double spacingMm, int frameStep, bool allowEmpty) const {
   const TriangleMesh seen = seenSurfaceMesh(spacingMm, frameStep);
-  if (!impl_->breathing.active()) return seen;
+  if (!tissueDeforms()) return seen;
+  // Where a dent reached in some frame (its centre's rest XY; the slide moves it by less than the margin).
+  std::vector<cv::Vec2d> dentCentres;
+  if (impl_->options.inVivo.push()) {
+    for (int index = 0; index < frameCount(); ++index) {
+      for (const SurfaceSwell& dent : pushDentsAt(index)) dentCentres.emplace_back(dent.centreXMm, dent.centreYMm);
+    }
+  }
+  const double dentReachMm = kPushOuterRadiusMm + impl_->options.inVivo.breathingLateralMm + 1.0;
+  const auto isStill = [&](const cv::Point3f& p) {
+    if (!impl_->breathing.isStatic(p.x, p.y)) return false;
+    if (impl_->pulse.peakDisplacementMm(p.x, p.y) > SyntheticBreathing::kStaticToleranceMm) return false;
+    for (const cv::Vec2d& centre : dentCentres) {
+      if (cv::norm(cv::Vec2d(p.x, p.y) - centre) < dentReachMm) return false;
+    }
+    return true;
+  };
   TriangleMesh mesh;
   std::vector<int> newIndex(seen.verticesMm.size(), -1);
   for (const cv::Vec3i& triangle : seen.triangles) {
     bool still = true;
     for (int k = 0; k < 3 && still; ++k) {
-      const cv::Point3f& p = seen.verticesMm[static_cast<std::size_t>(triangle[k])];
-      still = impl_->breathing.isStatic(p.x, p.y);
+      still = isStill(seen.verticesMm[static_cast<std::size_t>(triangle[k])]);
     }
     if (!still) continue;
     cv::Vec3i kept;
@@ -549,7 +747,7 @@ TriangleMesh SyntheticScan::staticSurfaceMesh(double spacingMm, int frameStep) c
     }
     mesh.triangles.push_back(kept);
   }
-  require(!mesh.triangles.empty(), "synthetic scan: the breathing moves every triangle the scan saw");
+  require(allowEmpty || !mesh.triangles.empty(), "synthetic scan: the breathing moves every triangle the scan saw");
   return mesh;
 }
 

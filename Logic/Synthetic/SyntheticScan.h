@@ -10,7 +10,9 @@
 /// T_world_camera of the LEFT RECTIFIED camera (x right, y down, z forward).
 #include "Core/StereoRig.h"
 #include "IO/MeshPly.h"
+#include "SurfaceSwell.h"
 #include "SyntheticHardMode.h"
+#include "SyntheticInVivo.h"
 #include "SyntheticLighting.h"
 
 #include <Eigen/Core>
@@ -26,6 +28,7 @@ namespace tissuemosaic::synthetic {
 class TissueSurface;
 class SyntheticBreathing;
 class SyntheticInstruments;
+class SyntheticPulse;
 
 /// How the scope's working distance changes over a scan.
 enum class WorkingDistanceProfile {
@@ -59,6 +62,9 @@ struct SyntheticScanOptions {
   int supersampling = 2;
   SyntheticHardModeOptions hardMode;  ///< breathing, instruments, camera-out, smoke (all off by default)
   SyntheticLighting lighting = SyntheticLighting::Standard;  ///< the look (SyntheticLighting.h)
+  /// Lateral breathing, pulsation, push, the in-vivo tissue look, motion blur, interlacing (all off by default;
+  /// SyntheticInVivo.h, applyInVivoPreset).
+  SyntheticInVivoOptions inVivo;
 
   /// Throws Error naming the first option out of range.
   void validate() const;
@@ -97,8 +103,13 @@ public:
   /// Ground-truth pose of the left rectified camera at frame index (0 <= index < frameCount()).
   Eigen::Matrix4d T_world_camera(int index) const;
   double timeS(int index) const;
-  /// Renders frame index: both rectified views and ground-truth disparity and depth.
+  /// Renders frame index: both rectified views and ground-truth disparity and depth. With motion blur or
+  /// interlacing (options().inVivo) the views are composed over the exposure and the fields (SyntheticCapture.h);
+  /// the truth (depth, disparity, masks, pose) is for the frame's time timeS(index), the even field's mid-exposure.
   SyntheticScanFrame renderFrame(int index) const;
+  /// Frame index's scene as one instantaneous exposure offsetS seconds after its time (no blur, no fields), truth
+  /// included, all at that instant: renderFrame's parts, for tests. Same noise as renderFrame(index).
+  SyntheticScanFrame renderFrameAt(int index, double offsetS) const;
   /// False for the camera-out frames (options().hardMode), whose pose is not ground truth.
   bool tissueInView(int index) const;
   /// The frames that show tissue, in order.
@@ -106,6 +117,26 @@ public:
   /// The breathing and the instruments (inactive / none without the hard-mode options).
   const SyntheticBreathing& breathing() const;
   const SyntheticInstruments& instruments() const;
+  /// The pulsation (inactive without options().inVivo.pulseAmplitudeMm).
+  const SyntheticPulse& pulse() const;
+
+  /// True when the tissue moves (breathing, pulsation or push): the writer then adds rest_surface.ply and
+  /// surface_NNNNNN.ply.
+  bool tissueDeforms() const;
+  /// The true tissue at frame index, offsetS seconds after its time (world frame, mm): surface() deformed by the
+  /// breathing (and its lateral part), the pulsation and the instruments' dents. Frame index's ground truth is
+  /// surfaceAt(index, 0). A copy: take it once per frame, then ask it heights (TissueSurface::heightMm).
+  TissueSurface surfaceAt(int index, double offsetS = 0) const;
+  /// The true surface's height at world (x, y) in frame index: surfaceAt(index).heightMm(x, y) (builds it on each call).
+  double surfaceHeightMm(double xMm, double yMm, int index) const;
+  /// How far the tissue point resting at world XY (restXMm, restYMm) (on surface()) has moved at frame index (mm,
+  /// world frame; lateral breathing moves it in X and Y too).
+  cv::Vec3d displacementMm(double restXMm, double restYMm, int index) const;
+  /// restMesh (vertices on surface(), such as seenSurfaceMesh()) with every vertex moved to where its tissue point
+  /// is at frame index: the same triangles, the frame's true surface (world frame, mm).
+  TriangleMesh frameSurfaceMesh(const TriangleMesh& restMesh, int index) const;
+  /// The instruments' dents at frame index + offsetS (SyntheticPush.h): those with amplitude > 0 (empty without push).
+  std::vector<SurfaceSwell> pushDentsAt(int index, double offsetS = 0) const;
 
   const TissueSurface& surface() const;
   /// World XY rectangle seen by some frame (with a margin): where the texture and the surface mesh are defined.
@@ -121,9 +152,10 @@ public:
   /// it could occur. Tests every frameStep-th frame and the last one (1: all); runs in parallel, about 0.1 s per
   /// 100 frames at 960x540. Throws Error when no triangle is seen.
   TriangleMesh seenSurfaceMesh(double spacingMm = 0.5, int frameStep = 1) const;
-  /// seenSurfaceMesh without the triangles that breathing moves (SyntheticBreathing::isStatic at every vertex): the
-  /// part of the surface that never moves, the reference of a scan with breathing.
-  TriangleMesh staticSurfaceMesh(double spacingMm = 0.5, int frameStep = 1) const;
+  /// seenSurfaceMesh without the triangles that breathing moves (SyntheticBreathing::isStatic at every vertex), nor
+  /// those the pulsation or a push reaches: the part of the surface that never moves, the reference of a scan with
+  /// breathing. Throws Error when every triangle moves, unless allowEmpty (then an empty mesh).
+  TriangleMesh staticSurfaceMesh(double spacingMm = 0.5, int frameStep = 1, bool allowEmpty = false) const;
   /// The instruments' surfaces over every frame with tissue (SyntheticInstruments::surfaceMesh); empty without.
   TriangleMesh instrumentSurfaceMesh() const;
 
@@ -139,7 +171,10 @@ private:
 /// at that frame) and highlight_mask_left_000000.png.. (255 on specular highlights, left rectified view). With the
 /// hard-mode options also: static_surface.ply (breathing: staticSurfaceMesh(0.5)), instrument_mask_000000.png.. and
 /// instruments.ply (instruments: instrumentSurfaceMesh()), and scene.yml (what breathes, when each instrument is in,
-/// the camera-out span). progress (optional) is called after each frame.
+/// the camera-out span; the in-vivo options). When the tissue deforms (tissueDeforms()): rest_surface.ply (the tissue
+/// at rest over what the scan saw, seenSurfaceMesh(0.5), whole) and surface_000000.ply.. (frameSurfaceMesh of it:
+/// the true surface at each frame's time, the same triangles). static_surface.ply is left out when nothing stays
+/// still. progress (optional) is called after each frame.
 /// Returns the number of files written. Throws Error when a file cannot be written.
 int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory,
                        void (*progress)(int frame, int frames) = nullptr);

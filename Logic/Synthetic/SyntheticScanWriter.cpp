@@ -4,6 +4,8 @@
 
 #include "SyntheticBreathing.h"
 #include "SyntheticInstruments.h"
+#include "SyntheticPulse.h"
+#include "SyntheticPush.h"
 
 #include "Core/Error.h"
 #include "IO/DisparityPfm.h"
@@ -22,14 +24,24 @@ namespace {
 /// static_surface.ply, instruments.ply and scene.yml of the hard-mode options (SyntheticHardMode.h) that are on.
 int writeHardModeGroundTruth(const SyntheticScan& scan, const std::filesystem::path& folder) {
   const SyntheticHardModeOptions& hard = scan.options().hardMode;
-  if (!hard.breathing() && hard.instruments == 0 && !hard.cameraOut() && !hard.smoke) return 0;
+  const SyntheticInVivoOptions& inVivo = scan.options().inVivo;
+  const bool anyInVivo = inVivo.breathingLateralMm > 0 || inVivo.pulse() || inVivo.push() ||
+                         inVivo.instrumentsAtBorder || inVivo.tissueLook != TissueLook::Standard ||
+                         inVivo.timedCapture();
+  if (!hard.breathing() && hard.instruments == 0 && !hard.cameraOut() && !hard.smoke && !anyInVivo) return 0;
   int written = 0;
   const std::string frame = "frame: world (tissue Z = h(X, Y), +Z into the tissue), millimetres";
-  if (hard.breathing()) {
-    writeMeshPly((folder / "static_surface.ply").string(), scan.staticSurfaceMesh(0.5),
-                 "TissueMosaic synthetic scan: the part of surface.ply that never moves (breathing moves it at most " +
-                     std::to_string(SyntheticBreathing::kStaticToleranceMm) + " mm)\n" + frame);
-    ++written;
+  bool staticWritten = false;
+  if (scan.tissueDeforms()) {
+    // A view that moves as a whole (whole-view breathing) has no still part: no file then (scene.yml says so).
+    const TriangleMesh still = scan.staticSurfaceMesh(0.5, 1, true);
+    if (!still.triangles.empty()) {
+      writeMeshPly((folder / "static_surface.ply").string(), still,
+                   "TissueMosaic synthetic scan: the part of surface.ply that never moves (breathing moves it at most " +
+                       std::to_string(SyntheticBreathing::kStaticToleranceMm) + " mm)\n" + frame);
+      ++written;
+      staticWritten = true;
+    }
   }
   if (hard.instruments > 0) {
     writeMeshPly((folder / "instruments.ply").string(), scan.instrumentSurfaceMesh(),
@@ -48,7 +60,31 @@ int writeHardModeGroundTruth(const SyntheticScan& scan, const std::filesystem::p
           << "centreXMm" << shape.centreXMm << "centreYMm" << shape.centreYMm << "innerRadiusMm" << shape.innerRadiusMm
           << "outerRadiusMm" << shape.outerRadiusMm << "staticToleranceMm" << SyntheticBreathing::kStaticToleranceMm;
     if (hard.breathHold()) scene << "holdStartS" << hard.breathHoldStartS << "holdEndS" << hard.breathHoldEndS;
+    if (inVivo.breathingLateralMm > 0) {
+      const cv::Vec2d& direction = scan.breathing().lateralDirection();
+      scene << "lateralMm" << inVivo.breathingLateralMm << "lateralDirectionX" << direction[0]
+            << "lateralDirectionY" << direction[1];
+    }
     scene << "}";
+  }
+  if (scan.tissueDeforms() && !staticWritten) scene << "staticSurface" << "none: every seen triangle moves";
+  if (anyInVivo) {
+    scene << "inVivo" << "{";
+    if (inVivo.pulse()) {
+      const SurfaceSwell& shape = scan.pulse().shape();
+      scene << "pulse" << "{" << "amplitudeMm" << inVivo.pulseAmplitudeMm << "periodS" << inVivo.pulsePeriodS
+            << "centreXMm" << shape.centreXMm << "centreYMm" << shape.centreYMm << "innerRadiusMm"
+            << shape.innerRadiusMm << "outerRadiusMm" << shape.outerRadiusMm << "}";
+    }
+    if (inVivo.push()) {
+      scene << "push" << "{" << "depthMm" << inVivo.pushMm << "dentInnerRadiusMm" << kPushInnerRadiusMm
+            << "dentOuterRadiusMm" << kPushOuterRadiusMm << "}";
+    }
+    scene << "instrumentsAtBorder" << static_cast<int>(inVivo.instrumentsAtBorder)
+          << "tissueLook" << tissueLookName(inVivo.tissueLook) << "motionBlurMs" << inVivo.motionBlurMs
+          << "interlaced" << static_cast<int>(inVivo.interlaced)
+          << "truthTime" << "each frame's time t = index / fps: the even field's mid-exposure (odd rows: t + 0.5 / fps)"
+          << "}";
   }
   if (hard.instruments > 0) {
     scene << "instruments" << "[";
@@ -111,10 +147,27 @@ int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory, 
                      "world: tissue Z = h(X, Y), +Z into the tissue; millimetres, seconds\n"
                      "t tx ty tz qx qy qz qw");
   ++written;
-  writeMeshPly((root / "groundtruth" / "surface.ply").string(), scan.seenSurfaceMesh(0.5),
+  const TriangleMesh seen = scan.seenSurfaceMesh(0.5);
+  writeMeshPly((root / "groundtruth" / "surface.ply").string(), seen,
                "TissueMosaic synthetic scan: true tissue surface seen by both eyes in at least one frame\n"
                "frame: world (tissue Z = h(X, Y), +Z into the tissue), millimetres");
   ++written;
+  if (scan.tissueDeforms()) {
+    // The tissue at rest over what the scan saw, and where each of its points is at each frame's time.
+    const std::string frameText = "frame: world (tissue Z = h(X, Y), +Z into the tissue), millimetres";
+    writeMeshPly((root / "groundtruth" / "rest_surface.ply").string(), seen,
+                 "TissueMosaic synthetic scan: the tissue at rest (no breathing, pulse or push) over what the scan saw\n" +
+                     frameText);
+    ++written;
+    for (int index = 0; index < scan.frameCount(); ++index) {
+      writeMeshPly((root / "groundtruth" / ("surface_" + cv::format("%06d", index) + ".ply")).string(),
+                   scan.frameSurfaceMesh(seen, index),
+                   "TissueMosaic synthetic scan: the true tissue at frame " + std::to_string(index) + " (t = " +
+                       cv::format("%.6f", scan.timeS(index)) + " s, the even field's mid-exposure); vertex i is "
+                       "rest_surface.ply's vertex i moved with the tissue\n" + frameText);
+      ++written;
+    }
+  }
   written += writeHardModeGroundTruth(scan, root / "groundtruth");
   return written;
 }

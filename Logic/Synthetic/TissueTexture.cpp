@@ -69,8 +69,39 @@ void paintVessels(cv::Mat& mask, double texelMm, std::mt19937& generator) {
 
 }  // namespace
 
-TissueTexture::TissueTexture(const cv::Rect2d& domainMm, double texelMm, uint32_t seed)
+const char* tissueLookName(TissueLook look) { return look == TissueLook::InVivo ? "invivo" : "standard"; }
+
+TissueLook parseTissueLook(const std::string& name) {
+  if (name == "standard") return TissueLook::Standard;
+  if (name == "invivo") return TissueLook::InVivo;
+  throw Error("unknown tissue look '" + name + "' (choose standard or invivo)");
+}
+
+namespace {
+
+/// A look's numbers: where the smooth patches are (thresholds on their noise), how strong the fine mottling is, and
+/// the linear BGR reflectances.
+struct LookParameters {
+  float smoothFrom, smoothTo, mottle;
+  cv::Vec3f dark, light, capsule, vessel;
+};
+
+LookParameters lookParameters(TissueLook look) {
+  if (look == TissueLook::InVivo) {
+    // Blood-red and darker under the same light; smooth patches over about half of the tissue, weak mottling.
+    return {0.15f, 0.45f, 0.45f, {0.006f, 0.008f, 0.085f}, {0.011f, 0.013f, 0.13f}, {0.016f, 0.018f, 0.12f},
+            {0.012f, 0.006f, 0.04f}};
+  }
+  // Dark liver red-brown, lighter pink tissue, a pale glossy capsule for the smooth patches.
+  return {0.40f, 0.65f, 1.0f, {0.045f, 0.06f, 0.30f}, {0.10f, 0.13f, 0.46f}, {0.20f, 0.22f, 0.46f},
+          {0.07f, 0.035f, 0.16f}};
+}
+
+}  // namespace
+
+TissueTexture::TissueTexture(const cv::Rect2d& domainMm, double texelMm, uint32_t seed, TissueLook look)
     : domainMm_(domainMm), texelMm_(texelMm) {
+  const LookParameters parameters = lookParameters(look);
   const cv::Size size(static_cast<int>(std::ceil(domainMm.width / texelMm)) + 2,
                       static_cast<int>(std::ceil(domainMm.height / texelMm)) + 2);
   require(texelMm > 0 && size.width >= 4 && size.height >= 4 && size.area() <= 40'000'000,
@@ -79,12 +110,13 @@ TissueTexture::TissueTexture(const cv::Rect2d& domainMm, double texelMm, uint32_
   const auto noise = [&](double periodMm) { return valueNoise(size, periodMm / texelMm, generator); };
 
   // Where the tissue has no fine texture: smooth patches covering roughly a quarter of the surface.
-  lowTextureMask_ = smoothstep(noise(14.0) + 0.5 * noise(6.0), 0.40f, 0.65f);
+  lowTextureMask_ = smoothstep(noise(14.0) + 0.5 * noise(6.0), parameters.smoothFrom, parameters.smoothTo);
 
   const cv::Mat tone = smoothstep(noise(18.0) + 0.3 * noise(5.0), -0.6f, 0.6f);
   // Fine mottling, strongest at the scales (0.3 - 3 mm, a few pixels) that stereo windows lock onto.
   cv::Mat mottle = 0.35 * noise(2.4) + 0.35 * noise(1.0) + 0.45 * noise(0.45) + 0.35 * noise(0.25);
   mottle = mottle.mul(1.0 - 0.85 * lowTextureMask_);  // low, not zero: weak texture that stereo must still read
+  if (parameters.mottle != 1.0f) mottle *= parameters.mottle;
 
   cv::Mat vessels(size, CV_32F, cv::Scalar(0));
   paintVessels(vessels, texelMm, generator);
@@ -92,9 +124,8 @@ TissueTexture::TissueTexture(const cv::Rect2d& domainMm, double texelMm, uint32_
   cv::min(vessels, 1.0, vessels);
   vessels = vessels.mul(1.0 - 0.7 * lowTextureMask_);
 
-  // Linear BGR reflectances: dark liver red-brown, lighter pink tissue, a pale glossy capsule for the smooth patches.
-  const cv::Vec3f dark(0.045f, 0.06f, 0.30f), light(0.10f, 0.13f, 0.46f), capsule(0.20f, 0.22f, 0.46f);
-  const cv::Vec3f vessel(0.07f, 0.035f, 0.16f);
+  const cv::Vec3f dark = parameters.dark, light = parameters.light, capsule = parameters.capsule;
+  const cv::Vec3f vessel = parameters.vessel;
   albedo_.create(size, CV_32FC3);
   for (int y = 0; y < size.height; ++y) {
     const float* t = tone.ptr<float>(y);

@@ -7,8 +7,18 @@
 
 #include <cstdint>
 #include <random>
+#include <string>
 
 namespace tissuemosaic::synthetic {
+
+/// The tissue's look. Standard: liver red-brown and pink with a pale glossy capsule, finely mottled, a quarter of it
+/// smooth. InVivo: what real in-vivo frames show (SyntheticInVivo.h): darker, blood-red tissue with less fine texture
+/// and more and larger smooth patches (the same noise fields, so the same seed gives the same layout).
+enum class TissueLook { Standard, InVivo };
+/// "standard" or "invivo".
+const char* tissueLookName(TissueLook look);
+/// Throws Error naming the choices for anything else.
+TissueLook parseTissueLook(const std::string& name);
 
 /// Value noise in [-1, 1]-ish over a size.width x size.height grid: random values every periodTexels, interpolated
 /// bicubically. Deterministic from the generator's state.
@@ -17,7 +27,7 @@ cv::Mat valueNoise(cv::Size size, double periodTexels, std::mt19937& generator);
 class TissueTexture {
 public:
   /// Paints the rectangle domainMm (x, y, width, height in mm of the world XY plane) at texelMm per texel.
-  TissueTexture(const cv::Rect2d& domainMm, double texelMm, uint32_t seed);
+  TissueTexture(const cv::Rect2d& domainMm, double texelMm, uint32_t seed, TissueLook look = TissueLook::Standard);
 
   /// Linear BGR reflectance in [0, 1] at world (x, y) mm; outside the domain the border texel is repeated.
   cv::Vec3f albedo(double xMm, double yMm) const {
