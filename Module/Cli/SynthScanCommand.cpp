@@ -44,7 +44,19 @@ it was at S, then breathes on from there); --instruments adds rigid instruments 
 groundtruth/instruments.ply: their surfaces at every frame, for `tissuemosaic eval --reference ... --coverage-radius-mm
 0`, whose share_within_1mm is the share of a model's points within 1 mm of an instrument); --camera-out S:E shows no
 tissue in frames S to E-1 (no line in trajectory.txt), and the camera is back at frame E about 10 mm and 10 degrees
-from where it left. groundtruth/scene.yml says what breathes, when each instrument is in and the camera-out span.)";
+from where it left. groundtruth/scene.yml says what breathes, when each instrument is in and the camera-out span.
+In-vivo mode (what real in-vivo video shows, with ground truth for every frame): --in-vivo sets a still scope 80 mm
+over a whole view that breathes (3 mm toward the scope and --breathing-lateral-mm 1.5 sideways every 4.3 s), a
+pulsing patch (--pulse-mm 0.5, --pulse-period-s 0.85, --pulse-radius-mm 8), two instruments near the view's border
+(--instruments-at-border) that press --push-mm 2 into the tissue, --tissue-look invivo (darker, blood-red, less
+texture) under --lighting realistic, --motion-blur-ms 8 and --interlaced fields (even rows at t, odd rows at t + half
+a frame period). Options given with it, before or after, override it (--no-interlaced, --min-speed 5 ...). Whenever
+the tissue deforms (breathing, pulse or push) the ground truth adds
+  DIR/groundtruth/rest_surface.ply     the tissue at rest (no breathing, pulse or push) over what the scan saw, whole
+  DIR/groundtruth/surface_000000.ply ... the true surface at each frame (rest_surface.ply's vertices moved with the
+                                       tissue), world frame, mm
+Each frame's truth (depth, pose, masks, surface_NNNNNN.ply) is for its time t = index / fps: the middle of the even
+field's exposure. static_surface.ply is left out where nothing stays still (whole-view breathing).)";
 
 struct SynthScanOptions {
   std::string out;
@@ -53,6 +65,8 @@ struct SynthScanOptions {
   std::string cameraOut;  ///< "S:E", empty: none
   std::string breathHold;  ///< "S:E" in seconds, empty: none
   std::string lighting = "standard";
+  std::string tissueLook = "standard";
+  bool inVivo = false;  ///< --in-vivo given
 };
 
 void printProgress(int frame, int frames) {
@@ -83,6 +97,7 @@ void runSynthScan(const SynthScanOptions& given) {
     options.hardMode.breathHoldEndS = last;
   }
   options.lighting = synthetic::parseSyntheticLighting(given.lighting);
+  options.inVivo.tissueLook = synthetic::parseTissueLook(given.tissueLook);
   const std::string& out = given.out;
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScan scan(options);
@@ -99,7 +114,9 @@ void runSynthScan(const SynthScanOptions& given) {
             << "                      " << geometryOptionsText(scan.geometry())
             << (options.rectifiedDisparityOffsetPx != 0 ? " (not rig.yml's: --doffs-px)" : "") << "\n"
             << "  groundtruth/        trajectory.txt (TUM, T_world_camera of the left rectified camera, mm),\n"
-            << "                      surface.ply (world frame mesh, mm), depth_NNNNNN.pfm (mm)\n";
+            << "                      surface.ply (world frame mesh, mm), depth_NNNNNN.pfm (mm)"
+            << (scan.tissueDeforms() ? ",\n                      rest_surface.ply, surface_NNNNNN.ply (the true surface per frame)" : "")
+            << "\n";
 }
 
 }  // namespace
@@ -165,6 +182,45 @@ void setupSynthScan(CLI::App& synth) {
   command->add_flag("--smoke", hard.smoke, "a drifting haze over the tissue in every frame")->group(hardMode);
   add("--lighting", options->lighting, "the light's look: standard or realistic");
   command->get_option("--lighting")->type_name("standard|realistic");
+
+  const std::string inVivoMode = "In-vivo mode (real in-vivo video, with the true surface of every frame)";
+  synthetic::SyntheticInVivoOptions& inVivo = scan.inVivo;
+  // The preset is applied as soon as --in-vivo is parsed; every other option's value is stored after parsing, so
+  // options given with it override it wherever they stand.
+  command->add_flag_callback("--in-vivo", [options] {
+        options->inVivo = true;
+        synthetic::applyInVivoPreset(options->scan);
+        options->lighting = synthetic::syntheticLightingName(options->scan.lighting);
+        options->tissueLook = synthetic::tissueLookName(options->scan.inVivo.tissueLook);
+      }, "a still scope over breathing, pulsing, pushed, blood-red tissue, realistic light, 8 ms blur, interlaced "
+         "(values in the description above); other options override it")
+      ->trigger_on_parse()->group(inVivoMode);
+  command->add_option("--breathing-lateral-mm", inVivo.breathingLateralMm,
+                      "with the breath the tissue also slides this far sideways (seeded direction; needs --breathing-mm)")
+      ->capture_default_str()->type_name("MM")->group(inVivoMode);
+  command->add_option("--pulse-mm", inVivo.pulseAmplitudeMm,
+                      "a patch at a seeded place in view rises by up to this once per heartbeat (0: none)")
+      ->capture_default_str()->type_name("MM")->group(inVivoMode);
+  command->add_option("--pulse-period-s", inVivo.pulsePeriodS, "one heartbeat, s")
+      ->capture_default_str()->type_name("S")->group(inVivoMode);
+  command->add_option("--pulse-radius-mm", inVivo.pulseRadiusMm, "radius of the pulsing patch on the tissue")
+      ->capture_default_str()->type_name("MM")->group(inVivoMode);
+  command->add_option("--push-mm", inVivo.pushMm,
+                      "each instrument presses its closed jaws this far into the tissue in the middle of its span, "
+                      "denting it (needs --instruments; 0: none)")
+      ->capture_default_str()->type_name("MM")->group(inVivoMode);
+  command->add_flag("--instruments-at-border,!--instruments-at-centre", inVivo.instrumentsAtBorder,
+                    "the instruments work near the view's border (default: around its centre)")
+      ->group(inVivoMode);
+  command->add_option("--tissue-look", options->tissueLook,
+                      "standard, or invivo: darker, blood-red tissue with less fine texture")
+      ->capture_default_str()->type_name("standard|invivo")->group(inVivoMode);
+  command->add_option("--motion-blur-ms", inVivo.motionBlurMs,
+                      "exposure time: each field averages the scene over it, centred on its time (0: none)")
+      ->capture_default_str()->type_name("MS")->group(inVivoMode);
+  command->add_flag("--interlaced,!--no-interlaced", inVivo.interlaced,
+                    "even rows at the frame's time, odd rows half a frame period later")
+      ->group(inVivoMode);
   command->callback([options] { runSynthScan(*options); });
 }
 
