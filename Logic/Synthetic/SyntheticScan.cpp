@@ -424,7 +424,7 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
   // About one texel per pixel where the tissue is nearest; coarser if the map would get huge.
   double texelMm = 0.8 * nearestMm / s.geometry.focalPx;
   texelMm = std::max(texelMm, std::sqrt(s.domainMm.area() / 16e6));
-  s.texture = std::make_unique<TissueTexture>(s.domainMm, texelMm, options.seed);
+  s.texture = std::make_unique<TissueTexture>(s.domainMm, texelMm, options.seed, options.inVivo.tissueLook);
   if (options.lighting == SyntheticLighting::Realistic) {
     s.realisticLighting = std::make_unique<RealisticLighting>(*s.texture, options.seed);
   }
