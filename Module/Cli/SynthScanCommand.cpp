@@ -50,8 +50,9 @@ over a whole view that breathes (3 mm toward the scope and --breathing-lateral-m
 pulsing patch (--pulse-mm 0.5, --pulse-period-s 0.85, --pulse-radius-mm 8), two instruments near the view's border
 (--instruments-at-border) that press --push-mm 2 into the tissue, --tissue-look invivo (darker, blood-red, less
 texture) under --lighting realistic, --motion-blur-ms 8 and --interlaced fields (even rows at t, odd rows at t + half
-a frame period). Options given with it, before or after, override it (--no-interlaced, --min-speed 5 ...). Whenever
-the tissue deforms (breathing, pulse or push) the ground truth adds
+a frame period). Options given with it, before or after, override it (--no-interlaced, --min-speed 5 ...; with
+--instruments 0 or --breathing-mm 0 its push, border and lateral parts go too). Whenever the tissue deforms
+(breathing, pulse or push) the ground truth adds
   DIR/groundtruth/rest_surface.ply     the tissue at rest (no breathing, pulse or push) over what the scan saw, whole
   DIR/groundtruth/surface_000000.ply ... the true surface at each frame (rest_surface.ply's vertices moved with the
                                        tissue), world frame, mm
@@ -67,6 +68,11 @@ struct SynthScanOptions {
   std::string lighting = "standard";
   std::string tissueLook = "standard";
   bool inVivo = false;  ///< --in-vivo given
+  /// The in-vivo options that need another one (breathing, instruments), given explicitly: without it they are an
+  /// error; set only by the preset they give way (--in-vivo --instruments 0 is a scan without instruments).
+  const CLI::Option* lateralGiven = nullptr;
+  const CLI::Option* pushGiven = nullptr;
+  const CLI::Option* atBorderGiven = nullptr;
 };
 
 void printProgress(int frame, int frames) {
@@ -98,6 +104,11 @@ void runSynthScan(const SynthScanOptions& given) {
   }
   options.lighting = synthetic::parseSyntheticLighting(given.lighting);
   options.inVivo.tissueLook = synthetic::parseTissueLook(given.tissueLook);
+  if (given.inVivo) {
+    if (!options.hardMode.breathing() && given.lateralGiven->count() == 0) options.inVivo.breathingLateralMm = 0;
+    if (options.hardMode.instruments == 0 && given.pushGiven->count() == 0) options.inVivo.pushMm = 0;
+    if (options.hardMode.instruments == 0 && given.atBorderGiven->count() == 0) options.inVivo.instrumentsAtBorder = false;
+  }
   const std::string& out = given.out;
   const auto start = std::chrono::steady_clock::now();
   const synthetic::SyntheticScan scan(options);
@@ -195,7 +206,7 @@ void setupSynthScan(CLI::App& synth) {
       }, "a still scope over breathing, pulsing, pushed, blood-red tissue, realistic light, 8 ms blur, interlaced "
          "(values in the description above); other options override it")
       ->trigger_on_parse()->group(inVivoMode);
-  command->add_option("--breathing-lateral-mm", inVivo.breathingLateralMm,
+  options->lateralGiven = command->add_option("--breathing-lateral-mm", inVivo.breathingLateralMm,
                       "with the breath the tissue also slides this far sideways (seeded direction; needs --breathing-mm)")
       ->capture_default_str()->type_name("MM")->group(inVivoMode);
   command->add_option("--pulse-mm", inVivo.pulseAmplitudeMm,
@@ -205,11 +216,11 @@ void setupSynthScan(CLI::App& synth) {
       ->capture_default_str()->type_name("S")->group(inVivoMode);
   command->add_option("--pulse-radius-mm", inVivo.pulseRadiusMm, "radius of the pulsing patch on the tissue")
       ->capture_default_str()->type_name("MM")->group(inVivoMode);
-  command->add_option("--push-mm", inVivo.pushMm,
+  options->pushGiven = command->add_option("--push-mm", inVivo.pushMm,
                       "each instrument presses its closed jaws this far into the tissue in the middle of its span, "
                       "denting it (needs --instruments; 0: none)")
       ->capture_default_str()->type_name("MM")->group(inVivoMode);
-  command->add_flag("--instruments-at-border,!--instruments-at-centre", inVivo.instrumentsAtBorder,
+  options->atBorderGiven = command->add_flag("--instruments-at-border,!--instruments-at-centre", inVivo.instrumentsAtBorder,
                     "the instruments work near the view's border (default: around its centre)")
       ->group(inVivoMode);
   command->add_option("--tissue-look", options->tissueLook,

@@ -350,6 +350,10 @@ TEST(SyntheticInVivo, ThePresetBuildsAStillScopeScanAt360x288And960x540) {
     const int covered = cv::countNonZero(frame.instrumentMask);
     EXPECT_GT(covered, 0.005 * size.area()) << size;
     EXPECT_LT(covered, 0.25 * size.area()) << size;
+    const cv::Mat& mask = frame.instrumentMask;
+    const int atEdge = cv::countNonZero(mask.row(0)) + cv::countNonZero(mask.row(mask.rows - 1)) +
+                       cv::countNonZero(mask.col(0)) + cv::countNonZero(mask.col(mask.cols - 1));
+    EXPECT_GT(atEdge, 0) << size << ": the shaft comes in over the image's border";
     const SurfaceSwell dent = scan.pushDentsAt(k)[0];
     const Eigen::Matrix4d T = frame.T_world_camera;
     const TissueSurface now = scan.surfaceAt(k);
