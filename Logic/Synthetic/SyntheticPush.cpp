@@ -44,13 +44,20 @@ double depthBelow(const InstrumentPose& pose, const TissueSurface& tissue) {
 
 }  // namespace
 
+double pushDentOuterRadiusMm(double pushMm) {
+  SurfaceSwell unitBand;  // the steepest slope of a swell 1 mm high over a 1 mm band
+  unitBand.innerRadiusMm = 0;
+  unitBand.outerRadiusMm = 1;
+  return kPushInnerRadiusMm + std::max(6.5, pushMm * unitBand.maxWeightSlopePerMm() / kPushMaxWallSlope);
+}
+
 double pushWeight(double u) { return smoothstep(0.3, 0.4, u) * (1 - smoothstep(0.6, 0.7, u)); }
 
 PressedInstrument pressInstrument(const InstrumentPose& pose, double weight, double pushMm, const TissueSurface& tissue) {
   PressedInstrument result;
   result.pose = pose;
   result.dent.innerRadiusMm = kPushInnerRadiusMm;
-  result.dent.outerRadiusMm = kPushOuterRadiusMm;
+  result.dent.outerRadiusMm = pushDentOuterRadiusMm(pushMm);
   result.lowestMm = lowestPoint(pose);
   if (weight <= 0) return result;
   // The shift along the shaft at which the closed jaws' end touches the tissue: depthBelow grows with the shift

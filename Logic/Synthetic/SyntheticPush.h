@@ -14,8 +14,13 @@ namespace tissuemosaic::synthetic {
 
 class TissueSurface;
 
-/// The dent's flat bottom (about the closed jaws' width) and where it fades out.
-constexpr double kPushInnerRadiusMm = 1.5, kPushOuterRadiusMm = 8.0;
+/// The dent's flat bottom (about the closed jaws' width).
+constexpr double kPushInnerRadiusMm = 1.5;
+/// The dent's walls are no steeper than this (soft tissue dimples wide around a deep press): together with the
+/// relief's own slope the views still see every point once.
+constexpr double kPushMaxWallSlope = 0.35;
+/// Where a dent pushMm deep fades out: at least 8 mm, wider for deeper presses (kPushMaxWallSlope).
+double pushDentOuterRadiusMm(double pushMm);
 
 /// How far into its press an instrument is at a fraction u of its span (0 at entry, 1 at exit): 0 before 0.3 and
 /// after 0.7, 1 over [0.4, 0.6], smooth between.

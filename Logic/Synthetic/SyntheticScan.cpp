@@ -474,7 +474,7 @@ SyntheticScan::SyntheticScan(const SyntheticScanOptions& options) : impl_(std::m
         (s.breathing.active() ? s.surface->swollen(s.breathing.peakSwell()) : *s.surface).deformed(peak);
     SurfaceSwell dent;
     dent.innerRadiusMm = kPushInnerRadiusMm;
-    dent.outerRadiusMm = kPushOuterRadiusMm;
+    dent.outerRadiusMm = pushDentOuterRadiusMm(inVivo.pushMm);
     const double dentSlope = inVivo.pushMm * dent.maxWeightSlopePerMm();
     require((highest.maxSlope(s.domainMm) + dentSlope) * maxTangent < 0.98,
             "synthetic scan: the breathing, pulse and push make the surface too steep for these views; lower them or "
@@ -719,7 +719,8 @@ TriangleMesh SyntheticScan::staticSurfaceMesh(double spacingMm, int frameStep, b
       for (const SurfaceSwell& dent : pushDentsAt(index)) dentCentres.emplace_back(dent.centreXMm, dent.centreYMm);
     }
   }
-  const double dentReachMm = kPushOuterRadiusMm + impl_->options.inVivo.breathingLateralMm + 1.0;
+  const double dentReachMm =
+      pushDentOuterRadiusMm(impl_->options.inVivo.pushMm) + impl_->options.inVivo.breathingLateralMm + 1.0;
   const auto isStill = [&](const cv::Point3f& p) {
     if (!impl_->breathing.isStatic(p.x, p.y)) return false;
     if (impl_->pulse.peakDisplacementMm(p.x, p.y) > SyntheticBreathing::kStaticToleranceMm) return false;

@@ -78,7 +78,7 @@ int writeHardModeGroundTruth(const SyntheticScan& scan, const std::filesystem::p
     }
     if (inVivo.push()) {
       scene << "push" << "{" << "depthMm" << inVivo.pushMm << "dentInnerRadiusMm" << kPushInnerRadiusMm
-            << "dentOuterRadiusMm" << kPushOuterRadiusMm << "}";
+            << "dentOuterRadiusMm" << pushDentOuterRadiusMm(inVivo.pushMm) << "}";
     }
     scene << "instrumentsAtBorder" << static_cast<int>(inVivo.instrumentsAtBorder)
           << "tissueLook" << tissueLookName(inVivo.tissueLook) << "motionBlurMs" << inVivo.motionBlurMs

@@ -245,7 +245,7 @@ TEST(SyntheticInVivo, AnInstrumentPressesADentThatFollowsItsJawsAndMovesNothingE
     EXPECT_NEAR(now.heightMm(dent.centreXMm, dent.centreYMm) - scan.surface().heightMm(dent.centreXMm, dent.centreYMm),
                 dent.amplitudeMm, 1e-9);
     for (double a = 0; a < 6.28; a += 0.5) {
-      for (double r : {kPushOuterRadiusMm, kPushOuterRadiusMm + 3}) {
+      for (double r : {dent.outerRadiusMm, dent.outerRadiusMm + 3}) {
         const double x = dent.centreXMm + r * std::cos(a), y = dent.centreYMm + r * std::sin(a);
         EXPECT_EQ(now.heightMm(x, y), scan.surface().heightMm(x, y));
       }
