@@ -4,7 +4,7 @@
 /// --breathing-mm, --instruments, --camera-out, --smoke): part of the tissue breathes (SyntheticBreathing.h),
 /// instruments enter, work over the tissue and leave (SyntheticInstruments.h), the scope is withdrawn and put back
 /// (SyntheticCameraOut.h), smoke drifts over the view (SyntheticHaze.h). All off by default; each deterministic
-/// from the scan's seed, with its ground truth.
+/// from the scan's seed, with its ground truth. The in-vivo mode (SyntheticInVivo.h) builds on these.
 namespace tissuemosaic::synthetic {
 
 struct SyntheticHardModeOptions {
