@@ -10,6 +10,8 @@
 #include "Tracking/OrbFeatures.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -35,6 +37,12 @@ std::vector<float> even(double lowPx, double highPx, int count) {
   std::vector<float> values;
   for (int i = 0; i < count; ++i) values.push_back(static_cast<float>(lowPx + (highPx - lowPx) * i / std::max(1, count - 1)));
   return values;
+}
+
+/// The q-quantile of the values (nearest rank below).
+double quantileOf(std::vector<float> values, double q) {
+  std::sort(values.begin(), values.end());
+  return values[static_cast<std::size_t>(q * (values.size() - 1))];
 }
 
 /// Texture with structure at several scales (blurred noise), 8-bit.
@@ -295,6 +303,34 @@ TEST(DisparityRangeEstimator, FollowsWithHysteresis) {
   EXPECT_EQ(nextFrame, estimator.wantedRange(evenSample(64, 108, 200)));
   EXPECT_GT(threeAhead.maxPx, nextFrame.maxPx);
   EXPECT_GE(threeAhead.maxPx, 104 + 4 * 5.0 / 3.0 + 0.5 * 6.6);
+}
+
+TEST(DisparityRangeEstimator, WrongMatchesOfABlurredFrameDoNotWidenTheRange) {
+  // A real in-vivo frame with motion blur: 180 matches on tissue at 22..114 px, and 8 % wrong ones (repeated texture,
+  // glints) at -260..-100 px (beyond infinity: behind the camera) and at 250..300 px (more than 3 interquartile
+  // ranges above the upper quartile). The quantiles alone pass 2 %: the range followed such frames to -268..171 px.
+  DisparityRangeEstimator estimator(Device::Cpu);
+  const std::vector<float> tissue = even(22, 114, 180);
+  std::vector<float> blurred = tissue;
+  for (float wrong : {-260.f, -240.f, -200.f, -180.f, -150.f, -120.f, -100.f, -110.f, -130.f, -255.f, 300.f, 270.f,
+                      280.f, 250.f, 260.f}) {
+    blurred.push_back(wrong);
+  }
+  const DisparitySample clean = estimator.sample(tissue, 500, 500);
+  const DisparitySample withWrong = estimator.sample(blurred, 500, 500);
+  EXPECT_EQ(withWrong.matches(), clean.matches()) << "every wrong match dropped, no tissue match";
+  EXPECT_NEAR(withWrong.implausibleShare, 15.0 / 195.0, 1e-9);
+  EXPECT_EQ(estimator.wantedRange(withWrong), estimator.wantedRange(clean));
+  const DisparityRange current = estimator.wantedRange(clean);
+  EXPECT_EQ(estimator.followingRange(current, withWrong), current);
+  EXPECT_LE(current.count(), 200);
+  // Without the rule the low end would follow them (quantile 0.02 of the 195 matches).
+  EXPECT_LT(quantileOf(blurred, 0.02), -100);
+  // With doffs the disparity at infinity moves: -30 px are tissue where infinity lies at -50 px.
+  DisparityRangeEstimatorOptions offset;
+  offset.infinityDisparityPx = -50;
+  DisparityRangeEstimator offsetEstimator(Device::Cpu, offset);
+  EXPECT_EQ(offsetEstimator.sample(even(-30, 60, 100), 100, 100).matches(), 100);
 }
 
 TEST(DisparityRangeFollower, RangeChangesOnlyBetweenFrames) {
