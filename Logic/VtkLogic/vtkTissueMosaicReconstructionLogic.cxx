@@ -224,6 +224,7 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           }
           status.agreement = result.agreement;
           status.agreementLevel = static_cast<int>(result.agreementLevel);
+          status.sceneMotion = static_cast<int>(result.sceneMotion);
           status.elapsedS = busyS;
           status.disparityRange = result.disparityRange;
           status.disparityRangeText = pipeline->disparityRangeDescription();
@@ -768,7 +769,13 @@ std::string vtkTissueMosaicReconstructionLogic::GetAgreementText() const {
   char text[128];
   std::snprintf(text, sizeof text, "model agreement: %.0f%% within 1 mm, median %.2f mm", 100 * a.shareWithin1mm,
                 a.medianDepthDifferenceMm);
-  return text;
+  switch (static_cast<tissuemosaic::SceneMotion>(this->Status.sceneMotion)) {
+    case tissuemosaic::SceneMotion::Still: return std::string(text) + "; all still";
+    case tissuemosaic::SceneMotion::Camera: return std::string(text) + "; the camera moves";
+    case tissuemosaic::SceneMotion::Tissue: return std::string(text) + "; the tissue moves";
+    case tissuemosaic::SceneMotion::Both: return std::string(text) + "; the camera and the tissue move";
+    default: return text;
+  }
 }
 
 std::string vtkTissueMosaicReconstructionLogic::GetDisparityRangeText() const {

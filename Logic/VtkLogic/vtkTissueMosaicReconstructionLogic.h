@@ -214,6 +214,8 @@ public:
     /// (tissuemosaic::AgreementLevel as int, by the parameters' thresholds).
     tissuemosaic::ModelAgreement agreement;
     int agreementLevel = 0;
+    /// What moved at the last frame (tissuemosaic::SceneMotion as int: camera, tissue, both, still; docs/SCENE_MOTION.md).
+    int sceneMotion = 0;
     double framesPerSecond = 0;   ///< over the last frames (wall clock); once ended, the scan's average
     double elapsedS = 0;          ///< since the scan started, pauses excluded
     tissuemosaic::DisparityRange disparityRange;  ///< the last frame's
@@ -229,8 +231,8 @@ public:
   /// One line for a status bar: "Tracking", "Lost: move the camera back over the scanned tissue (why)", and for a
   /// second after tracking resumed "Relocalised", with the scan's state when it is not running.
   std::string GetTrackingStateText() const;
-  /// The last frame's model agreement for the user, e.g. "model agreement: 96% within 1 mm, median 0.21 mm"
-  /// ("not measured" where there is none: lost, or no model in view yet).
+  /// The last frame's model agreement for the user, e.g. "model agreement: 96% within 1 mm, median 0.21 mm; the
+  /// tissue moves" ("not measured" where there is none: lost, or no model in view yet), with what moved.
   std::string GetAgreementText() const;
   /// Frames (at 30 fps, a second) that the state text keeps saying "Relocalised" after tracking resumed.
   static constexpr int RelocalisedNoticeFrames = 30;

@@ -7,9 +7,24 @@
 
 
 namespace tissuemosaic {
+namespace {
+
+/// A JSON string literal: quotes, backslashes and control characters escaped.
+std::string jsonString(const std::string& text) {
+  std::string quoted = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') quoted += std::string("\\") + c;
+    else if (static_cast<unsigned char>(c) < 0x20) quoted += cv::format("\\u%04x", c);
+    else quoted += c;
+  }
+  return quoted + "\"";
+}
+
+}  // namespace
 
 void QualityLog::add(const FrameResult& frame) {
-  records_.push_back({frame.frameIndex, frame.status, frame.agreement, frame.inliers});
+  records_.push_back({frame.frameIndex, frame.status, frame.agreement, frame.inliers, frame.keyFrame,
+                      frame.movingMatches, frame.disparityRange, frame.trackingMessage, frame.sceneMotion});
 }
 
 std::vector<std::pair<int, int>> QualityLog::lostSpans() const {
@@ -51,10 +66,13 @@ void QualityLog::writeJson(const std::string& path) const {
     const bool measured = r.agreement.measured;
     out << (i ? ",\n " : "\n ")
         << cv::format("{\"frame\": %d, \"status\": \"%s\", \"median_depth_difference_mm\": %s, \"share_within_1mm\": %s, "
-                      "\"inliers\": %d}",
+                      "\"inliers\": %d, \"key_frame\": %s, \"moving_matches\": %d, \"disparity_range\": [%d, %d], "
+                      "\"message\": %s, \"scene_motion\": \"%s\"}",
                       r.frame, frameStatusName(r.status),
                       measured ? cv::format("%.4f", r.agreement.medianDepthDifferenceMm).c_str() : "null",
-                      measured ? cv::format("%.4f", r.agreement.shareWithin1mm).c_str() : "null", r.inliers);
+                      measured ? cv::format("%.4f", r.agreement.shareWithin1mm).c_str() : "null", r.inliers,
+                      r.keyFrame ? "true" : "false", r.movingMatches, r.disparityRange.minPx, r.disparityRange.maxPx,
+                      jsonString(r.message).c_str(), sceneMotionName(r.sceneMotion));
   }
   out << "\n]\n";
   });

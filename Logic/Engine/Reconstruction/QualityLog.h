@@ -18,6 +18,11 @@ public:
     FrameStatus status = FrameStatus::Lost;
     ModelAgreement agreement;
     int inliers = 0;
+    bool keyFrame = false;
+    int movingMatches = 0;           ///< key-frame matches kept out of the pose (they moved with the scene)
+    DisparityRange disparityRange;   ///< the range the frame was matched over
+    std::string message;             ///< why it was lost, or how it was relocalised; empty otherwise
+    SceneMotion sceneMotion = SceneMotion::Unknown;
   };
 
   void add(const FrameResult& frame);
@@ -30,7 +35,10 @@ public:
   std::string lostSpansJson() const;
   std::string relocalisationsJson() const;
   /// A JSON array of one object per frame: "frame", "status", "median_depth_difference_mm", "share_within_1mm"
-  /// (null where not measured), "inliers". Throws Error when the file cannot be written.
+  /// (null where not measured), "inliers" (the contract keys), then "key_frame", "moving_matches",
+  /// "disparity_range" ([min, max] px), "message" (why lost, how relocalised; "" otherwise) and "scene_motion"
+  /// ("still", "camera", "tissue", "both"; "unknown" for a lost or first frame: sceneMotionName). Throws Error when
+  /// the file cannot be written.
   void writeJson(const std::string& path) const;
   /// For a progress line: "agreement 96% within 1 mm, median 0.21 mm", "LOST", ...
   static std::string progressText(const FrameResult& frame);

@@ -13,6 +13,7 @@
 #include "Tracking/FrameTracker.h"
 #include "Tracking/SubPixelMatch.h"
 
+#include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -50,6 +51,16 @@ const char* frameStatusName(FrameStatus status) {
     case FrameStatus::Tracked: return "tracked";
     case FrameStatus::Relocalised: return "relocalised";
     default: return "lost";
+  }
+}
+
+const char* sceneMotionName(SceneMotion motion) {
+  switch (motion) {
+    case SceneMotion::Still: return "still";
+    case SceneMotion::Camera: return "camera";
+    case SceneMotion::Tissue: return "tissue";
+    case SceneMotion::Both: return "both";
+    default: return "unknown";
   }
 }
 
@@ -231,9 +242,16 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   const FrameTracker::PoseCheck check = [&](const Eigen::Matrix4d& T_world_camera) -> std::string {
     const ModelAgreement a = measureAgreement(T_world_camera);
     if (!s.parameters.agreement.collapsed(a)) return {};
+    // A pose that continues the scope's smooth motion is kept: the tissue moved (breathing, pushed), not the camera.
+    if (s.tracker.continuesMotion(T_world_camera)) {
+      result.tissueMoved = true;
+      return {};
+    }
     return cv::format("the model disagrees with the frame's depth at this pose (%.0f%% within 1 mm, median %.1f mm)",
                       100 * a.shareWithin1mm, a.medianDepthDifferenceMm);
   };
+  const int previousTrackedFrame = s.tracker.lastTrackedFrame();
+  const Eigen::Matrix4d T_world_previousTracked = s.tracker.lastTrackedPose();
   TrackResult track = s.tracker.track(result.leftRectified, FrameTracker::DisparitySource(sampleTrackingDisparity), check);
   waitForStereo();  // the tracker has waited on every path that returns; this only guards that contract
   if (!track.tracked) {
@@ -269,6 +287,17 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   if (!track.tracked) result.trackingMessage = track.failureReason;
   result.inliers = track.inliers;
   result.movingMatches = track.movingMatches;
+  if (track.tracked && !track.initial && !track.relocalised) {
+    const int steps = std::max(1, result.frameIndex - previousTrackedFrame);
+    const double stepMm = (track.T_world_camera.block<3, 1>(0, 3) - T_world_previousTracked.block<3, 1>(0, 3)).norm();
+    const double stepDeg = Eigen::AngleAxisd(Eigen::Matrix3d(T_world_previousTracked.block<3, 3>(0, 0).transpose() *
+                                                             track.T_world_camera.block<3, 3>(0, 0))).angle() * 180 / M_PI;
+    const bool cameraMoved = stepMm / steps > kCameraStillMmPerFrame || stepDeg / steps > kCameraStillDegPerFrame;
+    const int matched = track.inliers + track.movingMatches;
+    const bool tissueMoved = result.tissueMoved || (matched > 0 && track.movingMatches >= kTissueMovingShare * matched);
+    result.sceneMotion = cameraMoved ? (tissueMoved ? SceneMotion::Both : SceneMotion::Camera)
+                                     : (tissueMoved ? SceneMotion::Tissue : SceneMotion::Still);
+  }
   result.T_world_camera = track.T_world_camera;
   if (track.tracked) {
     if (!(T_world_agreement == result.T_world_camera)) measureAgreement(result.T_world_camera);

@@ -64,6 +64,15 @@ enum class FrameStatus {
 };
 const char* frameStatusName(FrameStatus status);  ///< "tracked", "lost", "relocalised"
 
+/// What moved at a tracked frame (docs/SCENE_MOTION.md, "What moved"): the camera (its pose moved more than
+/// kCameraStillMmPerFrame or kCameraStillDegPerFrame since the last tracked frame), the tissue (at least
+/// kTissueMovingShare of the key frame's matches moved with the scene, or the model disagreed with a pose that
+/// continues the scope's motion), both, or neither. Unknown for a lost or first frame.
+enum class SceneMotion { Unknown, Still, Camera, Tissue, Both };
+const char* sceneMotionName(SceneMotion motion);  ///< "unknown", "still", "camera", "tissue", "both"
+constexpr double kCameraStillMmPerFrame = 0.1, kCameraStillDegPerFrame = 0.1;
+constexpr double kTissueMovingShare = 0.2;
+
 struct FrameResult {
   int frameIndex = 0;
   bool tracked = false;         ///< status != Lost
@@ -77,6 +86,10 @@ struct FrameResult {
   AgreementLevel agreementLevel = AgreementLevel::None;
   int movingMatches = 0;        ///< key-frame feature matches kept out of the pose (they moved with the scene)
   int pointsRemoved = 0;        ///< model points that left the model on this frame's motion evidence
+  /// The model disagreed with the frame's depth at a pose that continues the scope's motion
+  /// (FrameTracker::continuesMotion): the pose was kept, the tissue moved.
+  bool tissueMoved = false;
+  SceneMotion sceneMotion = SceneMotion::Unknown;
   Eigen::Matrix4d T_world_camera = Eigen::Matrix4d::Identity();  ///< left rectified camera to world, mm; refined at key frames
   int inliers = 0;
   bool refined = false;         ///< key frame: the refinement improved the tracked pose

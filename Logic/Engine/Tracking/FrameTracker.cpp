@@ -374,9 +374,30 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
   const Eigen::Vector3d t = pnp.T_camera_world.block<3, 1>(0, 3);
   const double limit2 = fitPx * fitPx;
   const double focalBaseline = s.geometry.focalPx * s.geometry.baselineMm;
+  // The depth test's bound follows the frame's own stereo noise: real in-vivo stereo differs from the predicted
+  // depth by more than a pixel of disparity on most still tissue, and a fixed bound there flagged most of the view.
+  const auto predictedCamera = [&](const Match& m) { return Eigen::Vector3d(R * m.worldMm + t); };
+  const auto disparityDifferencePx = [&](const Match& m) {
+    const Eigen::Vector3d c = predictedCamera(m);
+    const Eigen::Vector3d& measured = s.lastFeatures.pointsCameraMm[m.current];
+    if (!(c.z() > 1e-9) || !measured.allFinite() || !(measured.z() > 0)) return std::numeric_limits<double>::quiet_NaN();
+    return focalBaseline * std::abs(1.0 / measured.z() - 1.0 / c.z());
+  };
+  double depthLimitPx = tp.dynamicDisparityPx;
+  if (tp.dynamicDisparityPx > 0) {
+    std::vector<double> differences;
+    for (const Match& m : all) {
+      const double d = disparityDifferencePx(m);
+      if (std::isfinite(d)) differences.push_back(d);
+    }
+    if (!differences.empty()) {
+      std::nth_element(differences.begin(), differences.begin() + differences.size() / 2, differences.end());
+      depthLimitPx = std::max(depthLimitPx, kFitMedianFactor * differences[differences.size() / 2]);
+    }
+  }
   for (float& score : s.reference.motionScore) score *= static_cast<float>(tp.dynamicScoreDecay);
   for (const Match& m : all) {
-    const Eigen::Vector3d c = R * m.worldMm + t;
+    const Eigen::Vector3d c = predictedCamera(m);
     double u = 0, v = 0;
     bool off = !(c.z() > 1e-9);
     if (!off) {
@@ -385,10 +406,7 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
       double error2 = (projected - m.toPx).squaredNorm();
       for (const CandidateMatch& candidate : m.candidates) error2 = std::min(error2, (projected - candidate.pixelPx).squaredNorm());
       off = tp.dynamicResidualPx > 0 && error2 > limit2;
-      const Eigen::Vector3d& measured = s.lastFeatures.pointsCameraMm[m.current];
-      if (!off && tp.dynamicDisparityPx > 0 && measured.allFinite() && measured.z() > 0) {
-        off = focalBaseline * std::abs(1.0 / measured.z() - 1.0 / c.z()) > tp.dynamicDisparityPx;
-      }
+      if (!off && tp.dynamicDisparityPx > 0) off = disparityDifferencePx(m) > depthLimitPx;
     }
     float& score = s.reference.motionScore[m.reference];
     if (off) score = 1.0f;
@@ -424,6 +442,15 @@ TrackResult FrameTracker::acceptRelocalisation(const Eigen::Matrix4d& T_world_ca
   s.lost = false;
   s.lastTracked = true;
   return result;
+}
+
+Eigen::Matrix4d FrameTracker::predictedPose() const { return impl_->predictedPose(impl_->frames - 1); }
+
+bool FrameTracker::continuesMotion(const Eigen::Matrix4d& T_world_camera) const {
+  const Eigen::Matrix4d predicted = predictedPose();
+  const TrackingParameters& tp = impl_->options.tracking;
+  return (T_world_camera.block<3, 1>(0, 3) - predicted.block<3, 1>(0, 3)).norm() <= tp.priorStepMm &&
+         rotationDeg(predicted, T_world_camera) <= tp.priorStepDeg;
 }
 
 bool FrameTracker::isLost() const { return impl_->lost; }

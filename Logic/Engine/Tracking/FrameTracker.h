@@ -113,6 +113,13 @@ public:
   const Eigen::Matrix4d& lastTrackedPose() const;
   int lastTrackedFrame() const;
 
+  /// The scope's motion prior for the frame last given to track(): the pose predicted from the last two tracked
+  /// frames (constant velocity when they and this frame are consecutive, else the last tracked pose).
+  Eigen::Matrix4d predictedPose() const;
+  /// True when T_world_camera lies within the prior's step (TrackingParameters::priorStepMm, priorStepDeg) of
+  /// predictedPose(): a pose that continues the scope's smooth motion.
+  bool continuesMotion(const Eigen::Matrix4d& T_world_camera) const;
+
   /// Frames given to track() so far.
   int frameCount() const;
   /// The features of the frame last given to track() (empty before the first call), for key-frame refinement:

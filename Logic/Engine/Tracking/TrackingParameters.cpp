@@ -28,6 +28,8 @@ void TrackingParameters::validate() const {
   kTracking.requireRange("dynamicDisparityPx", dynamicDisparityPx, 0.0, 1000.0);
   kTracking.requireRange("dynamicScoreDecay", dynamicScoreDecay, 0.0, 1.0);
   kTracking.requireRange("dynamicExcludeScore", dynamicExcludeScore, 0.0, 1.0);
+  kTracking.requireRange("priorStepMm", priorStepMm, 0.0, 1000.0);
+  kTracking.requireRange("priorStepDeg", priorStepDeg, 0.0, 180.0);
   kTracking.requireRange("relocalisationMinInliers", relocalisationMinInliers, 4, 100000);
   kTracking.requireRange("relocalisationCandidates", relocalisationCandidates, 0, 1000);
 }
@@ -41,7 +43,8 @@ void TrackingParameters::write(cv::FileStorage& storage) const {
   storage << "keyFrameMinGapFrames" << keyFrameMinGapFrames << "keyFramePoseThreshold" << keyFramePoseThreshold;
   storage << "dynamicResidualPx" << dynamicResidualPx << "dynamicDisparityPx" << dynamicDisparityPx;
   storage << "dynamicScoreDecay" << dynamicScoreDecay;
-  storage << "dynamicExcludeScore" << dynamicExcludeScore << "relocalisationMinInliers" << relocalisationMinInliers;
+  storage << "dynamicExcludeScore" << dynamicExcludeScore  << "priorStepMm" << priorStepMm
+          << "priorStepDeg" << priorStepDeg << "relocalisationMinInliers" << relocalisationMinInliers;
   storage << "relocalisationCandidates" << relocalisationCandidates;
   storage << "}";
 }
@@ -64,6 +67,8 @@ TrackingParameters TrackingParameters::read(const cv::FileNode& node) {
   kTracking.readKey(node, "dynamicDisparityPx", p.dynamicDisparityPx);
   kTracking.readKey(node, "dynamicScoreDecay", p.dynamicScoreDecay);
   kTracking.readKey(node, "dynamicExcludeScore", p.dynamicExcludeScore);
+  kTracking.readKey(node, "priorStepMm", p.priorStepMm);
+  kTracking.readKey(node, "priorStepDeg", p.priorStepDeg);
   kTracking.readKey(node, "relocalisationMinInliers", p.relocalisationMinInliers);
   kTracking.readKey(node, "relocalisationCandidates", p.relocalisationCandidates);
   p.validate();

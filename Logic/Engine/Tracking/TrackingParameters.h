@@ -34,10 +34,16 @@ struct TrackingParameters {
   // above dynamicExcludeScore do not steer the pose (while enough others remain) and are not stored for refinement
   // or relocalisation. The pose is polished last on the matches that sit where it projects them (the same bound).
   // dynamicResidualPx 0 switches the image test and the final fit off, dynamicDisparityPx 0 the depth test.
-  double dynamicResidualPx = 2.0;
+  double dynamicResidualPx = 5.0;
   double dynamicDisparityPx = 1.0;
   double dynamicScoreDecay = 0.97;
   double dynamicExcludeScore = 0.3;
+
+  // The scope's motion prior (not in the paper): a scope moves smoothly. A pose within priorStepMm and
+  // priorStepDeg of the one predicted from the last two tracked frames continues that motion: it is kept when the
+  // model disagrees with the frame's depth (the tissue moved, not the camera) instead of the frame being lost.
+  double priorStepMm = 1.5;
+  double priorStepDeg = 1.5;
 
   // Relocalisation (not in the paper): a lost frame is matched with stored key frames (those that overlapped the
   // last tracked view first, then the others in turn), R1PPnP on the matches.
