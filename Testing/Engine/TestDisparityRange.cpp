@@ -307,8 +307,8 @@ TEST(DisparityRangeEstimator, FollowsWithHysteresis) {
 
 TEST(DisparityRangeEstimator, WrongMatchesOfABlurredFrameDoNotWidenTheRange) {
   // A real in-vivo frame with motion blur: 180 matches on tissue at 22..114 px, and 8 % wrong ones (repeated texture,
-  // glints) at -260..-100 px (beyond infinity: behind the camera) and at 250..300 px (more than 3 interquartile
-  // ranges above the upper quartile). The quantiles alone pass 2 %: the range followed such frames to -268..171 px.
+  // glints) at -260..-100 px, beyond infinity (behind the camera), and at 250..300 px, beyond the near fence. The
+  // quantiles alone pass 2 %: the range followed such frames to -268..171 px.
   DisparityRangeEstimator estimator(Device::Cpu);
   const std::vector<float> tissue = even(22, 114, 180);
   std::vector<float> blurred = tissue;

@@ -78,8 +78,10 @@ void largestMotion(const PipelineRun& run, double& mm, double& deg) {
   }
 }
 
-/// The bounds of the in-vivo still-scope test (measured figures in docs/SCENE_MOTION.md).
-constexpr double kInVivoStillMm = 100, kInVivoStillDeg = 100;
+/// The in-vivo still-scope test's bounds: today's limit with a margin, not the goal (0.5 mm, 0.3 deg). Measured
+/// 3.20 mm, 1.68 deg (this 2-core CPU, 2026-11-28): the estimate follows the whole view's breath (docs/SCENE_MOTION.md,
+/// "Limits"); a tighter estimate must lower these.
+constexpr double kInVivoStillMm = 4.0, kInVivoStillDeg = 2.2;
 
 }  // namespace
 

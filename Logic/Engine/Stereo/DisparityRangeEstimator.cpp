@@ -34,20 +34,21 @@ double quantile(const std::vector<float>& sorted, double q) {
 }
 
 /// Drops the matches no tissue can give before the robust ends are taken: a disparity below the one of a point at
-/// infinity (behind the camera), and one beyond Tukey's far-out fences (farOutIqrFactor interquartile ranges outside
-/// the quartiles). A blurred or dark frame gives far fewer true matches while its wrong ones stay (repeated texture,
-/// glints): on real in-vivo frames 3-8 % of 150-200 matches lay at -260..-100 px or 160 px with the tissue at
-/// 22..114 px, more than the 2 % the quantiles pass, and the range followed them to -268..171 px.
+/// infinity (behind the camera). A blurred or dark frame gives far fewer true matches while its wrong ones stay
+/// (repeated texture, glints): on real in-vivo frames 3-8 % of 150-200 matches lay at -260..-100 px with the tissue
+/// at 22..114 px, more than the 2 % the quantiles pass, and the range followed them to -268 px; others lay near
+/// 165 px. On the near side a match is dropped beyond Tukey's far-out fence, nearFenceIqr interquartile ranges above
+/// the upper quartile, the range counted at least a quarter of the upper quartile's distance from infinity (a narrow
+/// view of flat tissue keeps the nearer parts of its relief).
 /// Returns the share of the matches dropped.
 double keepPlausibleMatches(std::vector<float>& disparitiesPx, std::vector<cv::Point2f>& pointsPx,
                             const DisparityRangeEstimatorOptions& options) {
   if (disparitiesPx.empty()) return 0;
   const std::size_t given = disparitiesPx.size();
+  const double lowest = options.infinityDisparityPx - options.minMarginPx;
   const std::vector<float> sorted = sortedCopy(disparitiesPx);
   const double q1 = quantile(sorted, 0.25), q3 = quantile(sorted, 0.75);
-  const double lowest = std::max(q1 - options.farOutIqrFactor * (q3 - q1),
-                                 options.infinityDisparityPx - options.minMarginPx);
-  const double highest = q3 + options.farOutIqrFactor * (q3 - q1);
+  const double highest = q3 + options.nearFenceIqr * std::max(q3 - q1, 0.25 * (q3 - options.infinityDisparityPx));
   std::size_t kept = 0;
   for (std::size_t i = 0; i < disparitiesPx.size(); ++i) {
     if (!(disparitiesPx[i] >= lowest && disparitiesPx[i] <= highest)) continue;
@@ -131,7 +132,7 @@ void DisparityRangeEstimatorOptions::validate() const {
   kEstimator.requireRange("minMarginPx", minMarginPx, 0.0, 1000.0);
   kEstimator.requireRange("farMarginFraction", farMarginFraction, 0.0, 10.0);
   kEstimator.requireRange("infinityDisparityPx", infinityDisparityPx, -10000.0, 10000.0);
-  kEstimator.requireRange("farOutIqrFactor", farOutIqrFactor, 1.0, 1000.0);
+  kEstimator.requireRange("nearFenceIqr", nearFenceIqr, 1.0, 1000.0);
   kEstimator.requireRange("maxImplausibleShare", maxImplausibleShare, 0.0, 1.0);
   kEstimator.requireRange("keepMarginFraction", keepMarginFraction, 0.0, 1.0);
   kEstimator.requireRange("maxWidthFactor", maxWidthFactor, 1.0, 10.0);

@@ -37,12 +37,12 @@ struct DisparityRangeEstimatorOptions {
   /// Robust ends of the matched disparities (a few percent of wrong matches pass every test; the plane fit, see
   /// DisparitySample::lowPx, reaches the parts of the view beyond them).
   double lowQuantile = 0.02, highQuantile = 0.98;
-  /// Matches farther than this many interquartile ranges outside the quartiles (Tukey's far-out fences), or below
-  /// infinityDisparityPx - minMarginPx, are not the tissue and are dropped before the quantiles are taken.
-  double farOutIqrFactor = 3.0;
-  /// During a video, a frame that had more than this share of such matches shows no tissue (random matches spread
-  /// over every disparity): the range stays.
+  /// Matches below infinityDisparityPx - minMarginPx (behind the camera), or beyond the near fence (this many
+  /// interquartile ranges above the upper quartile, the range at least a quarter of that quartile's distance from
+  /// infinity), are not the tissue and are dropped before the quantiles are taken. During a video, a frame that had more than this share of them shows no tissue (random
+  /// matches spread over every disparity): the range stays.
   double maxImplausibleShare = 0.2;
+  double nearFenceIqr = 3.0;
   /// The plane fit widens the ends only where the matches lie on it: robust standard deviation about it at most
   /// max(planeTolerancePx, planeToleranceFraction x the quantiles' span). A folded, cratered or instrument-filled
   /// view is no plane, and its corners' extrapolation would be guesses.
@@ -94,7 +94,7 @@ struct DisparitySample {
   /// calibration, a capture that shifts one eye) and the disparities were measured along the offset rows; the dense
   /// matching compares equal rows, so the right view must be moved to match (alignRightRows).
   double rowOffsetPx = 0;
-  /// Share of the given matches that no tissue can give (beyond infinity or far out, farOutIqrFactor): dropped.
+  /// Share of the given matches that no tissue can give (beyond infinity, behind the camera): dropped.
   double implausibleShare = 0;
   int matches() const { return static_cast<int>(disparitiesPx.size()); }
 };
