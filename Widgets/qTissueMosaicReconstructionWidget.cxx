@@ -75,6 +75,7 @@ public:
   qTissueMosaicMessageLine* inputMessage = nullptr;
   qTissueMosaicMessageLine* scanMessage = nullptr;
   qTissueMosaicMessageLine* exportMessage = nullptr;
+  QLabel* sceneMotionLabel = nullptr;  ///< what moved: the camera, the tissue, both, nothing
   QLabel* disparityRangeLabel = nullptr;
   QGroupBox* parametersBox = nullptr;
   QCheckBox* rectifiedCheckBox = nullptr;
@@ -174,18 +175,25 @@ void qTissueMosaicReconstructionWidgetPrivate::setupUi() {
       "within 1 mm of the model and the median difference. Green: trust the model here; amber: part of the view "
       "moved or is covered; red: do not trust it. Thresholds: the agreement parameters."));
   scanLayout->addWidget(agreementLabel, 2, 0, 1, 4);
+  sceneMotionLabel = new QLabel(q);
+  sceneMotionLabel->setObjectName("sceneMotionLabel");
+  sceneMotionLabel->setWordWrap(true);
+  sceneMotionLabel->setToolTip(QObject::tr(
+      "What moved at the last frame: the camera (its pose), the tissue (features that moved with the scene, or depth "
+      "the model contradicts at a pose that continues the scope's motion), both, or nothing"));
+  scanLayout->addWidget(sceneMotionLabel, 3, 0, 1, 4);
   disparityRangeLabel = new QLabel(q);
   disparityRangeLabel->setObjectName("disparityRangeLabel");
   disparityRangeLabel->setWordWrap(true);
   disparityRangeLabel->setToolTip(QObject::tr("The stereo matcher's disparity range and how it was chosen (the "
                                               "parameters' Disparity range)"));
-  scanLayout->addWidget(disparityRangeLabel, 3, 0, 1, 4);
+  scanLayout->addWidget(disparityRangeLabel, 4, 0, 1, 4);
   startProblemLabel = new qTissueMosaicMessageLine(q);
   startProblemLabel->setObjectName("startProblemLabel");
-  scanLayout->addWidget(startProblemLabel, 4, 0, 1, 4);
+  scanLayout->addWidget(startProblemLabel, 5, 0, 1, 4);
   scanMessage = new qTissueMosaicMessageLine(q);
   scanMessage->setObjectName("scanMessage");
-  scanLayout->addWidget(scanMessage, 5, 0, 1, 4);
+  scanLayout->addWidget(scanMessage, 6, 0, 1, 4);
   layout->addWidget(scanBox);
 
   auto* exportBox = new QGroupBox(QObject::tr("Export"), q);
@@ -375,6 +383,9 @@ void qTissueMosaicReconstructionWidgetPrivate::updateControls() {
   const int level = lost ? 0 : std::clamp(status.agreementLevel, 0, 3);
   agreementLabel->setStyleSheet(QString("QLabel { background-color: %1; color: white; padding: 2px 6px; }").arg(colours[level]));
   agreementLabel->setProperty("agreementLevel", level);
+  const QString moved = QString::fromStdString(logic->GetSceneMotionText());
+  sceneMotionLabel->setText(moved);
+  sceneMotionLabel->setVisible(!moved.isEmpty());
   disparityRangeLabel->setText(
       QObject::tr("Disparities: %1").arg(QString::fromStdString(logic->GetDisparityRangeText())));
   // A pair out of rectification is matched after a correction the user should know of: the line stands out.

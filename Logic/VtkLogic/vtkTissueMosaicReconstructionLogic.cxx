@@ -769,12 +769,17 @@ std::string vtkTissueMosaicReconstructionLogic::GetAgreementText() const {
   char text[128];
   std::snprintf(text, sizeof text, "model agreement: %.0f%% within 1 mm, median %.2f mm", 100 * a.shareWithin1mm,
                 a.medianDepthDifferenceMm);
+  return text;
+}
+
+std::string vtkTissueMosaicReconstructionLogic::GetSceneMotionText() const {
+  if (this->Status.framesProcessed == 0 || !this->Status.tracked) return "";
   switch (static_cast<tissuemosaic::SceneMotion>(this->Status.sceneMotion)) {
-    case tissuemosaic::SceneMotion::Still: return std::string(text) + "; all still";
-    case tissuemosaic::SceneMotion::Camera: return std::string(text) + "; the camera moves";
-    case tissuemosaic::SceneMotion::Tissue: return std::string(text) + "; the tissue moves";
-    case tissuemosaic::SceneMotion::Both: return std::string(text) + "; the camera and the tissue move";
-    default: return text;
+    case tissuemosaic::SceneMotion::Still: return "Moving: nothing (camera and tissue still)";
+    case tissuemosaic::SceneMotion::Camera: return "Moving: the camera";
+    case tissuemosaic::SceneMotion::Tissue: return "Moving: the tissue (the camera still)";
+    case tissuemosaic::SceneMotion::Both: return "Moving: the camera and the tissue";
+    default: return "";
   }
 }
 

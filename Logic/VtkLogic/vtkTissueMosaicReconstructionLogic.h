@@ -231,9 +231,12 @@ public:
   /// One line for a status bar: "Tracking", "Lost: move the camera back over the scanned tissue (why)", and for a
   /// second after tracking resumed "Relocalised", with the scan's state when it is not running.
   std::string GetTrackingStateText() const;
-  /// The last frame's model agreement for the user, e.g. "model agreement: 96% within 1 mm, median 0.21 mm; the
-  /// tissue moves" ("not measured" where there is none: lost, or no model in view yet), with what moved.
+  /// The last frame's model agreement for the user, e.g. "model agreement: 96% within 1 mm, median 0.21 mm"
+  /// ("not measured" where there is none: lost, or no model in view yet).
   std::string GetAgreementText() const;
+  /// What moved at the last frame (docs/SCENE_MOTION.md, "What moved"), e.g. "Moving: the tissue (the camera still)";
+  /// empty before the first frame, for a lost frame and where it is not known.
+  std::string GetSceneMotionText() const;
   /// Frames (at 30 fps, a second) that the state text keeps saying "Relocalised" after tracking resumed.
   static constexpr int RelocalisedNoticeFrames = 30;
   /// The stereo disparity range: as chosen in the scan so far ("auto: 64..95 px (from 412 left-right feature

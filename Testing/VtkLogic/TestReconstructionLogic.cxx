@@ -567,6 +567,7 @@ TEST_F(ReconstructionLogicScan, SaysLostAndRelocalisedAndShowsTheAgreement) {
   EXPECT_EQ(lost.frameStatus, static_cast<int>(tissuemosaic::FrameStatus::Lost));
   EXPECT_EQ(out->GetTrackingStateText().rfind("Lost: move the camera back over the scanned tissue", 0), 0u);
   EXPECT_EQ(out->GetAgreementText(), "model agreement: not measured");
+  EXPECT_EQ(out->GetSceneMotionText(), "") << "a lost frame says nothing of what moved";
 
   vtkNew<vtkTissueMosaicReconstructionLogic> back;
   run(20, back);
@@ -582,6 +583,8 @@ TEST_F(ReconstructionLogicScan, SaysLostAndRelocalisedAndShowsTheAgreement) {
   EXPECT_TRUE(status.agreement.measured);
   EXPECT_NE(status.agreementLevel, static_cast<int>(tissuemosaic::AgreementLevel::None));
   EXPECT_NE(back->GetAgreementText().find("% within 1 mm, median "), std::string::npos) << back->GetAgreementText();
+  // The scan's scope sweeps at 6-20 mm/s (0.2-0.7 mm a frame): the last frame says the camera moves.
+  EXPECT_EQ(back->GetSceneMotionText().rfind("Moving: the camera", 0), 0u) << back->GetSceneMotionText();
 }
 
 // A reset while running returns at once; the old worker finishes its frame in the background. Checked by events, not
