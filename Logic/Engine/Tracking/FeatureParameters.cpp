@@ -18,6 +18,8 @@ void FeatureParameters::validate() const {
   kFeature.requireRange("scaleFactor", scaleFactor, 1.01, 2.0);
   kFeature.requireRange("levels", levels, 1, 16);
   kFeature.requireRange("fastThreshold", fastThreshold, 1, 255);
+  kFeature.requireRange("weakTextureFeatures", weakTextureFeatures, 0, 100000);
+  kFeature.requireRange("weakFastThreshold", weakFastThreshold, 1, 255);
   kFeature.requireRange("edgeThresholdPx", edgeThresholdPx, 3, 100);
   kFeature.requireRange("maxHammingDistance", maxHammingDistance, 1, 256);
   kFeature.requireRange("candidatesPerFeature", candidatesPerFeature, 0, 8);
@@ -29,6 +31,7 @@ void FeatureParameters::write(cv::FileStorage& storage) const {
   storage << "features" << "{";
   storage << "maxFeatures" << maxFeatures << "scaleFactor" << scaleFactor << "levels" << levels;
   storage << "fastThreshold" << fastThreshold << "edgeThresholdPx" << edgeThresholdPx;
+  storage << "weakTextureFeatures" << weakTextureFeatures << "weakFastThreshold" << weakFastThreshold;
   storage << "maxHammingDistance" << maxHammingDistance << "candidatesPerFeature" << candidatesPerFeature;
   storage << "voteBinPx" << voteBinPx << "subPixelRefinement" << static_cast<int>(subPixelRefinement);
   storage << "maxRefinementShiftPx" << maxRefinementShiftPx;
@@ -44,6 +47,8 @@ FeatureParameters FeatureParameters::read(const cv::FileNode& node) {
   key("scaleFactor", p.scaleFactor);
   key("levels", p.levels);
   key("fastThreshold", p.fastThreshold);
+  key("weakTextureFeatures", p.weakTextureFeatures);
+  key("weakFastThreshold", p.weakFastThreshold);
   key("edgeThresholdPx", p.edgeThresholdPx);
   key("maxHammingDistance", p.maxHammingDistance);
   key("candidatesPerFeature", p.candidatesPerFeature);

@@ -65,16 +65,50 @@ struct FrameTracker::Impl {
   std::unique_ptr<HammingMatcher> ownMatcher;
   std::shared_ptr<SubPixelMatcher> subPixel;
 
+  cv::Ptr<cv::ORB> weakOrb;                    ///< FeatureParameters::weakFastThreshold, made when first needed
+  std::unique_ptr<OrbExtractor> weakExtractor;  ///< the same for TissueMosaicOrb
+
+  /// The frame's features; a frame with fewer than weakTextureFeatures is detected again with weakFastThreshold
+  /// and keeps the larger set (weak texture: dark, blurred, blood-red tissue).
   StereoFeatures detect(const cv::Mat& leftRectified) {
-    if (!ownExtractor) return detectFeatures(*orb, leftRectified);
+    const FeatureParameters& f = options.features;
+    StereoFeatures found = detectWith(orb, ownExtractor.get(), leftRectified);
+    if (static_cast<int>(found.keypoints.size()) >= f.weakTextureFeatures || f.weakFastThreshold >= f.fastThreshold) {
+      return found;
+    }
+    if (ownExtractor && !weakExtractor) {
+      weakExtractor = std::make_unique<OrbExtractor>(options.featureDevice, orbParameters(f, f.weakFastThreshold));
+    } else if (!ownExtractor && !weakOrb) {
+      weakOrb = openCvOrb(f, f.weakFastThreshold);
+    }
+    StereoFeatures weak = detectWith(weakOrb, weakExtractor.get(), leftRectified);
+    return weak.keypoints.size() > found.keypoints.size() ? std::move(weak) : std::move(found);
+  }
+
+  StereoFeatures detectWith(const cv::Ptr<cv::ORB>& openCv, OrbExtractor* extractor, const cv::Mat& leftRectified) {
+    if (!extractor) return detectFeatures(*openCv, leftRectified);
     const double scaleFactor = options.features.scaleFactor;
     return detectFeatures(
         [&](const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
-          const OrbFeatures found = ownExtractor->extract(grey);
+          const OrbFeatures found = extractor->extract(grey);
           keypoints = toCvKeyPoints(found, scaleFactor);
           descriptors = found.descriptors;
         },
         leftRectified);
+  }
+
+  static OrbParameters orbParameters(const FeatureParameters& f, int fastThreshold) {
+    OrbParameters orbParameters;
+    orbParameters.maxFeatures = f.maxFeatures;
+    orbParameters.levels = f.levels;
+    orbParameters.scaleFactor = f.scaleFactor;
+    orbParameters.fastThreshold = fastThreshold;
+    orbParameters.edgeThresholdPx = f.edgeThresholdPx;
+    return orbParameters;
+  }
+  static cv::Ptr<cv::ORB> openCvOrb(const FeatureParameters& f, int fastThreshold) {
+    return cv::ORB::create(f.maxFeatures, static_cast<float>(f.scaleFactor), f.levels, f.edgeThresholdPx, 0, 2,
+                           cv::ORB::HARRIS_SCORE, 31, fastThreshold);
   }
 
   std::vector<std::vector<cv::DMatch>> match(const cv::Mat& from, const cv::Mat& to, int k) {
@@ -168,18 +202,11 @@ FrameTracker::FrameTracker(const RectifiedGeometry& geometry, const FrameTracker
   impl_->T_world_start = T_world_startCamera;
   const FeatureParameters& f = options.features;
   if (options.extractor == FeatureExtractor::TissueMosaicOrb) {
-    OrbParameters orbParameters;
-    orbParameters.maxFeatures = f.maxFeatures;
-    orbParameters.levels = f.levels;
-    orbParameters.scaleFactor = f.scaleFactor;
-    orbParameters.fastThreshold = f.fastThreshold;
-    orbParameters.edgeThresholdPx = f.edgeThresholdPx;
-    impl_->ownExtractor = std::make_unique<OrbExtractor>(options.featureDevice, orbParameters);
+    impl_->ownExtractor = std::make_unique<OrbExtractor>(options.featureDevice, Impl::orbParameters(f, f.fastThreshold));
     impl_->ownMatcher = std::make_unique<HammingMatcher>(options.featureDevice);
   } else {
     require(options.featureDevice == Device::Cpu, "tracker: OpenCV's ORB runs on the CPU only");
-    impl_->orb = cv::ORB::create(f.maxFeatures, static_cast<float>(f.scaleFactor), f.levels, f.edgeThresholdPx, 0, 2,
-                                 cv::ORB::HARRIS_SCORE, 31, f.fastThreshold);
+    impl_->orb = Impl::openCvOrb(f, f.fastThreshold);
   }
 }
 

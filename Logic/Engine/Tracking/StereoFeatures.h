@@ -25,6 +25,11 @@ struct FeatureParameters {
   /// 0.23 vs 0.34 mm after refinement) with half the GPU extractor's launches and downloads.
   int levels = 1;
   int fastThreshold = 10;       ///< FAST corner threshold (grey levels); low: tissue has weak texture
+  /// A frame with fewer features than this (dark, blood-red, blurred tissue: real in-vivo video) is detected again
+  /// with weakFastThreshold and keeps the larger set. The in-vivo generator's 960x540 frames gave 20-30 inliers at
+  /// threshold 10, too few for a key frame (keyFrameMinInliers), and tracking starved; at 5, 300-500.
+  int weakTextureFeatures = 300;
+  int weakFastThreshold = 5;
   int edgeThresholdPx = 19;     ///< border without features (>= the ORB patch radius)
   int maxHammingDistance = 64;  ///< descriptor matches farther than this (of 256 bits) are dropped
   int candidatesPerFeature = 2; ///< further descriptor matches offered to DynamicR1PPnP per feature (k - 1)
