@@ -47,12 +47,18 @@ ReadOutcome IgtLinkVideoReader::read(const ReceiveBytes& receive, Frame& frame, 
   // The image header first: the pixels are only received (and memory only taken) for a consistent one.
   const std::size_t headerPart = static_cast<std::size_t>(std::min<std::uint64_t>(header.bodyBytes, kImageHeaderBytes));
   body_.resize(headerPart);
-  if (!receive(body_.data(), headerPart)) return ReadOutcome::Ended;
+  if (headerPart > 0 && !receive(body_.data(), headerPart)) return ReadOutcome::Ended;
   ImageFields image;
   std::string why;
   if (checkImageBody(body_.data(), header.bodyBytes, image, why) != ImageCheck::Good) return skip(headerPart, why);
-  body_.resize(static_cast<std::size_t>(header.bodyBytes));
-  if (!receive(body_.data() + headerPart, body_.size() - headerPart)) return ReadOutcome::Ended;
+  // Grown as the pixels come, so that a body declared but never sent takes no memory.
+  const auto bodyBytes = static_cast<std::size_t>(header.bodyBytes);
+  for (std::size_t have = headerPart; have < bodyBytes;) {
+    const std::size_t piece = std::min<std::size_t>(bodyBytes - have, 1 << 20);
+    body_.resize(have + piece);
+    if (!receive(body_.data() + have, piece)) return ReadOutcome::Ended;
+    have += piece;
+  }
   if (crc64(body_.data(), body_.size(), 0) != header.bodyCrc) {
     problem = what + "its body fails its CRC-64";
     return ReadOutcome::CrcFailed;
