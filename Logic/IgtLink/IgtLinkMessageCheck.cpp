@@ -48,9 +48,11 @@ bool checkHeader(const unsigned char* bytes, std::uint64_t largestBodyBytes, Hea
   header.bodyBytes = bigEndian(bytes + 42, 8);
   header.bodyCrc = bigEndian(bytes + 50, 8);
   if (header.bodyBytes > largestBodyBytes) {
-    problem = "a " + (header.type.empty() ? std::string("message") : "'" + header.type + "' message") + " of " +
-              std::to_string(header.bodyBytes) + " bytes (at most " + std::to_string(largestBodyBytes) +
-              " are read): not an OpenIGTLink stream, or a broken one";
+    std::string type = header.type;  // printable, as a hostile peer's bytes go into a message
+    for (char& c : type) c = c >= 32 && c < 127 ? c : '?';
+    problem = "a message of " + std::to_string(header.bodyBytes) + " bytes (at most " +
+              std::to_string(largestBodyBytes) + " are read; type '" + type +
+              "'): not an OpenIGTLink stream, or a broken one";
     return false;
   }
   return true;

@@ -111,7 +111,7 @@ TEST(IgtLinkMalformedInput, BodySizeIsReadAs64BitsAndAnImpossibleOneEndsTheInput
   // Was "a message of 1862270976 bytes": the size read as int.
   expectError(feed(header("IMAGE", "Video", 1.0, std::uint64_t(1) << 62, 0)), "of 4611686018427387904 bytes");
   expectError(feed(header("STATUS", "Keepalive", 1.0, (std::uint64_t(1) << 32) + 5, 0)),
-              "a 'STATUS' message of 4294967301 bytes");
+              "a message of 4294967301 bytes (at most 268435456 are read; type 'STATUS')");
 }
 
 TEST(IgtLinkMalformedInput, SubVolumeOutsideTheImageIsSkipped) {
