@@ -51,6 +51,14 @@ ReadOutcome IgtLinkVideoReader::read(const ReceiveBytes& receive, Frame& frame, 
   ImageFields image;
   std::string why;
   if (checkImageBody(body_.data(), header.bodyBytes, image, why) != ImageCheck::Good) return skip(headerPart, why);
+  const std::size_t stream = static_cast<std::size_t>(named - names_.begin());
+  const cv::Size size(image.size[0], image.size[1]);
+  if (!sizes_[stream].empty() && (size != sizes_[stream] || image.size[2] != 1)) {
+    return skip(headerPart, "a " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                                "x" + std::to_string(image.size[2]) + " image in a stream of " +
+                                std::to_string(sizes_[stream].width) + "x" + std::to_string(sizes_[stream].height) +
+                                " frames");
+  }
   // Grown as the pixels come, so that a body declared but never sent takes no memory.
   const auto bodyBytes = static_cast<std::size_t>(header.bodyBytes);
   for (std::size_t have = headerPart; have < bodyBytes;) {
@@ -81,7 +89,8 @@ ReadOutcome IgtLinkVideoReader::read(const ReceiveBytes& receive, Frame& frame, 
   const cv::Mat pixels(image.size[1], image.size[0], CV_8UC(image.components), body_.data() + kImageHeaderBytes);
   static const int conversions[] = {0, cv::COLOR_GRAY2BGR, 0, cv::COLOR_RGB2BGR, cv::COLOR_RGBA2BGR};
   cv::cvtColor(pixels, frame.bgr, conversions[image.components]);
-  frame.stream = static_cast<int>(named - names_.begin());
+  sizes_[stream] = size;
+  frame.stream = static_cast<int>(stream);
   frame.timeS = header.timeS();
   return ReadOutcome::Message;
 }

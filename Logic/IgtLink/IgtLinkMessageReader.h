@@ -49,14 +49,17 @@ public:
     double timeS = 0;
     cv::Mat bgr;
   };
-  explicit IgtLinkVideoReader(std::vector<std::string> streamNames) : names_(std::move(streamNames)) {}
+  explicit IgtLinkVideoReader(std::vector<std::string> streamNames)
+      : names_(std::move(streamNames)), sizes_(names_.size()) {}
 
-  /// The next message. Message: `frame` holds a frame. Failed: an IMAGE of a stream whose format TissueMosaic does
+  /// The next message. Message: `frame` holds a frame. A stream's frames keep its first frame's size: an IMAGE of
+  /// another size is Malformed and skipped before its pixels are received (memory stays bounded by the first). Failed: an IMAGE of a stream whose format TissueMosaic does
   /// not read (not 8-bit, not 1, 3 or 4 components, not 2D, part of an image), or a message too large to be one.
   ReadOutcome read(const ReceiveBytes& receive, Frame& frame, std::string& problem);
 
 private:
   std::vector<std::string> names_;
+  std::vector<cv::Size> sizes_;      ///< per stream: its first frame's size (empty until then)
   std::vector<unsigned char> body_;  ///< reused: its capacity stays at the largest frame's
 };
 

@@ -53,6 +53,11 @@ Bytes badMessage(const std::string& name, const cv::Size& frame) {
     h.scalarType = 10;
     return message("IMAGE", "Video", 0.5, imageBody(h, Bytes(rgbPixels.size() * 4, 0)));
   }
+  if (name == "larger_frame") {  // well formed, 2000 x 1500, after the first good frame (sent before it)
+    h.size[0] = 2000;
+    h.size[1] = 1500;
+    return message("IMAGE", "Video", 0.9, imageBody(h, Bytes(2000 * 1500 * 3, 128)));
+  }
   if (name == "random_bytes") {
     std::mt19937 random(54);
     Bytes noise(4096);
@@ -91,6 +96,14 @@ int main(int argc, char** argv) {
   cv::Mat sbs;
   cv::hconcat(cv::imread(lefts[0].string()), cv::imread(rights[0].string()), sbs);
   const Bytes bad = badMessage(argv[2], sbs.size());
+  if (std::string(argv[2]) == "larger_frame") {  // a first frame fixes the stream's size
+    cv::Mat rgb;
+    cv::cvtColor(sbs, rgb, cv::COLOR_BGR2RGB);
+    ImageHeader h;
+    h.size[0] = rgb.cols;
+    h.size[1] = rgb.rows;
+    client.sendAll(message("IMAGE", "Video", 0.8, imageBody(h, pixelsOf(rgb))));
+  }
   if (!bad.empty()) client.sendAll(bad);
   // PLUS sends keep-alives between frames.
   client.sendAll(message("STATUS", "Keepalive", 0.6, Bytes(30, 0)));

@@ -124,5 +124,33 @@ TEST(IgtLinkMessageCheck, ReaderSkipsAMalformedImageWholeAndReadsTheNext) {
   EXPECT_EQ(reader.read(receive, frame, problem), ReadOutcome::Ended);
 }
 
+TEST(IgtLinkMessageCheck, ReaderSkipsFramesOfAnotherSizeThanTheStreamsFirst) {
+  // Memory stays bounded by the first frame: a larger one is refused before its pixels are received.
+  const auto frameOf = [](int width, int height, double timeS) {
+    ImageHeader h;
+    h.size[0] = width;
+    h.size[1] = height;
+    return message("IMAGE", "Video", timeS, imageBody(h, Bytes(static_cast<std::size_t>(width) * height * 3, 7)));
+  };
+  Bytes stream;
+  for (const Bytes& m : {frameOf(4, 2, 1.0), frameOf(400, 300, 2.0), frameOf(4, 2, 3.0)})
+    stream.insert(stream.end(), m.begin(), m.end());
+  std::size_t at = 0;
+  const ReceiveBytes receive = [&](void* data, std::size_t bytes) {
+    if (bytes > stream.size() - at) return false;
+    std::memcpy(data, stream.data() + at, bytes);
+    at += bytes;
+    return true;
+  };
+  IgtLinkVideoReader reader({"Video"});
+  IgtLinkVideoReader::Frame frame;
+  std::string problem;
+  ASSERT_EQ(reader.read(receive, frame, problem), ReadOutcome::Message) << problem;
+  EXPECT_EQ(reader.read(receive, frame, problem), ReadOutcome::Malformed);
+  EXPECT_NE(problem.find("a 400x300x1 image in a stream of 4x2 frames"), std::string::npos) << problem;
+  ASSERT_EQ(reader.read(receive, frame, problem), ReadOutcome::Message) << problem;
+  EXPECT_DOUBLE_EQ(frame.timeS, 3.0);
+}
+
 }  // namespace
 }  // namespace tissuemosaic::igtlink
