@@ -1,6 +1,7 @@
 # The sanitizer build's CI subset: ctest label "sanitize" (docs/TESTING.md, Resources/scripts/run-sanitize-tests.sh):
 # the readers of outside input (images, PFM, PLY, videos and frame folders, TUM trajectories, parameter files,
-# calibration layouts and rigs, atomic files), on a library and a test driver of their own, so that CI's 2 cores
+# calibration layouts and rigs, atomic files) on a library and a test driver of their own, and the OpenIGTLink fuzz
+# corpora replayed (what the network links read), so that CI's 2 cores
 # build and run it in a few minutes. The whole engine, logic and CLI suites under the sanitizers are the longer run
 # of docs/TESTING.md. Included at the end of Testing/Engine/CMakeLists.txt.
 
@@ -28,4 +29,20 @@ if(TISSUEMOSAIC_SANITIZE)
     set_tests_properties(sanitize.engine.${group} PROPERTIES LABELS sanitize ${TM_GTEST_SKIP}
                          FAIL_REGULAR_EXPRESSION "Running 0 tests")
   endwhile()
+
+  # The network readers' fuzz corpora replayed once under the sanitizers: what the OpenIGTLink client and server
+  # read (issue 54). gcc has no libFuzzer: Testing/Fuzz/ReplayCorpus.cpp is their main. They need neither the
+  # engine nor sockets (TissueMosaicIgtLinkReader). run-sanitize-tests.sh builds tm_sanitize_replays.
+  add_custom_target(tm_sanitize_replays)
+  if(TM_WITH_IGTLINK)
+    set(fuzz ${PROJECT_SOURCE_DIR}/Testing/Fuzz)
+    foreach(target fuzz_igtl_client fuzz_igtl_server)
+      add_executable(replay_${target} ${fuzz}/${target}.cpp ${fuzz}/ReplayCorpus.cpp)
+      target_include_directories(replay_${target} PRIVATE ${fuzz})
+      target_link_libraries(replay_${target} PRIVATE TissueMosaicIgtLinkReader)
+      add_dependencies(tm_sanitize_replays replay_${target})
+      add_test(NAME sanitize.fuzz_corpus.${target} COMMAND replay_${target} ${fuzz}/corpus/${target})
+      set_tests_properties(sanitize.fuzz_corpus.${target} PROPERTIES LABELS sanitize)
+    endforeach()
+  endif()
 endif()

@@ -6,6 +6,7 @@
 #include <QCheckBox>
 #include <QFormLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QSpinBox>
 #include <QTimer>
 
@@ -18,8 +19,9 @@ namespace {
 /// A running server and its publisher; the worker thread holds a shared_ptr while it publishes, so switching the
 /// server off never pulls it from under a call.
 struct Link {
-  Link(int port, const tissuemosaic::igtlink::IgtLinkPublisherOptions& options)
-      : server(port), publisher(server, options) {}
+  Link(int port, const tissuemosaic::igtlink::IgtLinkServer::Options& serverOptions,
+       const tissuemosaic::igtlink::IgtLinkPublisherOptions& options)
+      : server(port, serverOptions), publisher(server, options) {}
   tissuemosaic::igtlink::IgtLinkServer server;
   tissuemosaic::igtlink::IgtLinkPublisher publisher;
 };
@@ -29,6 +31,7 @@ struct Link {
 class qTissueMosaicIgtLinkWidgetPrivate {
 public:
   QSpinBox* portBox = nullptr;
+  QLineEdit* bindEdit = nullptr;
   QCheckBox* onBox = nullptr;
   QCheckBox* videoBox = nullptr;
   QLabel* clientsLabel = nullptr;
@@ -44,7 +47,8 @@ public:
   }
   void updateLabels() {
     const std::shared_ptr<Link> running = link();
-    clientsLabel->setText(running ? QObject::tr("listening on port %1, %2 client(s) connected")
+    clientsLabel->setText(running ? QObject::tr("listening on %1 port %2, %3 client(s) connected")
+                                        .arg(QString::fromStdString(running->server.boundAddress()))
                                         .arg(running->server.port())
                                         .arg(running->server.clientCount())
                                   : QObject::tr("off"));
@@ -64,6 +68,12 @@ qTissueMosaicIgtLinkWidget::qTissueMosaicIgtLinkWidget(QWidget* parent)
   d->portBox->setObjectName("igtlPortSpinBox");
   d->portBox->setRange(0, 65535);
   d->portBox->setValue(tissuemosaic::igtlink::IgtLinkServer::kSlicerDefaultPort);
+  // Loopback by default: only this computer's programs connect (docs/OPENIGTLINK.md, "Who can connect").
+  d->bindEdit = new QLineEdit(QString::fromLatin1(tissuemosaic::igtlink::IgtLinkServer::kLoopback), this);
+  d->bindEdit->setObjectName("igtlBindLineEdit");
+  d->bindEdit->setToolTip(tr("The address the server listens on: 127.0.0.1 lets in only this computer's programs; "
+                             "a network interface's address, or 0.0.0.0 for all of them, lets in that network. "
+                             "At most 8 clients at once."));
   d->videoBox = new QCheckBox(tr("Also send the left video (IMAGE LeftVideo)"), this);
   d->videoBox->setObjectName("igtlVideoCheckBox");
   d->clientsLabel = new QLabel(this);
@@ -74,6 +84,7 @@ qTissueMosaicIgtLinkWidget::qTissueMosaicIgtLinkWidget(QWidget* parent)
   d->errorLabel->setStyleSheet("color: #b00020");
   layout->addRow(d->onBox);
   layout->addRow(tr("Port"), d->portBox);
+  layout->addRow(tr("Address"), d->bindEdit);
   layout->addRow(d->videoBox);
   layout->addRow(tr("Clients"), d->clientsLabel);
   layout->addRow(d->errorLabel);
@@ -94,7 +105,9 @@ bool qTissueMosaicIgtLinkWidget::setServerOn(bool on) {
     tissuemosaic::igtlink::IgtLinkPublisherOptions options;
     options.sendVideo = d->videoBox->isChecked();
     try {
-      next = std::make_shared<Link>(d->portBox->value(), options);
+      tissuemosaic::igtlink::IgtLinkServer::Options server;
+      server.bindAddress = d->bindEdit->text().trimmed().toStdString();
+      next = std::make_shared<Link>(d->portBox->value(), server, options);
     } catch (const std::exception& e) {
       d->errorLabel->setText(QString::fromStdString(e.what()));
       emit message(QString::fromStdString(e.what()), true);
@@ -109,9 +122,14 @@ bool qTissueMosaicIgtLinkWidget::setServerOn(bool on) {
   const QSignalBlocker blocker(d->onBox);
   d->onBox->setChecked(isOn);
   d->portBox->setEnabled(!isOn);
+  d->bindEdit->setEnabled(!isOn);
   d->videoBox->setEnabled(!isOn);
   d->updateLabels();
-  if (isOn) emit message(tr("OpenIGTLink server listening on port %1").arg(d->link()->server.port()), false);
+  if (isOn)
+    emit message(tr("OpenIGTLink server listening on %1 port %2")
+                     .arg(QString::fromStdString(d->link()->server.boundAddress()))
+                     .arg(d->link()->server.port()),
+                 false);
   return isOn == on;
 }
 

@@ -1,5 +1,7 @@
 #include "IgtLinkServer.h"
 
+#include "IgtLinkMessageReader.h"
+
 #include "Core/Error.h"
 
 #include <igtlMessageHeader.h>
@@ -11,7 +13,10 @@
 #include <deque>
 #include <map>
 
+#include <arpa/inet.h>
 #include <csignal>
+#include <netdb.h>
+#include <netinet/in.h>
 #include <pthread.h>
 #include <sys/socket.h>
 
@@ -30,7 +35,19 @@ void blockSigpipeInThisThread() {
 constexpr int kAcceptPollMs = 200;
 constexpr int kReceivePollMs = 200;
 constexpr std::size_t kSendPieceBytes = 256 * 1024;
-constexpr int kLargestClientMessageBytes = 64 << 20;  ///< beyond: not an OpenIGTLink stream, the client is dropped
+constexpr std::uint64_t kLargestClientMessageBytes = 64 << 20;  ///< beyond: not an OpenIGTLink stream, dropped
+
+/// The IPv4 address `host` names (a dotted address or a name such as localhost). False when it names none.
+bool resolveIpv4(const std::string& host, sockaddr_in& address) {
+  addrinfo hints{};
+  hints.ai_family = AF_INET;  // 1.11's ServerSocket makes IPv4 sockets
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* found = nullptr;
+  if (host.empty() || getaddrinfo(host.c_str(), nullptr, &hints, &found) != 0 || !found) return false;
+  address = *reinterpret_cast<const sockaddr_in*>(found->ai_addr);
+  freeaddrinfo(found);
+  return true;
+}
 
 /// OpenIGTLink's ServerSocket::CreateServer binds without SO_REUSEADDR (its guard, VTK_HAVE_SO_REUSEADDR, is a VTK
 /// macro that OpenIGTLink never defines on Linux). A server that closed its clients leaves their connections in
@@ -43,19 +60,23 @@ class ReusableServerSocket : public igtl::ServerSocket {
   typedef igtl::SmartPointer<Self> Pointer;
   igtlNewMacro(Self);
 
-  /// Listens on `port` (0: any free port). False when the port cannot be bound.
-  bool listenOn(int port) {
+  /// Listens on `address`:`port` (0: any free port). False when it cannot be bound. 1.11's BindSocket binds every
+  /// interface, hence bind() here.
+  bool listenOn(sockaddr_in address, int port) {
     CloseSocket();
     m_SocketDescriptor = CreateSocket();
     if (m_SocketDescriptor < 0) return false;
     const int reuse = 1;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
     if (setsockopt(m_SocketDescriptor, SOL_SOCKET, SO_REUSEADDR, &reuse, sizeof reuse) != 0 ||
-        BindSocket(m_SocketDescriptor, port) != 0 || Listen(m_SocketDescriptor) != 0) {
+        bind(m_SocketDescriptor, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 ||
+        Listen(m_SocketDescriptor) != 0) {
       CloseSocket();
       return false;
     }
     return true;
   }
+  int descriptor() const { return m_SocketDescriptor; }
 };
 }  // namespace
 
@@ -102,9 +123,14 @@ bool receiveExactly(IgtLinkServer::Client& client, void* data, int length) {
 
 IgtLinkServer::IgtLinkServer(int port, Options options) : options_(options), listener_(std::make_unique<Listener>()) {
   require(port >= 0 && port <= 65535, "OpenIGTLink port " + std::to_string(port) + " is not in 0..65535");
-  require(listener_->socket->listenOn(port),
-          "cannot start the OpenIGTLink server on port " + std::to_string(port) +
-              ": the port is in use (another server, or Slicer in server mode?) or not allowed");
+  require(options.maxClients >= 1, "the OpenIGTLink server needs room for at least 1 client");
+  sockaddr_in address{};
+  require(resolveIpv4(options.bindAddress, address),
+          "cannot start the OpenIGTLink server on '" + options.bindAddress + "': not an IPv4 address of this computer");
+  require(listener_->socket->listenOn(address, port),
+          "cannot start the OpenIGTLink server on " + options.bindAddress + " port " + std::to_string(port) +
+              ": the port is in use (another server, or Slicer in server mode?), the address is not this "
+              "computer's, or it is not allowed");
   port_ = listener_->socket->GetServerPort();
   acceptThread_ = std::thread([this] { acceptLoop(); });
 }
@@ -132,6 +158,11 @@ void IgtLinkServer::acceptLoop() {
     igtl::ClientSocket::Pointer socket = listener_->socket->WaitForConnection(kAcceptPollMs);
     reapClosedClients();
     if (!socket || !socket->GetConnected()) continue;
+    if (clientCount() >= options_.maxClients) {  // closed at once: a flood of connections costs no threads
+      socket->CloseSocket();
+      ++refused_;
+      continue;
+    }
     socket->SetSendTimeout(options_.sendTimeoutMs);
     socket->SetReceiveTimeout(kReceivePollMs);
     auto client = std::make_shared<Client>();
@@ -167,20 +198,18 @@ void IgtLinkServer::acceptLoop() {
         ++sent_;
       }
     });
-    client->receiver = std::thread([c] {
+    client->receiver = std::thread([this, c] {
       blockSigpipeInThisThread();
       // Clients may send STATUS, GET_* or their own data: none of it is used, but reading it keeps their sends
-      // from blocking and tells when they leave.
-      igtl::MessageHeader::Pointer header = igtl::MessageHeader::New();
-      std::vector<unsigned char> body;
-      for (;;) {
-        header->InitPack();  // sizes the buffer for one header
-        if (!receiveExactly(*c, header->GetPackPointer(), header->GetPackSize())) break;
-        header->Unpack();
-        if (header->GetBodySizeToRead() < 0 || header->GetBodySizeToRead() > kLargestClientMessageBytes) break;
-        body.resize(static_cast<std::size_t>(header->GetBodySizeToRead()));
-        if (!body.empty() && !receiveExactly(*c, body.data(), static_cast<int>(body.size()))) break;
+      // from blocking and tells when they leave. A header no OpenIGTLink message has drops the client.
+      const ReceiveBytes receive = [c](void* data, std::size_t bytes) {
+        return receiveExactly(*c, data, static_cast<int>(bytes));
+      };
+      std::string problem;
+      ReadOutcome outcome;
+      while ((outcome = readClientMessage(receive, problem, kLargestClientMessageBytes)) == ReadOutcome::Message) {
       }
+      badClientMessages_ += outcome == ReadOutcome::Failed;
       c->close();
     });
     {
@@ -264,7 +293,18 @@ bool IgtLinkServer::flush(double timeoutS) const {
 }
 
 IgtLinkServerCounters IgtLinkServer::counters() const {
-  return {connections_.load(), disconnections_.load(), sent_.load(), dropped_.load()};
+  return {connections_.load(), disconnections_.load(), sent_.load(), dropped_.load(), refused_.load(),
+          badClientMessages_.load()};
+}
+
+std::string IgtLinkServer::boundAddress() const {
+  sockaddr_in address{};
+  socklen_t length = sizeof address;
+  char text[INET_ADDRSTRLEN] = "";
+  if (getsockname(listener_->socket->descriptor(), reinterpret_cast<sockaddr*>(&address), &length) != 0 ||
+      !inet_ntop(AF_INET, &address.sin_addr, text, sizeof text))
+    return "";
+  return text;
 }
 
 }  // namespace tissuemosaic::igtlink

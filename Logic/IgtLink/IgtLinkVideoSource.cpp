@@ -3,12 +3,9 @@
 #include "Core/Error.h"
 #include "Core/PixelFormat.h"
 
-#include <igtlClientSocket.h>
-#include <igtlImageMessage.h>
-#include <igtlMessageHeader.h>
-#include <igtlTimeStamp.h>
+#include "IgtLinkMessageReader.h"
 
-#include <opencv2/imgproc.hpp>
+#include <igtlClientSocket.h>
 
 #include <atomic>
 #include <chrono>
@@ -59,14 +56,14 @@ bool serverListening(const std::string& host, int port) {
   return listening;
 }
 constexpr std::size_t kFramesKeptPerStream = 8;  ///< enough to pair streams that arrive a few frames apart
-constexpr int kLargestBodyBytes = 256 << 20;
+constexpr long long kWarningsTold = 5;
 
 struct TimedImage {
   double timeS = 0;
   cv::Mat bgr;
 };
 
-class IgtLinkStereoSource : public StereoFrameSource {
+class IgtLinkStereoSource : public StereoFrameSource, public IgtLinkInputCounters {
 public:
   explicit IgtLinkStereoSource(const IgtLinkVideoInput& input) : input_(input) {
     require(input.packedName.empty() != (input.leftName.empty() && input.rightName.empty()),
@@ -98,8 +95,13 @@ public:
       lock.unlock();
       interrupt();
       thread_.join();
+      const std::string skipped =
+          malformed_ > 0 ? " (" + std::to_string(malformed_.load()) + " malformed message(s) skipped, the last: " +
+                               lastProblem_ + ")"
+                         : "";
+      if (!error_.empty()) throw Error(description_ + ": " + error_ + skipped);
       throw Error("no frame of the " + description_ + " came within " + cv::format("%g", input.connectTimeoutS) +
-                  " s" + (error_.empty() ? "" : ": " + error_));
+                  " s" + skipped);
     }
     size_ = first.left.size();
   }
@@ -137,7 +139,12 @@ public:
     std::lock_guard<std::mutex> lock(mutex_);
     changed_.notify_all();
   }
-  long long framesFailingCrc() const { return crcFailures_.load(); }
+  long long framesFailingCrc() const override { return crcFailures_.load(); }
+  long long malformedMessages() const override { return malformed_.load(); }
+  std::string lastMalformed() const override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return lastProblem_;
+  }
 
 private:
   /// The newest complete stereo frame newer than the last one taken (take: mark it and everything older taken,
@@ -190,47 +197,41 @@ private:
     sigemptyset(&set);
     sigaddset(&set, SIGPIPE);
     pthread_sigmask(SIG_BLOCK, &set, nullptr);
-    igtl::MessageHeader::Pointer header = igtl::MessageHeader::New();
-    std::vector<unsigned char> skipped;
+    IgtLinkVideoReader reader(input_.packedName.empty() ? std::vector<std::string>{input_.leftName, input_.rightName}
+                                                        : std::vector<std::string>{input_.packedName});
+    const ReceiveBytes receive = [this](void* data, std::size_t bytes) {
+      return receiveExactly(data, static_cast<int>(bytes));
+    };
     std::string error;
     while (!stop_) {
-      header->InitPack();
-      if (!receiveExactly(header->GetPackPointer(), header->GetPackSize())) break;
-      header->Unpack();
-      const int bodyBytes = header->GetBodySizeToRead();
-      if (bodyBytes < 0 || bodyBytes > kLargestBodyBytes) {
-        error = "a message of " + std::to_string(bodyBytes) + " bytes: not an OpenIGTLink stream";
-        break;
-      }
-      const std::string type = header->GetDeviceType(), name = header->GetDeviceName();
-      const int stream = name == input_.leftName || name == input_.packedName ? 0 : name == input_.rightName ? 1 : -1;
-      if (type != "IMAGE" || stream < 0) {  // PLUS's STATUS keep-alives, transforms, other images
-        skipped.resize(static_cast<std::size_t>(bodyBytes));
-        if (bodyBytes > 0 && !receiveExactly(skipped.data(), bodyBytes)) break;
-        continue;
-      }
-      igtl::ImageMessage::Pointer image = igtl::ImageMessage::New();
-      image->SetMessageHeader(header);
-      image->AllocatePack();
-      if (!receiveExactly(image->GetPackBodyPointer(), image->GetPackBodySize())) break;
-      if (!(image->Unpack(1) & igtl::MessageHeader::UNPACK_BODY)) {
-        ++crcFailures_;
-        continue;
-      }
-      TimedImage timed;
+      IgtLinkVideoReader::Frame frame;
       std::string problem;
-      if (!toBgr(image, timed.bgr, problem)) {
-        error = "IMAGE '" + name + "': " + problem;
+      const ReadOutcome outcome = reader.read(receive, frame, problem);
+      if (outcome == ReadOutcome::Ended) break;
+      if (outcome == ReadOutcome::Failed) {
+        error = problem;
         break;
       }
-      igtl::TimeStamp::Pointer stamp = igtl::TimeStamp::New();
-      image->GetTimeStamp(stamp);
-      timed.timeS = stamp->GetTimeStamp();
+      if (outcome == ReadOutcome::CrcFailed) ++crcFailures_;
+      if (outcome == ReadOutcome::Malformed) {
+        const long long count = ++malformed_;
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          lastProblem_ = problem;
+        }
+        // The first few are told at once, the rest only counted (a broken sender would flood the log).
+        if (input_.warn && count <= kWarningsTold) {
+          input_.warn("OpenIGTLink input: skipped a malformed message: " + problem +
+                      (count == kWarningsTold ? " (further ones are only counted)" : ""));
+        }
+      }
+      if (outcome != ReadOutcome::Message) continue;
+      TimedImage timed{frame.timeS, std::move(frame.bgr)};
       std::lock_guard<std::mutex> lock(mutex_);
-      auto& frames = streams_[stream];
+      auto& frames = streams_[frame.stream];
       if (!frames.empty() && timed.timeS <= frames.back().timeS) continue;  // out of order: keep time monotonic
       frames.push_back(std::move(timed));
-      arrived_ += stream == 0;
+      arrived_ += frame.stream == 0;
       if (frames.size() > kFramesKeptPerStream) frames.pop_front();
       changed_.notify_all();
     }
@@ -238,26 +239,6 @@ private:
     ended_ = true;
     error_ = error;
     changed_.notify_all();
-  }
-
-  /// 8-bit grey, RGB or RGBA pixels of a 2D IMAGE as BGR. PLUS sends video as uint8 with 1 or 3 components.
-  static bool toBgr(igtl::ImageMessage* image, cv::Mat& bgr, std::string& problem) {
-    int size[3];
-    image->GetDimensions(size);
-    if (size[0] <= 0 || size[1] <= 0 || size[2] != 1) {
-      problem = "not a 2D image (" + std::to_string(size[0]) + "x" + std::to_string(size[1]) + "x" +
-                std::to_string(size[2]) + ")";
-      return false;
-    }
-    const int components = image->GetNumComponents();
-    if (image->GetScalarType() != igtl::ImageMessage::TYPE_UINT8 || (components != 1 && components != 3 && components != 4)) {
-      problem = "pixels must be 8-bit with 1, 3 or 4 components";
-      return false;
-    }
-    const cv::Mat pixels(size[1], size[0], CV_8UC(components), image->GetScalarPointer());
-    static const int conversions[] = {0, cv::COLOR_GRAY2BGR, 0, cv::COLOR_RGB2BGR, cv::COLOR_RGBA2BGR};
-    cv::cvtColor(pixels, bgr, conversions[components]);
-    return true;
   }
 
   IgtLinkVideoInput input_;
@@ -272,7 +253,8 @@ private:
   bool ended_ = false;
   std::string error_;
   std::atomic<bool> stop_{false};
-  std::atomic<long long> crcFailures_{0};
+  std::atomic<long long> crcFailures_{0}, malformed_{0};
+  std::string lastProblem_;
   cv::Size size_;
   int index_ = 0;
 };

@@ -3,6 +3,8 @@
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
 
+#include <iostream>
+
 #if defined(TM_WITH_IGTLINK)
 #include "IgtLinkPublisher.h"
 #include "IgtLinkVideoSource.h"
@@ -18,8 +20,9 @@ const char* const kNoIgtLink =
 #if defined(TM_WITH_IGTLINK)
 class PublisherSender : public IgtLinkSender {
 public:
-  PublisherSender(int port, const igtlink::IgtLinkPublisherOptions& options)
-      : server_(port), publisher_(server_, options) {}
+  PublisherSender(int port, const igtlink::IgtLinkServer::Options& server,
+                  const igtlink::IgtLinkPublisherOptions& options)
+      : server_(port, server), publisher_(server_, options), maxClients_(server.maxClients) {}
   igtlink::IgtLinkServer& server() { return server_; }
   void frameProcessed(int frameIndex, double timeS, bool tracked, const Eigen::Matrix4d& T_world_camera,
                       const std::string& trackingMessage, const cv::Mat& leftRectified) override {
@@ -33,15 +36,17 @@ public:
   }
   std::string summary() const override {
     const igtlink::IgtLinkServerCounters c = server_.counters();
-    return "OpenIGTLink on port " + std::to_string(server_.port()) + ": " + std::to_string(c.connections) +
-           " client(s), " + std::to_string(c.messagesSent) + " messages sent (" +
+    return "OpenIGTLink on " + server_.boundAddress() + " port " + std::to_string(server_.port()) + ": " +
+           std::to_string(c.connections) + " client(s), " + std::to_string(c.messagesSent) + " messages sent (" +
            std::to_string(publisher_.modelsSent()) + " models), " + std::to_string(c.messagesDropped) +
-           " dropped for slow clients";
+           " dropped for slow clients, " + std::to_string(c.refused) + " connection(s) refused (more than " +
+           std::to_string(maxClients_) + " clients)";
   }
 
 private:
   igtlink::IgtLinkServer server_;  // declared first: the publisher stops before the server
   igtlink::IgtLinkPublisher publisher_;
+  int maxClients_;
 };
 #endif
 
@@ -53,6 +58,15 @@ void addIgtLinkServerOptions(CLI::App& command, IgtLinkServerOptions& options) {
       "OpenIGTLink server for 3D Slicer: TRANSFORM LeftCameraToModel per tracked frame, POLYDATA TissueModel after "
       "key frames, STATUS TissueMosaic (Slicer's default port is 18944; 0: any free port)");
   port->check(CLI::Range(0, 65535))->type_name("P");
+  CLI::Option* bind = command.add_option(
+      "--igtl-bind", options.bindAddress,
+      "the address the OpenIGTLink server listens on: 127.0.0.1 lets in only this computer's programs; a network "
+      "interface's address, or 0.0.0.0 for all of them, lets in that network (docs/OPENIGTLINK.md)");
+  bind->type_name("ADDRESS")->capture_default_str();
+  CLI::Option* maxClients = command.add_option("--igtl-max-clients", options.maxClients,
+                                               "OpenIGTLink clients connected at once; further connections are "
+                                               "closed at once and counted");
+  maxClients->check(CLI::PositiveNumber)->type_name("N")->capture_default_str();
   CLI::Option* wait = command.add_option("--igtl-wait-client", options.waitClientS,
                                          "hold processing up to S seconds for a first OpenIGTLink client");
   wait->check(CLI::NonNegativeNumber)->type_name("S");
@@ -64,8 +78,8 @@ void addIgtLinkServerOptions(CLI::App& command, IgtLinkServerOptions& options) {
   CLI::Option* points = command.add_option("--igtl-model-points", options.modelPoints,
                                            "points per POLYDATA at most (spread over the model)");
   points->check(CLI::PositiveNumber)->type_name("N")->capture_default_str();
-  for (CLI::Option* option : {wait, video, rate, points}) option->needs(port);
-  for (CLI::Option* option : {port, wait, video, rate, points}) option->group(heading::output);
+  for (CLI::Option* option : {bind, maxClients, wait, video, rate, points}) option->needs(port);
+  for (CLI::Option* option : {port, bind, maxClients, wait, video, rate, points}) option->group(heading::output);
 }
 
 std::unique_ptr<IgtLinkSender> startIgtLinkSender(const IgtLinkServerOptions& options, std::ostream& log) {
@@ -75,8 +89,12 @@ std::unique_ptr<IgtLinkSender> startIgtLinkSender(const IgtLinkServerOptions& op
   publisher.sendVideo = options.sendVideo;
   publisher.maxModelRateHz = options.modelRateHz;
   publisher.modelPointBudget = static_cast<std::size_t>(options.modelPoints);
-  auto sender = std::make_unique<PublisherSender>(*options.port, publisher);
-  log << "OpenIGTLink server listening on port " << sender->server().port() << std::endl;
+  igtlink::IgtLinkServer::Options server;
+  server.bindAddress = options.bindAddress;
+  server.maxClients = options.maxClients;
+  auto sender = std::make_unique<PublisherSender>(*options.port, server, publisher);
+  log << "OpenIGTLink server listening on " << sender->server().boundAddress() << " port " << sender->server().port()
+      << " (at most " << options.maxClients << " clients)" << std::endl;
   if (options.waitClientS > 0) {
     log << "waiting up to " << options.waitClientS << " s for an OpenIGTLink client..." << std::endl;
     if (!sender->server().waitForClient(options.waitClientS)) {
@@ -104,11 +122,26 @@ std::unique_ptr<StereoFrameSource> openIgtLinkInput(const InputOptions& input, V
     throw UsageError("--igtl-input needs either --igtl-left NAME --igtl-right NAME (two IMAGE streams) or "
                      "--igtl-sbs NAME");
   }
+  source.warn = [](const std::string& warning) { std::cerr << "warning: " << warning << std::endl; };
   return igtlink::openIgtLinkVideo(source);
 #else
   (void)input;
   (void)layout;
   throw Error(std::string("--igtl-input: ") + kNoIgtLink);
+#endif
+}
+
+std::string igtLinkInputSummary(const StereoFrameSource& source) {
+#if defined(TM_WITH_IGTLINK)
+  const auto* counters = dynamic_cast<const igtlink::IgtLinkInputCounters*>(&source);
+  if (!counters) return "";
+  const long long malformed = counters->malformedMessages();
+  return "OpenIGTLink input: " + std::to_string(malformed) + " malformed message(s) skipped" +
+         (malformed > 0 ? " (the last: " + counters->lastMalformed() + ")" : "") + ", " +
+         std::to_string(counters->framesFailingCrc()) + " failed their CRC";
+#else
+  (void)source;
+  return "";
 #endif
 }
 

@@ -213,6 +213,7 @@ void runReconstruct(const ReconstructOptions& options) {
   } else if (stop.requested()) {
     std::cout << "stopped by a signal after " << frames << " frames\n";
   }
+  if (const std::string input = igtLinkInputSummary(*source); !input.empty()) std::cout << input << "\n";
   if (igtl) std::cout << igtl->summary() << "\n";
   if (options.qualityJson) quality.writeJson(*options.qualityJson);
   if (options.timingJson) {

@@ -19,6 +19,7 @@
 #include <QApplication>
 #include <QCheckBox>
 #include <QLabel>
+#include <QLineEdit>
 #include <QSpinBox>
 
 #include <chrono>
@@ -38,6 +39,7 @@ void processEventsFor(int ms) {
 TEST(IgtLinkWidget, ServerOnOffClientsAndAScanStreamedToAClient) {
   qTissueMosaicIgtLinkWidget panel;
   EXPECT_EQ(panel.findChild<QSpinBox*>("igtlPortSpinBox")->value(), 18944);
+  EXPECT_EQ(panel.findChild<QLineEdit*>("igtlBindLineEdit")->text(), "127.0.0.1") << "loopback unless told otherwise";
   panel.setPort(0);  // any free port: tests run side by side
   ASSERT_TRUE(panel.setServerOn(true));
   EXPECT_TRUE(panel.findChild<QCheckBox*>("igtlServerCheckBox")->isChecked());
@@ -51,6 +53,8 @@ TEST(IgtLinkWidget, ServerOnOffClientsAndAScanStreamedToAClient) {
   EXPECT_EQ(panel.clientCount(), 1);
   EXPECT_TRUE(panel.findChild<QLabel*>("igtlClientsLabel")->text().contains("1 client(s) connected"))
       << panel.findChild<QLabel*>("igtlClientsLabel")->text().toStdString();
+  EXPECT_TRUE(panel.findChild<QLabel*>("igtlClientsLabel")->text().contains("listening on 127.0.0.1 port"));
+  EXPECT_FALSE(panel.findChild<QLineEdit*>("igtlBindLineEdit")->isEnabled()) << "the address is fixed while on";
 
   // The client reads everything until STATUS Finished, in the background.
   std::future<std::tuple<int, int, std::string>> reading = std::async(std::launch::async, [&] {
