@@ -2,7 +2,8 @@
 # Reconstructs the hard-mode scan in SCAN (made with --camera-out S:E+1) with --timing-json and --quality-json and
 # checks the contracts: "lost_spans" is exactly [[S, E]], "relocalisations" is one frame in (E, E + K]; the quality
 # file has one record per frame with "frame", "status", "median_depth_difference_mm", "share_within_1mm",
-# "inliers"; frames S..E are "lost" with null figures and 0 inliers; every other frame is tracked or relocalised
+# "inliers" (and the added "scene_motion", "disparity_range", "key_frame", "message"); frames S..E are "lost" with
+# null figures and 0 inliers; every other frame is tracked or relocalised
 # with figures, and the frame of the relocalisation is "relocalised".
 set(timing "${SCAN}/quality_timing.json")
 set(quality "${SCAN}/quality.json")
@@ -52,6 +53,27 @@ foreach(i RANGE ${last_record})
   string(JSON inliers GET "${q}" ${i} inliers)
   if(NOT frame EQUAL i)
     message(FATAL_ERROR "record ${i} is for frame ${frame}")
+  endif()
+  # The added keys: what moved ("unknown" exactly where the frame is the first, lost or relocalised; the scan's scope
+  # sweeps, so no tracked frame is "still" or "tissue" alone), the frame's range and why it was lost.
+  string(JSON motion GET "${q}" ${i} scene_motion)
+  string(JSON range_min GET "${q}" ${i} disparity_range 0)
+  string(JSON range_max GET "${q}" ${i} disparity_range 1)
+  string(JSON key_type TYPE "${q}" ${i} key_frame)
+  string(JSON why GET "${q}" ${i} message)
+  if(NOT key_type STREQUAL "BOOLEAN" OR NOT range_min LESS range_max)
+    message(FATAL_ERROR "frame ${i}: key_frame ${key_type}, disparity_range ${range_min}..${range_max}")
+  endif()
+  if(i EQUAL 0 OR state STREQUAL "lost" OR state STREQUAL "relocalised")
+    set(expected_motion "unknown")
+  else()
+    set(expected_motion "camera|both")
+  endif()
+  if(NOT motion MATCHES "^(${expected_motion})$")
+    message(FATAL_ERROR "frame ${i} (${state}) says scene_motion '${motion}', expected ${expected_motion}")
+  endif()
+  if(state STREQUAL "lost" AND why STREQUAL "")
+    message(FATAL_ERROR "lost frame ${i} says not why")
   endif()
   if(i GREATER_EQUAL LOST_FIRST AND i LESS_EQUAL LOST_LAST)
     if(NOT state STREQUAL "lost" OR NOT median_type STREQUAL "NULL" OR NOT share_type STREQUAL "NULL" OR NOT inliers EQUAL 0)
