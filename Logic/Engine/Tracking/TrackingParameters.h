@@ -29,7 +29,9 @@ struct TrackingParameters {
   // Scene motion (not in the paper). Frames are tracked against the last key frame; a key-frame feature moved with
   // the scene (breathing, an instrument) when its match lands off where the frame's pose projects it (farther than
   // 3 times the frame's median inlier residual, 0.5 px at least, dynamicResidualPx at most), or its depth in this
-  // frame differs from the depth the pose predicts by more than dynamicDisparityPx of disparity. Its motion score then jumps to 1; the score decays by dynamicScoreDecay per
+  // frame differs from the depth the pose predicts by more than 3 times the frame's median difference (in disparity,
+  // dynamicDisparityPx at least): both bounds follow the frame's own noise, larger on real in-vivo stereo than on
+  // synthetic scans (docs/SCENE_MOTION.md). Its motion score then jumps to 1; the score decays by dynamicScoreDecay per
   // tracked frame and is handed on to the feature it matched when the frame becomes a key frame. Features scoring
   // above dynamicExcludeScore do not steer the pose (while enough others remain) and are not stored for refinement
   // or relocalisation. The pose is polished last on the matches that sit where it projects them (the same bound).
