@@ -13,7 +13,6 @@
 #include "Tracking/FrameTracker.h"
 #include "Tracking/SubPixelMatch.h"
 
-#include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -250,8 +249,6 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     return cv::format("the model disagrees with the frame's depth at this pose (%.0f%% within 1 mm, median %.1f mm)",
                       100 * a.shareWithin1mm, a.medianDepthDifferenceMm);
   };
-  const int previousTrackedFrame = s.tracker.lastTrackedFrame();
-  const Eigen::Matrix4d T_world_previousTracked = s.tracker.lastTrackedPose();
   TrackResult track = s.tracker.track(result.leftRectified, FrameTracker::DisparitySource(sampleTrackingDisparity), check);
   waitForStereo();  // the tracker has waited on every path that returns; this only guards that contract
   if (!track.tracked) {
@@ -288,11 +285,8 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   result.inliers = track.inliers;
   result.movingMatches = track.movingMatches;
   if (track.tracked && !track.initial && !track.relocalised) {
-    const int steps = std::max(1, result.frameIndex - previousTrackedFrame);
-    const double stepMm = (track.T_world_camera.block<3, 1>(0, 3) - T_world_previousTracked.block<3, 1>(0, 3)).norm();
-    const double stepDeg = Eigen::AngleAxisd(Eigen::Matrix3d(T_world_previousTracked.block<3, 3>(0, 0).transpose() *
-                                                             track.T_world_camera.block<3, 3>(0, 0))).angle() * 180 / M_PI;
-    const bool cameraMoved = stepMm / steps > kCameraStillMmPerFrame || stepDeg / steps > kCameraStillDegPerFrame;
+    const bool cameraMoved =
+        track.stepMmPerFrame > kCameraStillMmPerFrame || track.stepDegPerFrame > kCameraStillDegPerFrame;
     const int matched = track.inliers + track.movingMatches;
     const bool tissueMoved = result.tissueMoved || (matched > 0 && track.movingMatches >= kTissueMovingShare * matched);
     result.sceneMotion = cameraMoved ? (tissueMoved ? SceneMotion::Both : SceneMotion::Camera)

@@ -381,6 +381,8 @@ TrackResult FrameTracker::track(const cv::Mat& leftRectified, const DisparitySou
   const int steps = std::max(1, result.frameIndex - s.lastTrackedIndex);
   const double stepMm = (T_world_camera.block<3, 1>(0, 3) - s.T_world_lastTracked.block<3, 1>(0, 3)).norm() / steps;
   const double stepDeg = rotationDeg(s.T_world_lastTracked, T_world_camera) / steps;
+  result.stepMmPerFrame = stepMm;
+  result.stepDegPerFrame = stepDeg;
   if (stepMm > s.options.maxStepMm || stepDeg > s.options.maxStepDeg) {
     return lost(cv::format("implausible pose jump (%.1f mm, %.1f deg per frame)", stepMm, stepDeg));
   }

@@ -74,6 +74,9 @@ struct TrackResult {
   int movingMatches = 0;         ///< matches of key-frame features that moved recently: kept out of the pose
   bool relocalised = false;      ///< tracked again after lost frames
   double rmsErrorPx = 0;         ///< inliers' reprojection error
+  /// Tracked against the last key frame: how far the pose moved per frame since the last tracked frame (the
+  /// implausible-jump check's figures); 0 for the first and relocalised frames.
+  double stepMmPerFrame = 0, stepDegPerFrame = 0;
   TrackTimesMs timesMs;
   std::string failureReason;     ///< empty when tracked
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
