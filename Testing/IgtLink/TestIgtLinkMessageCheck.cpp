@@ -11,6 +11,16 @@ namespace {
 
 using namespace testing;
 
+/// The bytes of `stream` from `at` on, as a socket would give them (at moves on; false past the end).
+ReceiveBytes receiveFrom(const Bytes& stream, std::size_t& at) {
+  return [&stream, &at](void* data, std::size_t bytes) {
+    if (bytes > stream.size() - at) return false;
+    std::memcpy(data, stream.data() + at, bytes);
+    at += bytes;
+    return true;
+  };
+}
+
 TEST(IgtLinkMessageCheck, HeaderFieldsAndTheBodySizeAs64Bits) {
   const Bytes bytes = header("IMAGE", "Video", 12.5, (std::uint64_t(1) << 32) + 5, 0x0123456789abcdefull);
   HeaderFields h;
@@ -108,12 +118,7 @@ TEST(IgtLinkMessageCheck, ReaderSkipsAMalformedImageWholeAndReadsTheNext) {
   const Bytes next = message("IMAGE", "Video", 2.0, imageBody(good, Bytes(4 * 2 * 3, 200)));
   stream.insert(stream.end(), next.begin(), next.end());
   std::size_t at = 0;
-  const ReceiveBytes receive = [&](void* data, std::size_t bytes) {
-    if (bytes > stream.size() - at) return false;
-    std::memcpy(data, stream.data() + at, bytes);
-    at += bytes;
-    return true;
-  };
+  const ReceiveBytes receive = receiveFrom(stream, at);
   IgtLinkVideoReader reader({"Video"});
   IgtLinkVideoReader::Frame frame;
   std::string problem;
@@ -136,12 +141,7 @@ TEST(IgtLinkMessageCheck, ReaderSkipsFramesOfAnotherSizeThanTheStreamsFirst) {
   for (const Bytes& m : {frameOf(4, 2, 1.0), frameOf(400, 300, 2.0), frameOf(4, 2, 3.0)})
     stream.insert(stream.end(), m.begin(), m.end());
   std::size_t at = 0;
-  const ReceiveBytes receive = [&](void* data, std::size_t bytes) {
-    if (bytes > stream.size() - at) return false;
-    std::memcpy(data, stream.data() + at, bytes);
-    at += bytes;
-    return true;
-  };
+  const ReceiveBytes receive = receiveFrom(stream, at);
   IgtLinkVideoReader reader({"Video"});
   IgtLinkVideoReader::Frame frame;
   std::string problem;
