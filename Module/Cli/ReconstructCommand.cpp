@@ -11,6 +11,7 @@
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
 #include "Core/Stopwatch.h"
+#include "Deformation/DeformationRecord.h"
 #include "IO/AtomicFile.h"
 #include "IO/PointCloudPly.h"
 #include "IO/StereoFrameSource.h"
@@ -28,9 +29,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <utility>
 #include <iostream>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 namespace tissuemosaic::cli {
 
@@ -51,6 +53,7 @@ struct ReconstructOptions {
   GeometryOptions geometry;
   std::string out;
   std::optional<std::string> trajectory, framesTrajectory, timingJson, qualityJson, snapshot, startTum, params;
+  std::optional<std::string> deformation, deformationOut;
   std::optional<int> maxFrames;
   DisparityRangeOptions range;
   DeviceOption device;
@@ -71,6 +74,7 @@ void runReconstruct(const ReconstructOptions& options) {
   if (options.framesTrajectory) requireWritableOutput(*options.framesTrajectory, "trajectory (--frames-trajectory)");
   if (options.qualityJson) requireWritableOutput(*options.qualityJson, "quality JSON (--quality-json)");
   if (options.timingJson) requireWritableOutput(*options.timingJson, "timing JSON (--timing-json)");
+  if (options.deformationOut) requireWritableOutput(*options.deformationOut, "deformation record (--deformation-out)");
   if (options.snapshot) {
     checkSnapshotAvailable();
     requireWritableOutput(*options.snapshot, "snapshot (--snapshot)");
@@ -81,6 +85,9 @@ void runReconstruct(const ReconstructOptions& options) {
   ReconstructionParameters parameters;
   if (options.params) parameters = ReconstructionParameters::readFile(*options.params);
   options.range.applyTo(parameters.stereo);
+  if (options.deformation) parameters.fusion.deformation = *options.deformation == "on";
+  require(!options.deformationOut || parameters.fusion.deformation,
+          "--deformation-out needs the deformation on (--deformation on, or fusion.deformation: on in --params)");
   parameters.validate();
   const Device device = options.device.resolve();
 
@@ -113,6 +120,8 @@ void runReconstruct(const ReconstructOptions& options) {
   std::string framesLog;
   int lost = 0;
   QualityLog quality;
+  std::optional<DeformationRecordWriter> deformationRecord;
+  if (options.deformationOut) deformationRecord.emplace(*options.deformationOut);
   bool budgetWarned = false;
   StereoFrame frame;
   double lastTimeS = 0;
@@ -135,6 +144,9 @@ void runReconstruct(const ReconstructOptions& options) {
     result.timesMs.total += readMs;
     timing.add(result);
     quality.add(result);
+    if (deformationRecord && result.deformation.fitted) {
+      deformationRecord->write(result.frameIndex, frame.timeS, *pipeline->deformationGraph());
+    }
     if (result.tracked) {
       TimedPose pose;
       pose.timeS = frame.timeS;
@@ -262,6 +274,18 @@ void setupReconstruct(CLI::App& tool) {
                       "(tracked | lost | relocalised), \"median_depth_difference_mm\", \"share_within_1mm\" (null where "
                       "not measured), \"inliers\"}")
       ->type_name("q.json")
+      ->group(heading::output);
+  command->add_option("--deformation", options->deformation,
+                      "fit the deformation graph over the model to every frame (fusion.deformation; docs/DEFORMATION.md): "
+                      "the node motions and the live surface's agreement in --quality-json; the model and poses stay "
+                      "the rigid pipeline's")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->type_name("on|off")
+      ->group(heading::options);
+  command->add_option("--deformation-out", options->deformationOut,
+                      "every frame's deformation graph as JSON Lines: {\"frame\", \"time_s\", \"nodes\": [[gx, gy, gz, "
+                      "tx, ty, tz, rx, ry, rz], ...]} (rest position, motion in mm, rotation vector; docs/DEFORMATION.md)")
+      ->type_name("d.jsonl")
       ->group(heading::output);
   command->add_option("--snapshot", options->snapshot, "an offscreen rendering of the model and the key-frame frusta "
                                                        "(needs VTK)")

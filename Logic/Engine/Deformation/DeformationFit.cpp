@@ -16,22 +16,31 @@ namespace {
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-/// J^T W J and J^T W r of the normal equations, in 6x6 blocks per node pair (unknowns: theta_i, then delta_i).
+/// J^T W J and J^T W r of the normal equations, in 6x6 blocks per node pair (unknowns: theta_i, then delta_i). The
+/// blocks' pattern is the same in every Gauss-Newton step of one fit: reset() keeps it, and the sparse Cholesky
+/// factorisation's ordering is computed once.
 class NormalEquations {
 public:
   explicit NormalEquations(int nodes) : nodes_(nodes), gradient_(Eigen::VectorXd::Zero(6 * nodes)) {}
 
+  void reset() {
+    for (Matrix6d& m : blocks_) m.setZero();
+    gradient_.setZero();
+  }
   /// One scalar residual r with weight w whose Jacobian row has the given 6-blocks at the given nodes.
   void addRow(int count, const int* node, const Vector6d* jacobian, double residual, double weight) {
     for (int a = 0; a < count; ++a) {
       gradient_.segment<6>(6 * node[a]) += weight * residual * jacobian[a];
-      for (int b = 0; b < count; ++b) block(node[a], node[b]) += weight * jacobian[a] * jacobian[b].transpose();
+      for (int b = 0; b < count; ++b) {
+        if (node[b] > node[a]) continue;  // the lower triangle is all the factorisation reads
+        block(node[a], node[b]).noalias() += (weight * jacobian[a]) * jacobian[b].transpose();
+      }
     }
   }
   void addDiagonal(int node, const Vector6d& diagonal) { block(node, node).diagonal() += diagonal; }
 
   /// The step x solving (J^T W J) x = -J^T W r; false when the factorisation fails.
-  bool solve(Eigen::VectorXd& step) const {
+  bool solve(Eigen::VectorXd& step) {
     std::vector<Eigen::Triplet<double>> triplets;
     triplets.reserve(blocks_.size() * 36);
     for (const auto& [key, index] : index_) {
@@ -39,14 +48,18 @@ public:
       const Matrix6d& m = blocks_[index];
       for (int r = 0; r < 6; ++r)
         for (int c = 0; c < 6; ++c)
-          if (m(r, c) != 0) triplets.emplace_back(6 * i + r, 6 * j + c, m(r, c));
+          if (6 * i + r >= 6 * j + c) triplets.emplace_back(6 * i + r, 6 * j + c, m(r, c));
     }
     Eigen::SparseMatrix<double> A(6 * nodes_, 6 * nodes_);
     A.setFromTriplets(triplets.begin(), triplets.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-    if (solver.info() != Eigen::Success) return false;
-    step = solver.solve(-gradient_);
-    return solver.info() == Eigen::Success && step.allFinite();
+    if (!analysed_) {
+      solver_.analyzePattern(A);
+      analysed_ = true;
+    }
+    solver_.factorize(A);
+    if (solver_.info() != Eigen::Success) return false;
+    step = solver_.solve(-gradient_);
+    return solver_.info() == Eigen::Success && step.allFinite();
   }
 
 private:
@@ -60,6 +73,8 @@ private:
   Eigen::VectorXd gradient_;
   std::vector<Matrix6d, Eigen::aligned_allocator<Matrix6d>> blocks_;
   std::unordered_map<long long, std::size_t> index_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
+  bool analysed_ = false;
 };
 
 Eigen::Matrix3d exponential(const Eigen::Vector3d& theta) {
@@ -93,7 +108,8 @@ DeformationFitResult fitDeformation(DeformationGraph& graph, const DeformationCo
   std::vector<NodeInfluence> influences(correspondences.size());
   std::vector<char> reached(static_cast<std::size_t>(nodeCount), 0);
   for (std::size_t c = 0; c < correspondences.size(); ++c) {
-    influences[c] = graph.influence(correspondences[c].canonicalMm);
+    influences[c] = correspondences[c].influence ? *correspondences[c].influence
+                                                 : graph.influence(correspondences[c].canonicalMm);
     if (influences[c].count > 0) ++result.correspondences;
     for (int n = 0; n < influences[c].count; ++n) reached[static_cast<std::size_t>(influences[c].node[n])] = 1;
   }
@@ -102,8 +118,9 @@ DeformationFitResult fitDeformation(DeformationGraph& graph, const DeformationCo
   auto& nodes = graph.nodes();
   const auto& neighbours = graph.neighbours();
   const double regularisation = parameters.regularisationWeight;
+  NormalEquations equations(nodeCount);
   for (int iteration = 0; iteration < parameters.iterations; ++iteration) {
-    NormalEquations equations(nodeCount);
+    equations.reset();
     // Data: r = n . (warp(p) - q); d warp / d theta_j = -w_j [a_j]x with a_j = R_j (p - g_j), d warp / d delta_j = w_j.
     for (std::size_t c = 0; c < correspondences.size(); ++c) {
       const NodeInfluence& influence = influences[c];

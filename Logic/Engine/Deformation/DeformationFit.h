@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <vector>
 
 namespace tissuemosaic {
@@ -27,6 +28,8 @@ struct DeformationCorrespondence {
   Eigen::Vector3d targetMm = Eigen::Vector3d::Zero();     ///< q: a measured surface point (world)
   Eigen::Vector3d targetNormal = Eigen::Vector3d::UnitZ(); ///< n: the measured surface's unit normal at q
   bool pointToPoint = false;  ///< q is p's own tissue point (a feature match): all three axes are residuals
+  /// p's nodes and weights when the caller has them (graph.influence(p)); otherwise the fit finds them.
+  std::optional<NodeInfluence> influence;
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 using DeformationCorrespondences =

@@ -5,6 +5,8 @@
 
 #include <opencv2/core/persistence.hpp>
 
+#include <string>
+
 namespace tissuemosaic {
 
 namespace {
@@ -50,6 +52,7 @@ void FusionParameters::write(cv::FileStorage& storage) const {
           << "movedTissueRadiusMm" << movedTissueRadiusMm << "markerRestFrames" << markerRestFrames
           << "seenThroughFrames" << seenThroughFrames;
   storage << "motionMinAgreementShare" << motionMinAgreementShare;
+  storage << "deformation" << (deformation ? "on" : "off");
   storage << "}";
 }
 
@@ -78,6 +81,11 @@ FusionParameters FusionParameters::read(const cv::FileNode& node) {
   kFusion.readKey(node, "markerRestFrames", p.markerRestFrames);
   kFusion.readKey(node, "seenThroughFrames", p.seenThroughFrames);
   kFusion.readKey(node, "motionMinAgreementShare", p.motionMinAgreementShare);
+  if (const cv::FileNode entry = node["deformation"]; !entry.empty()) {
+    const std::string value = entry.isString() ? static_cast<std::string>(entry) : std::string();
+    if (value != "on" && value != "off") throw Error("fusion parameter deformation must be \"on\" or \"off\"");
+    p.deformation = value == "on";
+  }
   p.validate();
   return p;
 }

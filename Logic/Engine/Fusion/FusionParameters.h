@@ -73,6 +73,11 @@ struct FusionParameters {
   /// refinement's ICP term). Stereo errors where the eyes' views barely overlap can put points metres away.
   double minDepthMm = 5.0;
   double maxDepthMm = 500.0;
+  /// Not in the paper: fit the deformation graph over the model to every tracked frame (docs/DEFORMATION.md): the
+  /// live surface, its agreement and the node motions are reported per frame. Not yet fused through the inverse
+  /// warp: with it on, the model and the poses are those of the rigid pipeline (off), bit for bit. File value "off" /
+  /// "on".
+  bool deformation = false;
   // Surface measurement (measureSurface).
   int normalRadiusPx = 2;             ///< normals from neighbours this many pixels away
   double maxDepthJumpMm = 2.0;        ///< no normal where a neighbour's depth differs by more than this

@@ -24,7 +24,8 @@ std::string jsonString(const std::string& text) {
 
 void QualityLog::add(const FrameResult& frame) {
   records_.push_back({frame.frameIndex, frame.status, frame.agreement, frame.inliers, frame.keyFrame,
-                      frame.movingMatches, frame.disparityRange, frame.trackingMessage, frame.sceneMotion});
+                      frame.movingMatches, frame.disparityRange, frame.trackingMessage, frame.sceneMotion,
+                      frame.deformation});
 }
 
 std::vector<std::pair<int, int>> QualityLog::lostSpans() const {
@@ -67,12 +68,17 @@ void QualityLog::writeJson(const std::string& path) const {
     out << (i ? ",\n " : "\n ")
         << cv::format("{\"frame\": %d, \"status\": \"%s\", \"median_depth_difference_mm\": %s, \"share_within_1mm\": %s, "
                       "\"inliers\": %d, \"key_frame\": %s, \"moving_matches\": %d, \"disparity_range\": [%d, %d], "
-                      "\"message\": %s, \"scene_motion\": \"%s\"}",
+                      "\"message\": %s, \"scene_motion\": \"%s\"",
                       r.frame, frameStatusName(r.status),
                       measured ? cv::format("%.4f", r.agreement.medianDepthDifferenceMm).c_str() : "null",
                       measured ? cv::format("%.4f", r.agreement.shareWithin1mm).c_str() : "null", r.inliers,
                       r.keyFrame ? "true" : "false", r.movingMatches, r.disparityRange.minPx, r.disparityRange.maxPx,
                       jsonString(r.message).c_str(), sceneMotionName(r.sceneMotion));
+    const DeformationFrame& d = r.deformation;
+    const auto figure = [&d](double value) { return d.fitted ? cv::format("%.4f", value) : std::string("null"); };
+    out << ", \"deformation_mean_mm\": " << figure(d.meanNodeMotionMm) << ", \"deformation_max_mm\": "
+        << figure(d.maxNodeMotionMm) << ", \"live_share_within_1mm\": " << figure(d.liveShareWithin1mm)
+        << ", \"rigid_share_within_1mm\": " << figure(d.rigidShareWithin1mm) << "}";
   }
   out << "\n]\n";
   });

@@ -23,6 +23,7 @@ public:
     DisparityRange disparityRange;   ///< the range the frame was matched over
     std::string message;             ///< why it was lost, or how it was relocalised; empty otherwise
     SceneMotion sceneMotion = SceneMotion::Unknown;
+    DeformationFrame deformation;    ///< fusion.deformation on: the node motions and the live surface's agreement
   };
 
   void add(const FrameResult& frame);
@@ -37,8 +38,10 @@ public:
   /// A JSON array of one object per frame: "frame", "status", "median_depth_difference_mm", "share_within_1mm"
   /// (null where not measured), "inliers" (the contract keys), then "key_frame", "moving_matches",
   /// "disparity_range" ([min, max] px), "message" (why lost, how relocalised; "" otherwise) and "scene_motion"
-  /// ("still", "camera", "tissue", "both"; "unknown" for a lost or first frame: sceneMotionName). Throws Error when
-  /// the file cannot be written.
+  /// ("still", "camera", "tissue", "both"; "unknown" for a lost or first frame: sceneMotionName), and the
+  /// deformation's "deformation_mean_mm", "deformation_max_mm" (node motions from rest), "live_share_within_1mm" and
+  /// "rigid_share_within_1mm" (the warped and the unwarped model's samples against the frame's depth), null where
+  /// not fitted (fusion.deformation off, lost frames, no model yet). Throws Error when the file cannot be written.
   void writeJson(const std::string& path) const;
   /// For a progress line: "agreement 96% within 1 mm, median 0.21 mm", "LOST", ...
   static std::string progressText(const FrameResult& frame);

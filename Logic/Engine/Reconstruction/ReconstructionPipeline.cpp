@@ -75,6 +75,7 @@ struct ReconstructionPipeline::Impl {
   KeyFrameRefiner refiner;
   Relocaliser relocaliser;
   PointFusion fusion;
+  std::optional<DeformationTracker> deformation;  ///< fusion.deformation on
   std::vector<KeyFramePose> keyFrames;
   std::size_t peakDeviceBytes = 0;
   std::string lastRefinementMessage;
@@ -94,7 +95,9 @@ struct ReconstructionPipeline::Impl {
         disparityRange(p.stereo, g, d), subPixel(sharedSubPixelMatcher(p, d)),
         tracker(g, trackerOptions(p, d, subPixel), T_world_start),
         refiner(g, p.refinement, p.tracking, p.features, d, subPixel), relocaliser(g, p.tracking, p.features, d),
-        fusion(g, p.fusion, d) {}
+        fusion(g, p.fusion, d) {
+    if (p.fusion.deformation) deformation.emplace(g);
+  }
 
   void samplePeakDeviceMemory() {
     if (device == Device::Cuda) peakDeviceBytes = std::max(peakDeviceBytes, cuda::deviceBytesInUse());
@@ -379,6 +382,13 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     pose.T_world_camera = result.T_world_camera;
     s.keyFrames.push_back(pose);
   }
+  if (result.tracked && s.deformation) {
+    // The tissue's motion beyond the camera's, at the frame's final pose.
+    const auto deformationStart = Clock::now();
+    const cv::Mat disparity = result.disparityPx.empty() ? s.matcher.downloadLastDisparity() : result.disparityPx;
+    result.deformation = s.deformation->update(disparity, result.T_world_camera);
+    result.timesMs.deformation = millisecondsSince(deformationStart);
+  }
   result.modelPoints = s.fusion.pointCount();
   result.pointBudgetReached = s.fusion.budgetReached();
   result.timesMs.total = millisecondsSince(start);
@@ -396,6 +406,12 @@ std::size_t ReconstructionPipeline::modelPointCount() const { return impl_->fusi
 std::size_t ReconstructionPipeline::peakDeviceBytes() const { return impl_->peakDeviceBytes; }
 void ReconstructionPipeline::setFrameDisparityKept(bool kept) { impl_->frameDisparityKept = kept; }
 cv::Mat ReconstructionPipeline::downloadLastDisparity() const { return impl_->matcher.downloadLastDisparity(); }
+const DeformationGraph* ReconstructionPipeline::deformationGraph() const {
+  return impl_->deformation ? &impl_->deformation->graph() : nullptr;
+}
+const DeformationTracker* ReconstructionPipeline::deformation() const {
+  return impl_->deformation ? &*impl_->deformation : nullptr;
+}
 const std::string& ReconstructionPipeline::lastRefinementMessage() const { return impl_->lastRefinementMessage; }
 const DisparityRangeHistory& ReconstructionPipeline::disparityRangeHistory() const {
   return impl_->disparityRange.history();

@@ -12,6 +12,7 @@
 /// through the FrameResult it returns and modelSnapshot().
 #include "Core/Device.h"
 #include "Core/StereoRig.h"
+#include "Deformation/DeformationTracker.h"
 #include "Fusion/ModelAgreement.h"
 #include "Fusion/PointModel.h"
 #include "Reconstruction/ReconstructionParameters.h"
@@ -37,6 +38,7 @@ struct StageTimesMs {
   double agreement = 0;     ///< the model agreement and the motion evidence (not in the paper; tracked frames)
   double refinement = 0;    ///< key frames only
   double tsdf = 0;          ///< key frames only
+  double deformation = 0;   ///< the deformation graph's fit (not in the paper; fusion.deformation on, tracked frames)
   double total = 0;
 };
 
@@ -85,6 +87,8 @@ struct FrameResult {
   ModelAgreement agreement;
   AgreementLevel agreementLevel = AgreementLevel::None;
   int movingMatches = 0;        ///< key-frame feature matches kept out of the pose (they moved with the scene)
+  /// The model's deformation at this frame (fusion.deformation on, tracked frames; DeformationTracker.h).
+  DeformationFrame deformation;
   int pointsRemoved = 0;        ///< model points that left the model on this frame's motion evidence
   /// The model disagreed with the frame's depth at a pose that continues the scope's motion
   /// (FrameTracker::continuesMotion): the pose was kept, the tissue moved.
@@ -165,6 +169,10 @@ public:
   void setFrameDisparityKept(bool kept);
   /// A host copy (CV_32F, NaN = none) of the last processed frame's disparity. Throws Error before the first frame.
   cv::Mat downloadLastDisparity() const;
+  /// The deformation graph over the model (fusion.deformation on), null when off.
+  const DeformationGraph* deformationGraph() const;
+  /// The deformation with its canonical and live surface samples (fusion.deformation on), null when off.
+  const DeformationTracker* deformation() const;
   /// What the last key frame's refinement did (for logs and the GUI).
   const std::string& lastRefinementMessage() const;
 

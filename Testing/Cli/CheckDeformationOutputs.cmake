@@ -1,0 +1,72 @@
+# cmake -DCLI=tissuemosaic -DSCAN=dir -P CheckDeformationOutputs.cmake
+# Reconstructs the breathing scan in SCAN (a still scope, made by cli.reconstruct.deformation.setup) with
+# --deformation on, --deformation-out and --quality-json, and checks the contracts of docs/DEFORMATION.md: one JSON
+# line per fitted frame with "frame", "time_s" and "nodes" of nine numbers each, node count never falling; the
+# quality records' "deformation_mean_mm", "deformation_max_mm", "live_share_within_1mm", "rigid_share_within_1mm":
+# null on the first frame, numbers on every later tracked frame; the model equal to the one reconstructed without
+# the deformation (the rigid pipeline's, bit for bit).
+set(record "${SCAN}/deformation.jsonl")
+set(quality "${SCAN}/deformation_quality.json")
+file(REMOVE "${record}" "${quality}")
+foreach(mode on off)
+  execute_process(COMMAND "${CLI}" reconstruct --left-frames "${SCAN}/left" --right-frames "${SCAN}/right"
+                          --calib "${SCAN}/rig.yml" --rectified --device cpu --quiet --out "${SCAN}/model_${mode}.ply"
+                          --deformation ${mode} --quality-json "${SCAN}/quality_${mode}.json"
+                  RESULT_VARIABLE status ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "reconstruct --deformation ${mode} failed (${status}): ${err}")
+  endif()
+endforeach()
+execute_process(COMMAND "${CLI}" reconstruct --left-frames "${SCAN}/left" --right-frames "${SCAN}/right"
+                        --calib "${SCAN}/rig.yml" --rectified --device cpu --quiet --out "${SCAN}/model_record.ply"
+                        --deformation on --deformation-out "${record}" --quality-json "${quality}"
+                RESULT_VARIABLE status ERROR_VARIABLE err)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "reconstruct --deformation-out failed (${status}): ${err}")
+endif()
+execute_process(COMMAND "${CMAKE_COMMAND}" -E compare_files "${SCAN}/model_on.ply" "${SCAN}/model_off.ply"
+                RESULT_VARIABLE different)
+if(different)
+  message(FATAL_ERROR "the model with --deformation on differs from the rigid pipeline's")
+endif()
+
+file(STRINGS "${record}" lines)
+list(LENGTH lines line_count)
+file(READ "${quality}" q)
+string(JSON records LENGTH "${q}")
+math(EXPR expected_lines "${records} - 1")  # every frame but the first (no graph yet) is tracked and fitted here
+if(NOT line_count EQUAL expected_lines)
+  message(FATAL_ERROR "${line_count} deformation lines for ${records} frames (expected ${expected_lines})")
+endif()
+set(previous_nodes 0)
+set(previous_frame 0)
+foreach(line IN LISTS lines)
+  string(JSON frame GET "${line}" frame)
+  string(JSON time GET "${line}" time_s)
+  string(JSON nodes LENGTH "${line}" nodes)
+  string(JSON values LENGTH "${line}" nodes 0)
+  if(NOT frame GREATER previous_frame OR nodes LESS previous_nodes OR nodes LESS 1 OR NOT values EQUAL 9)
+    message(FATAL_ERROR "bad deformation line (frame ${frame} after ${previous_frame}, ${nodes} nodes after "
+                        "${previous_nodes}, ${values} values a node): ${line}")
+  endif()
+  set(previous_frame ${frame})
+  set(previous_nodes ${nodes})
+endforeach()
+
+math(EXPR last_record "${records} - 1")
+foreach(i RANGE ${last_record})
+  foreach(key deformation_mean_mm deformation_max_mm live_share_within_1mm rigid_share_within_1mm)
+    string(JSON type TYPE "${q}" ${i} ${key})
+    if(i EQUAL 0 AND NOT type STREQUAL "NULL")
+      message(FATAL_ERROR "frame 0: ${key} should be null (nothing to deform yet), is ${type}")
+    elseif(i GREATER 0 AND NOT type STREQUAL "NUMBER")
+      message(FATAL_ERROR "frame ${i}: ${key} should be a number, is ${type}")
+    endif()
+  endforeach()
+endforeach()
+file(READ "${SCAN}/quality_off.json" q_off)
+string(JSON off_type TYPE "${q_off}" 1 deformation_max_mm)
+if(NOT off_type STREQUAL "NULL")
+  message(FATAL_ERROR "with --deformation off the deformation figures should be null")
+endif()
+message(STATUS "ok: ${line_count} deformation lines, ${previous_nodes} nodes at the end; the model is the rigid one")
