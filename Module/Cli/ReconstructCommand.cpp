@@ -234,7 +234,7 @@ void runReconstruct(const ReconstructOptions& options) {
 
 }  // namespace
 
-void setupReconstruct(CLI::App& tool) {
+void setupReconstruct(CLI::App& tool, CommandUse use) {
   auto options = std::make_shared<ReconstructOptions>();
   CLI::App* command = addCommand(tool, "reconstruct", "the whole pipeline: a fused, textured point model, key-frame "
                                                      "trajectory and timing table", details);
@@ -277,7 +277,9 @@ void setupReconstruct(CLI::App& tool) {
   addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
   addIgtLinkServerOptions(*command, options->igtl);
   addQuietFlag(*command, options->quiet, "no progress bar");
-  command->callback([options] { runReconstruct(*options); });
+  command->callback([options, use] {
+    if (use == CommandUse::Run) runReconstruct(*options);
+  });
 }
 
 }  // namespace tissuemosaic::cli

@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
   cli::setupSynthScan(*synth);
   cli::setupTrack(tool);
   cli::setupReconstruct(tool);
+  cli::setupBatch(tool);
 #if defined(TM_WITH_REGISTRATION)
   cli::setupRegister(tool);
   cli::setupEval(tool);
