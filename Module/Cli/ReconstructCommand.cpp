@@ -64,7 +64,8 @@ double peakHostMegabytes() {
   return usage.ru_maxrss / 1024.0;  // Linux reports kilobytes
 }
 
-void runReconstruct(const ReconstructOptions& options) {
+void runReconstruct(ReconstructOptions options) {
+  const DatasetInput dataset = applyDatasetLayout(options.input, options.geometry);
   checkModelOutputPath(options.out);
   // Every output is checked before any work: a bad secondary path found after the scan would waste it.
   if (options.trajectory) requireWritableOutput(*options.trajectory, "trajectory (--trajectory)");
@@ -89,6 +90,8 @@ void runReconstruct(const ReconstructOptions& options) {
     const Trajectory start = readTumTrajectory(*options.startTum);
     require(!start.empty(), "--start-tum '" + *options.startTum + "' holds no pose");
     T_world_start = start.front().T_world_camera;
+  } else if (!dataset.poses.empty()) {
+    T_world_start = dataset.poses.front().T_world_camera;
   }
 
   std::unique_ptr<StereoFrameSource> source = openInput(options.input);
@@ -202,6 +205,10 @@ void runReconstruct(const ReconstructOptions& options) {
             << cv::format("peak memory: host %.0f MiB (resident), device %.0f MiB (in use, with the CUDA context)\n",
                           hostMb, deviceMb);
   if (!snapshotLine.empty()) std::cout << snapshotLine << "\n";
+  if (!dataset.description.empty()) {
+    std::cout << "data set: " << dataset.description << (dataset.note.empty() ? "" : "; " + dataset.note)
+              << (!options.startTum && !dataset.poses.empty() ? " (the first is the start pose)" : "") << "\n";
+  }
   if (!geometry.calibrationLayout.empty()) {
     std::cout << "calibration: " << geometry.calibrationLayout
               << (geometry.imageSizeFromFrames ? ", image size from the frames" : "") << "\n";
