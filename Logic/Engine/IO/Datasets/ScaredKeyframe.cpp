@@ -56,8 +56,13 @@ ScaredKeyframe readScaredKeyframe(const std::string& folderText) {
   ScaredKeyframe keyframe;
   keyframe.calibration = requireFile(folder / "endoscope_calibration.yaml", folderText, "the calibration");
   keyframe.video = requireFile(folder / "data" / "rgb.mp4", folderText, "the video");
-  const fs::path posesFolder = folder / "data" / "frame_data";
-  const std::vector<fs::path> files = poseFiles(posesFolder);
+  // Extracted into data/frame_data/ or straight into data/, as the archive's own paths have it.
+  fs::path posesFolder = folder / "data" / "frame_data";
+  std::vector<fs::path> files = poseFiles(posesFolder);
+  if (files.empty()) {
+    posesFolder = folder / "data";
+    files = poseFiles(posesFolder);
+  }
   if (files.empty()) {
     keyframe.posesNote = fs::exists(folder / "data" / "frame_data.tar.gz")
                              ? "no poses: data/frame_data.tar.gz is not extracted (tar -xzf frame_data.tar.gz -C data)"

@@ -2,7 +2,8 @@
 /// @file ScaredKeyframe.h
 /// @brief A key-frame folder of the SCARED data set (MICCAI 2019 EndoVis, da Vinci Xi) as it ships:
 /// endoscope_calibration.yaml (M1 D1 M2 D2 R T: IO/Calibration), data/rgb.mp4 (the left view stacked on top of the
-/// right one in each frame), and where extracted, data/frame_data/frame_data*.json (one per video frame, its
+/// right one in each frame), and where extracted, data/frame_data/frame_data*.json or data/frame_data*.json (one per
+/// video frame, its
 /// "camera-pose" a 4x4 matrix in mm: the scope's pose from the robot's kinematics). docs/INPUT.md.
 #include "IO/TrajectoryTum.h"
 
