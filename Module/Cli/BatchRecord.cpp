@@ -66,6 +66,12 @@ RowRecord measureRow(const BatchRow& row) {
   const json timing = readJsonFile(files.timing, "timing JSON");
   const json quality = readJsonFile(files.quality, "quality JSON");
   RowRecord record;
+  // reconstruct stops cleanly on SIGTERM and exits 0 with the frames it did: under Slurm, the time limit or scancel
+  // signals every process of the task, so a row can end so before the batch hears of it. Partial is not done.
+  if (timing.value("stopped_by_signal", false)) {
+    throw Error("reconstruct was stopped by a signal before the end of its input (a time limit, scancel?): its " +
+                std::to_string(timing.value("frames", 0)) + "-frame model is partial");
+  }
   try {
     record.frames = timing.at("frames").get<int>();
     record.lost = timing.at("lost").get<int>();

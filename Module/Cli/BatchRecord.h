@@ -24,7 +24,7 @@ struct RowRecord {
 };
 
 /// The figures of a finished run, read from the row's timing and quality JSON. Throws Error when they are missing
-/// or malformed (a run that exits 0 writes both).
+/// or malformed (a run that exits 0 writes both), or when the run was stopped by a signal (a partial model).
 RowRecord measureRow(const BatchRow& row);
 
 /// True when the row has a done record and its model: its work is complete.

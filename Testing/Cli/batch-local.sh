@@ -4,7 +4,7 @@
 # row process or temporary file is left, the done rows keep their records. Run again, the batch does only the rows
 # not done: 3 done, 1 failed with its reason, the summary says so. Each model equals, byte for byte, that of
 # `tissuemosaic reconstruct` run alone with the row's options (and differs from another row's: the comparison can
-# fail).
+# fail). A row whose own process is stopped by SIGTERM (reconstruct then writes what it did and exits 0) is failed.
 set -uo pipefail
 cli=$1 work=$2
 source "$(dirname "$0")/batch-studies.sh"
@@ -83,6 +83,23 @@ echo "== a third run does nothing but the failed row"
 "$cli" batch "$manifest" > "$work/third.out" 2> "$work/third.err"
 [ "$(grep -c ': started (log ' "$work/third.err")" -eq 1 ] && grep -q "^row 4 broken: started" "$work/third.err" ||
   fail "the third run did not run the failed row alone"
+
+echo "== a row whose reconstruct alone gets SIGTERM (as Slurm's time limit sends it) is partial, not done"
+printf 'name,out,args\npartial,runs/partial,"--left-frames scan2/left --right-frames scan2/right --calib scan2/rig.yml --rectified --device cpu"\n' \
+  > "$work/partial.csv"
+"$cli" batch "$work/partial.csv" > "$work/partial.out" 2> "$work/partial.err" &
+batch=$!
+waited=0
+until pgrep -f -- "$work/runs/partial/model.ply" > /dev/null || [ $waited -gt 600 ]; do sleep 0.05; waited=$((waited + 1)); done
+sleep 1
+row_pid=$(pgrep -f -- "$work/runs/partial/model.ply")
+kill -TERM $row_pid
+wait "$batch"; status=$?
+cat "$work/partial.err"
+[ "$status" -eq 1 ] || fail "the batch whose row was stopped exited $status, expected 1"
+[ -e "$work/runs/partial/done.json" ] && fail "the stopped row has a done record"
+grep -q "stopped by a signal before the end of its input" "$work/runs/partial/failed.json" ||
+  fail "the stopped row's failure record does not say why"
 
 [ "$failures" -eq 0 ] && echo "batch local: PASS"
 [ "$failures" -eq 0 ]
