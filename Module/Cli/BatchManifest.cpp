@@ -229,8 +229,10 @@ BatchManifest readBatchManifest(const std::string& path) {
   manifest.path = fs::absolute(path).lexically_normal().string();
   manifest.folder = fs::path(manifest.path).parent_path().string();
   const std::string extension = lowerExtension(path);
-  const std::vector<RawRow> raw = extension == ".yml" || extension == ".yaml" ? readYamlRows(text.str(), path)
-                                                                                : readCsvRows(text.str(), path);
+  std::string content = text.str();
+  if (content.rfind("\xEF\xBB\xBF", 0) == 0) content.erase(0, 3);  // the byte-order mark spreadsheets write
+  const std::vector<RawRow> raw = extension == ".yml" || extension == ".yaml" ? readYamlRows(content, path)
+                                                                                : readCsvRows(content, path);
   if (raw.empty()) throw Error("manifest '" + path + "' has no study (one row per study after the header)");
   std::set<std::string> names, outs;
   for (const RawRow& fields : raw) {

@@ -63,3 +63,11 @@ tm_output_test(NAME cli.batch.slurm_script
                COMMAND sh -c "rm -rf \"$2\" && mkdir -p \"$2\" && printf 'studies:\\n  - {name: a, out: runs/a, args: \"--left-frames l --right-frames r --focal-px 300 --baseline-mm 5\"}\\n  - name: b\\n    out: runs/b\\n    args: --video v.mp4 --calib rig.yml\\n    device: cuda\\n  - {name: c, out: runs/c, args: --video w.mp4 --calib rig.yml, params: fast.yml}\\n' > \"$2/m.yml\" && \"$1\" batch \"$2/m.yml\" --slurm-script-only \"$2/a.sbatch\" --partition gpu --time 1:00:00 --mem 8G --max-running 2 && cat \"$2/a.sbatch\" && ! test -e \"$2/runs\""
                        slurm_script ${cli} ${batch_work}/slurm_script)
 set_tests_properties(cli.batch.slurm_script PROPERTIES LABELS "cli;batch")
+
+# A manifest as a spreadsheet saves it: a byte-order mark, CRLF line ends, a quoted field with doubled quotes around
+# a path with a space, a field without quotes. Read, every row's options parsed, the script written.
+tm_output_test(NAME cli.batch.spreadsheet_csv
+               MATCH "wrote .*/a.sbatch: a job array of 2 tasks \\(rows 1-2\\)"
+               COMMAND sh -c "rm -rf \"$2\" && mkdir -p \"$2\" && printf '\\357\\273\\277name,out,args\\r\\nclip one,runs/a,\"--video \"\"my clip.mp4\"\" --focal-px 300 --baseline-mm 5\"\\r\\nb,runs/b,--video v.mp4 --focal-px 300 --baseline-mm 5\\r\\n' > \"$2/m.csv\" && \"$1\" batch \"$2/m.csv\" --slurm-script-only \"$2/a.sbatch\""
+                       spreadsheet ${cli} ${batch_work}/spreadsheet)
+set_tests_properties(cli.batch.spreadsheet_csv PROPERTIES LABELS "cli;batch")
