@@ -9,7 +9,12 @@ namespace tissuemosaic::cli {
 
 void setupStereo(CLI::App& tool);             ///< tissuemosaic stereo ...         (StereoCommand.cpp)
 void setupTrack(CLI::App& tool);              ///< tissuemosaic track ...          (TrackCommand.cpp)
-void setupReconstruct(CLI::App& tool);        ///< tissuemosaic reconstruct ...    (ReconstructCommand.cpp)
+/// How a command set up on a parent is used: run when parsed, or only parsed (the batch checks each manifest row's
+/// options with reconstruct's own parser before running any).
+enum class CommandUse { Run, ParseOnly };
+
+void setupReconstruct(CLI::App& tool, CommandUse use = CommandUse::Run);  ///< tissuemosaic reconstruct ... (ReconstructCommand.cpp)
+void setupBatch(CLI::App& tool);              ///< tissuemosaic batch ...          (BatchCommand.cpp)
 void setupRegister(CLI::App& tool);           ///< tissuemosaic register ...       (RegisterCommand.cpp, needs VTK)
 void setupEval(CLI::App& tool);               ///< tissuemosaic eval ...           (EvalCommand.cpp, needs VTK)
 void setupSynthPair(CLI::App& synth);         ///< tissuemosaic synth pair ...     (SynthCommand.cpp)

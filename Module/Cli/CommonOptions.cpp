@@ -81,6 +81,21 @@ void addInputOptions(CLI::App& command, InputOptions& input) {
   leftVideo->type_name("FILE")->needs(rightVideo);
   rightVideo->type_name("FILE")->needs(leftVideo);
   video->type_name("FILE");
+  CLI::Option* scared = command.add_option(
+      "--scared", input.scared,
+      "a SCARED key-frame folder as it ships: data/rgb.mp4 (eyes top and bottom), endoscope_calibration.yaml, and "
+      "where extracted data/frame_data/*.json (the first pose starts the model; track: the ground truth)");
+  CLI::Option* hamlyn = command.add_option(
+      "--hamlyn", input.hamlyn,
+      "a rectified Hamlyn sequence: image01/ (left), image02/ (right), intrinsics.txt (f, cx, cy); the baseline "
+      "with --baseline-mm unless intrinsics.txt is 3x4 with -f B");
+  CLI::Option* stereomis = command.add_option(
+      "--stereomis", input.stereomis,
+      "a StereoMIS sequence: its side-by-side video (or the folder holding it) and StereoCalibration.ini beside it");
+  scared->type_name("DIR");
+  hamlyn->type_name("DIR");
+  stereomis->type_name("DIR|VIDEO");
+  for (CLI::Option* option : {scared, hamlyn, stereomis}) option->group(heading::input);
   command.add_option("--fps", input.fps, "frame rate of frame folders, for their time stamps (videos carry their own)")
       ->check(numberWithin(0.01, 10000, "frames per second"))
       ->capture_default_str();
@@ -118,7 +133,7 @@ void addGeometryOptions(CLI::App& command, GeometryOptions& geometry) {
   calib->type_name("FILE");
   rectified->needs(calib);
   focal->check(positiveNumber("of pixels"))->needs(baseline);
-  baseline->check(positiveNumber("of mm"))->needs(focal);
+  baseline->check(positiveNumber("of mm"));  // alone with --hamlyn, whose intrinsics.txt gives the focal length
   for (CLI::Option* option : {cx, cy, doffs}) option->needs(focal);
   calib->excludes(focal)->excludes(baseline);
   for (CLI::Option* option : {calib, extrinsics, right, rectified, focal, baseline, cx, cy, doffs})
@@ -140,6 +155,9 @@ StereoGeometry resolveGeometry(const GeometryOptions& options, const cv::Size& f
     geometry.calibration = calibration;
     if (!options.rectified) geometry.rectifier = rectifier;
     return geometry;
+  }
+  if (options.baselineMm && !options.focalPx) {
+    throw UsageError("--baseline-mm needs --focal-px (or --hamlyn, whose intrinsics.txt gives it)");
   }
   if (!options.focalPx) {
     throw UsageError("give the geometry: --calib rig.yml, or --focal-px and --baseline-mm for rectified frames");

@@ -7,6 +7,7 @@
 /// geometry) with a UsageError.
 #include "Core/Device.h"
 #include "Core/StereoRig.h"
+#include "IO/TrajectoryTum.h"
 
 #include <CLI/CLI.hpp>
 
@@ -44,12 +45,26 @@ struct InputOptions {
   std::string leftFrames, rightFrames, leftVideo, rightVideo, video;
   std::string videoLayout = "sbs";  ///< how --video (and --igtl-sbs) pack the eyes (IO/StereoVideoLayout.h)
   std::string igtlInput, igtlLeft, igtlRight, igtlSbs;  ///< HOST:PORT and the IMAGE device names
+  std::string scared, hamlyn, stereomis;  ///< a public data set's own layout (applyDatasetLayout)
   double fps = 30;  ///< time stamps of frame folders (videos carry their own)
 };
 void addInputOptions(CLI::App& command, InputOptions& input);
 /// Opens the one input given (UsageError when none or several are). Implemented in InputSource.cpp, apart from
 /// the rest: it needs the video and image codecs, which tissuemosaic-bench must not link.
 std::unique_ptr<StereoFrameSource> openInput(const InputOptions& input);
+
+/// What a data set's own layout gave beyond the input and the geometry.
+struct DatasetInput {
+  std::string description;  ///< e.g. "SCARED key frame DIR", empty when no data-set option was given
+  Trajectory poses;         ///< the data set's per-frame poses (SCARED), T_world_camera; empty when none
+  std::string note;         ///< where the poses came from, or why there are none
+};
+struct GeometryOptions;
+/// Turns --scared, --hamlyn or --stereomis into the plain input and geometry options they stand for (a video with
+/// its layout or two frame folders; a calibration file, or the focal length and principal point). UsageError when
+/// one is combined with another input, or with geometry it gives itself; Error for a missing or unreadable part.
+/// Implemented in DatasetInput.cpp (it reads videos, which tissuemosaic-bench must not link).
+DatasetInput applyDatasetLayout(InputOptions& input, GeometryOptions& geometry);
 
 /// The stereo geometry: the rig's calibration (raw frames are rectified from it; --rectified: they already are),
 /// or, for rectified frames, the focal length and baseline with the optional principal point and disparity offset.

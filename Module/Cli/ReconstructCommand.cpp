@@ -67,7 +67,8 @@ double peakHostMegabytes() {
   return usage.ru_maxrss / 1024.0;  // Linux reports kilobytes
 }
 
-void runReconstruct(const ReconstructOptions& options) {
+void runReconstruct(ReconstructOptions options) {
+  const DatasetInput dataset = applyDatasetLayout(options.input, options.geometry);
   checkModelOutputPath(options.out);
   // Every output is checked before any work: a bad secondary path found after the scan would waste it.
   if (options.trajectory) requireWritableOutput(*options.trajectory, "trajectory (--trajectory)");
@@ -96,6 +97,8 @@ void runReconstruct(const ReconstructOptions& options) {
     const Trajectory start = readTumTrajectory(*options.startTum);
     require(!start.empty(), "--start-tum '" + *options.startTum + "' holds no pose");
     T_world_start = start.front().T_world_camera;
+  } else if (!dataset.poses.empty()) {
+    T_world_start = dataset.poses.front().T_world_camera;
   }
 
   std::unique_ptr<StereoFrameSource> source = openInput(options.input);
@@ -214,6 +217,10 @@ void runReconstruct(const ReconstructOptions& options) {
             << cv::format("peak memory: host %.0f MiB (resident), device %.0f MiB (in use, with the CUDA context)\n",
                           hostMb, deviceMb);
   if (!snapshotLine.empty()) std::cout << snapshotLine << "\n";
+  if (!dataset.description.empty()) {
+    std::cout << "data set: " << dataset.description << (dataset.note.empty() ? "" : "; " + dataset.note)
+              << (!options.startTum && !dataset.poses.empty() ? " (the first is the start pose)" : "") << "\n";
+  }
   if (!geometry.calibrationLayout.empty()) {
     std::cout << "calibration: " << geometry.calibrationLayout
               << (geometry.imageSizeFromFrames ? ", image size from the frames" : "") << "\n";
@@ -246,7 +253,7 @@ void runReconstruct(const ReconstructOptions& options) {
 
 }  // namespace
 
-void setupReconstruct(CLI::App& tool) {
+void setupReconstruct(CLI::App& tool, CommandUse use) {
   auto options = std::make_shared<ReconstructOptions>();
   CLI::App* command = addCommand(tool, "reconstruct", "the whole pipeline: a fused, textured point model, key-frame "
                                                      "trajectory and timing table", details);
@@ -301,7 +308,9 @@ void setupReconstruct(CLI::App& tool) {
   addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
   addIgtLinkServerOptions(*command, options->igtl);
   addQuietFlag(*command, options->quiet, "no progress bar");
-  command->callback([options] { runReconstruct(*options); });
+  command->callback([options, use] {
+    if (use == CommandUse::Run) runReconstruct(*options);
+  });
 }
 
 }  // namespace tissuemosaic::cli

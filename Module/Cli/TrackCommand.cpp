@@ -53,7 +53,8 @@ struct TrackOptions {
   bool quiet = false;
 };
 
-void runTrack(const TrackOptions& options) {
+void runTrack(TrackOptions options) {
+  const DatasetInput dataset = applyDatasetLayout(options.input, options.geometry);
   requireWritableOutput(options.out, "trajectory");
   StereoParameters stereoParameters;
   FrameTrackerOptions trackerOptions;
@@ -80,8 +81,11 @@ void runTrack(const TrackOptions& options) {
     const Trajectory start = readTumTrajectory(*options.startTum);
     require(!start.empty(), "--start-tum '" + *options.startTum + "' holds no pose");
     T_world_start = start.front().T_world_camera;
+  } else if (!dataset.poses.empty()) {
+    T_world_start = dataset.poses.front().T_world_camera;
   }
-  Trajectory groundTruth;
+  // A data set's own poses (SCARED) are the ground truth unless a file is given.
+  Trajectory groundTruth = dataset.poses;
   if (options.groundTruth) groundTruth = readTumTrajectory(*options.groundTruth);
 
   const std::unique_ptr<StereoFrameSource> source = openInput(options.input);

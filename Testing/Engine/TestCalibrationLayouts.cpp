@@ -246,13 +246,49 @@ TEST(CalibrationLayouts, MatlabStereoParametersJsonInItsOwnConventions) {
   expectReference(readCalibrationFiles(CalibrationFiles{pose, "", ""}).calibration, 1e-12);
 }
 
+/// The reference rig in StereoMIS's StereoCalibration.ini: per eye fc_x fc_y cc_x cc_y kc_0..kc_4 res_x res_y, the
+/// extrinsics R_0..R_8 T_0..T_2 in one section (here the left one, as the data set's loaders read them).
+std::string stereoMisIni(const StereoCalibration& c, bool withT) {
+  std::string text = "; StereoMIS-style calibration\n";
+  const cv::Mat* K[2] = {&c.K1, &c.K2};
+  const cv::Mat* D[2] = {&c.D1, &c.D2};
+  for (int eye = 0; eye < 2; ++eye) {
+    text += eye == 0 ? "[StereoLeft]\n" : "[StereoRight]\n";
+    text += cv::format("res_x = %d\nres_y=%d\n", c.imageSize.width, c.imageSize.height);
+    text += cv::format("fc_x = %.17g\nfc_y = %.17g\ncc_x = %.17g\ncc_y = %.17g\n", K[eye]->at<double>(0, 0),
+                       K[eye]->at<double>(1, 1), K[eye]->at<double>(0, 2), K[eye]->at<double>(1, 2));
+    for (int k = 0; k < 5; ++k) text += cv::format("kc_%d = %.17g\n", k, D[eye]->at<double>(k));
+    if (eye == 0) {
+      for (int i = 0; i < 9; ++i) text += cv::format("R_%d = %.17g\n", i, c.R.at<double>(i));
+      for (int i = 0; withT && i < 3; ++i) text += cv::format("T_%d = %.17g\n", i, c.T.at<double>(i));
+    }
+  }
+  return text;
+}
+
+TEST(CalibrationLayouts, StereoMisIni) {
+  const std::string path = outputPath("StereoCalibration.ini");
+  writeText(path, stereoMisIni(referenceRig(), true));
+  const CalibrationFileContent content = readCalibrationFiles(CalibrationFiles{path, "", ""});
+  EXPECT_EQ(content.layout, "StereoMIS StereoCalibration.ini");
+  expectReference(content.calibration, 1e-12);
+  // Missing and malformed parts are named.
+  writeText(path, stereoMisIni(referenceRig(), false));
+  const std::string missing = errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); });
+  EXPECT_NE(missing.find("key 'T_0' is in neither [StereoRight] nor [StereoLeft]"), std::string::npos) << missing;
+  writeText(path, "[StereoLeft]\nfc_x = 800\nthis line is no key\n[StereoRight]\n");
+  const std::string malformed = errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); });
+  EXPECT_NE(malformed.find("INI line 3 is neither [section] nor key = value"), std::string::npos) << malformed;
+}
+
 TEST(CalibrationLayouts, UnknownLayoutListsTheLayoutsUnderstood) {
   const std::string path = outputPath("unknown.yaml");
   writeText(path, "focal: 800\nbaseline: 5\n");
   const std::string message = errorOf([&] { readCalibrationFiles(CalibrationFiles{path, "", ""}); });
   EXPECT_NE(message.find(path), std::string::npos) << message;
   EXPECT_NE(message.find("(focal baseline)"), std::string::npos) << message;
-  for (const char* layout : {"OpenCV stereoCalibrate", "stereo_calib sample", "ROS camera_info", "Kalibr", "MATLAB"})
+  for (const char* layout : {"OpenCV stereoCalibrate", "stereo_calib sample", "ROS camera_info", "Kalibr", "MATLAB",
+                             "StereoMIS"})
     EXPECT_NE(message.find(layout), std::string::npos) << layout << ": " << message;
   const std::string notYaml = outputPath("broken.yaml");
   writeText(notYaml, "a: [1, 2\nb: {\n");

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <iterator>
 
 namespace tissuemosaic {
@@ -83,6 +84,53 @@ double toNumber(const YAML::Node& value, const std::string& key) {
 
 }  // namespace
 
+namespace {
+
+/// An INI file (StereoMIS's StereoCalibration.ini): its first line that is not blank or a comment is a [section].
+bool looksLikeIni(const std::string& text) {
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == ';' || line[first] == '#') continue;
+    const std::size_t last = line.find_last_not_of(" \t\r");
+    return line[first] == '[' && line[last] == ']' && last > first + 1 && line.find('=') == std::string::npos;
+  }
+  return false;
+}
+
+/// "[section]" and "key = value" lines as a map of sections, each a map of text values (the layouts read them as
+/// YAML scalars). Error naming the line for anything else.
+YAML::Node parseIni(const std::string& text) {
+  YAML::Node root(YAML::NodeType::Map);
+  std::string section;
+  std::istringstream lines(text);
+  int number = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++number;
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == ';' || line[first] == '#') continue;
+    const std::size_t last = line.find_last_not_of(" \t\r");
+    const std::string content = line.substr(first, last - first + 1);
+    if (content.front() == '[' && content.back() == ']') {
+      section = content.substr(1, content.size() - 2);
+      root[section] = YAML::Node(YAML::NodeType::Map);
+      continue;
+    }
+    const std::size_t equals = content.find('=');
+    require(equals != std::string::npos && equals > 0 && !section.empty(),
+            "INI line " + std::to_string(number) + " is neither [section] nor key = value within a section");
+    auto trim = [](std::string value) {
+      value.erase(0, value.find_first_not_of(" \t"));
+      value.erase(value.find_last_not_of(" \t") + 1);
+      return value;
+    };
+    root[section][trim(content.substr(0, equals))] = trim(content.substr(equals + 1));
+  }
+  return root;
+}
+
+}  // namespace
+
 CalibrationDocument CalibrationDocument::load(const std::string& path) {
   std::error_code ec;
   require(std::filesystem::is_regular_file(path, ec), "file does not exist");
@@ -92,7 +140,9 @@ CalibrationDocument CalibrationDocument::load(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   require(file.good(), "the file is not readable");
   const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (writtenByFileStorage(text)) {
+  if (looksLikeIni(text)) {
+    document.root = parseIni(text);
+  } else if (writtenByFileStorage(text)) {
     // OpenCV 4.6's YAML parser never returns on some malformed texts (fuzz_calibration): yaml-cpp reads them first.
     parameters::requireYamlOpenCvCanRead(text, "", "not a valid OpenCV YAML/XML file");
     const cv::FileStorage storage = parameters::openOpenCvText(text, "", "not a valid OpenCV YAML/XML file");

@@ -9,7 +9,7 @@ namespace {
 const std::vector<CalibrationLayout>& layouts() {
   static const std::vector<CalibrationLayout> all = {openCvStereoCalibrateLayout(), stereoCalibSampleLayout(),
                                                      rosCameraInfoLayout(), kalibrLayout(),
-                                                     matlabStereoParametersLayout()};
+                                                     matlabStereoParametersLayout(), stereoMisIniLayout()};
   return all;
 }
 

@@ -33,6 +33,7 @@ CalibrationLayout stereoCalibSampleLayout();
 CalibrationLayout rosCameraInfoLayout();
 CalibrationLayout kalibrLayout();
 CalibrationLayout matlabStereoParametersLayout();
+CalibrationLayout stereoMisIniLayout();
 
 /// Shared by the readers: D as a 1xN row (column vectors accepted), T as 3x1, an optional image size from
 /// "imageSize" ([width, height]) or "image_width" + "image_height" (empty Size when neither is there).
