@@ -7,6 +7,7 @@
 #include "SyntheticScan.h"
 #include "TissueSurface.h"
 
+#include "Core/Error.h"
 #include "Fusion/PointModel.h"
 #include "Reconstruction/ReconstructionPipeline.h"
 
@@ -16,6 +17,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
 
 using namespace tissuemosaic;
 
@@ -105,4 +109,24 @@ TEST(DeformationPipeline, FollowsBreathingTissueAndLeavesTheRigidResultsAsTheyWe
   EXPECT_LT(canonicalMedian, stereoFloorMm + 0.15);
   EXPECT_GT(peak.deformation.liveShareWithin1mm, peak.deformation.rigidShareWithin1mm + 0.05);
   EXPECT_GT(peak.deformation.maxNodeMotionMm, 2.0) << "the swell's top rose 3 mm";
+}
+
+TEST(DeformationPipeline, TheParameterFileSwitchesItOnAndRefusesOtherValues) {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "tm_deformation_parameters";
+  std::filesystem::create_directories(folder);
+  const auto write = [&](const std::string& name, const std::string& text) {
+    const std::string path = (folder / name).string();
+    std::ofstream(path) << "%YAML:1.0\n---\n" << text;
+    return path;
+  };
+  EXPECT_FALSE(ReconstructionParameters{}.fusion.deformation) << "off by default: the rigid pipeline";
+  EXPECT_TRUE(ReconstructionParameters::readFile(write("on.yml", "fusion:\n  deformation: on\n")).fusion.deformation);
+  EXPECT_FALSE(ReconstructionParameters::readFile(write("off.yml", "fusion:\n  deformation: off\n")).fusion.deformation);
+  try {
+    ReconstructionParameters::readFile(write("bad.yml", "fusion:\n  deformation: maybe\n"));
+    FAIL() << "a value other than on or off was accepted";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("deformation must be \"on\" or \"off\""), std::string::npos) << error.what();
+  }
+  std::filesystem::remove_all(folder);
 }

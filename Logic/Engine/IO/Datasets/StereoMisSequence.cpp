@@ -26,8 +26,11 @@ StereoMisSequence findStereoMisSequence(const std::string& folderOrVideo) {
     }
     require(!videos.empty(), "StereoMIS folder '" + folderOrVideo + "' holds no video (.mp4, .avi, .mkv, .mov)");
     std::sort(videos.begin(), videos.end());
-    require(videos.size() == 1, "StereoMIS folder '" + folderOrVideo + "' holds " + std::to_string(videos.size()) +
-                                    " videos (" + videos[0] + ", " + videos[1] + "...): give the one to read");
+    // The message is built only when it is needed: it names a second video.
+    if (videos.size() != 1) {
+      throw Error("StereoMIS folder '" + folderOrVideo + "' holds " + std::to_string(videos.size()) + " videos (" +
+                  videos[0] + ", " + videos[1] + "...): give the one to read");
+    }
     sequence.video = videos.front();
   } else {
     sequence.video = given.string();

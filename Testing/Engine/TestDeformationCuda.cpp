@@ -1,0 +1,58 @@
+// The deformation (fusion.deformation on, docs/DEFORMATION.md) with the CUDA pipeline against the CPU's (ctest label
+// "cuda"; skipped with a message where no GPU exists). The fit runs on the CPU for both devices, on the frame's
+// disparity that the CUDA stereo computes bit for bit as the CPU's: every frame's deformation figures and the graph
+// must be the same, while the CUDA pipeline keeps its maps on the device (reconstruct's way).
+#include "SyntheticScan.h"
+
+#include "Core/Device.h"
+#include "Reconstruction/ReconstructionPipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+using namespace tissuemosaic;
+
+TEST(DeformationCuda, FollowsTheTissueLikeTheCpu) {
+  if (!cudaAvailable()) GTEST_SKIP() << "no usable CUDA device: " << cudaUnavailableReason();
+  synthetic::SyntheticScanOptions options;
+  options.width = 480;
+  options.height = 270;
+  options.frames = 16;
+  options.seed = 7;
+  options.supersampling = 1;
+  options.minSpeedMmPerS = options.maxSpeedMmPerS = 0;
+  options.hardMode.breathingAmplitudeMm = 3;
+  options.hardMode.breathingPeriodS = 1;  // the peak at frame 15
+  options.hardMode.breathingRadiusMm = 14;
+  const synthetic::SyntheticScan scan(options);
+  ReconstructionParameters parameters;
+  parameters.extractor = FeatureExtractor::TissueMosaicOrb;  // the GPU's extractor, on both devices
+  parameters.fusion.deformation = true;
+  ReconstructionPipeline cpu(scan.geometry(), parameters, Device::Cpu, scan.T_world_camera(0));
+  ReconstructionPipeline gpu(scan.geometry(), parameters, Device::Cuda, scan.T_world_camera(0));
+  gpu.setFrameDisparityKept(false);
+  int fitted = 0;
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
+    const FrameResult a = cpu.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    const FrameResult b = gpu.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    ASSERT_TRUE(a.T_world_camera == b.T_world_camera) << "frame " << k;
+    ASSERT_EQ(a.deformation.fitted, b.deformation.fitted) << "frame " << k;
+    EXPECT_EQ(a.deformation.samples, b.deformation.samples) << "frame " << k;
+    EXPECT_EQ(a.deformation.nodes, b.deformation.nodes) << "frame " << k;
+    EXPECT_EQ(a.deformation.correspondences, b.deformation.correspondences) << "frame " << k;
+    EXPECT_EQ(a.deformation.maxNodeMotionMm, b.deformation.maxNodeMotionMm) << "frame " << k;
+    EXPECT_EQ(a.deformation.liveShareWithin1mm, b.deformation.liveShareWithin1mm) << "frame " << k;
+    fitted += b.deformation.fitted;
+  }
+  EXPECT_GE(fitted, scan.frameCount() - 1);
+  const auto& cpuNodes = cpu.deformationGraph()->nodes();
+  const auto& gpuNodes = gpu.deformationGraph()->nodes();
+  ASSERT_EQ(cpuNodes.size(), gpuNodes.size());
+  for (std::size_t i = 0; i < cpuNodes.size(); ++i) {
+    ASSERT_TRUE(cpuNodes[i].translationMm == gpuNodes[i].translationMm) << "node " << i;
+  }
+  std::printf("CUDA against CPU over %d frames: %d fitted, %zu nodes, the same figures and node motions\n",
+              scan.frameCount(), fitted, gpuNodes.size());
+}
