@@ -53,7 +53,7 @@ struct ReconstructOptions {
   GeometryOptions geometry;
   std::string out;
   std::optional<std::string> trajectory, framesTrajectory, timingJson, qualityJson, snapshot, startTum, params;
-  std::optional<std::string> deformation, deformationOut;
+  std::optional<std::string> deformation, deformationOut, canonicalOut;
   std::optional<int> maxFrames;
   DisparityRangeOptions range;
   DeviceOption device;
@@ -76,6 +76,7 @@ void runReconstruct(ReconstructOptions options) {
   if (options.qualityJson) requireWritableOutput(*options.qualityJson, "quality JSON (--quality-json)");
   if (options.timingJson) requireWritableOutput(*options.timingJson, "timing JSON (--timing-json)");
   if (options.deformationOut) requireWritableOutput(*options.deformationOut, "deformation record (--deformation-out)");
+  if (options.canonicalOut) requireWritableOutput(*options.canonicalOut, "canonical surface (--canonical-out)");
   if (options.snapshot) {
     checkSnapshotAvailable();
     requireWritableOutput(*options.snapshot, "snapshot (--snapshot)");
@@ -87,8 +88,9 @@ void runReconstruct(ReconstructOptions options) {
   if (options.params) parameters = ReconstructionParameters::readFile(*options.params);
   options.range.applyTo(parameters.stereo);
   if (options.deformation) parameters.fusion.deformation = *options.deformation == "on";
-  require(!options.deformationOut || parameters.fusion.deformation,
-          "--deformation-out needs the deformation on (--deformation on, or fusion.deformation: on in --params)");
+  require((!options.deformationOut && !options.canonicalOut) || parameters.fusion.deformation,
+          std::string(options.deformationOut ? "--deformation-out" : "--canonical-out") +
+              " needs the deformation on (--deformation on, or fusion.deformation: on in --params)");
   parameters.validate();
   const Device device = options.device.resolve();
 
@@ -204,6 +206,17 @@ void runReconstruct(ReconstructOptions options) {
                        "TissueMosaic reconstruct: every tracked frame, T_world_camera, mm\nt tx ty tz qx qy qz qw\n" +
                            framesLog);
   }
+  if (options.canonicalOut) {
+    const DeformationTracker& field = *pipeline->deformation();
+    ColoredPointCloud canonical;
+    for (std::size_t i = 0; i < field.canonicalPoints().size(); ++i) {
+      const Eigen::Vector3d& p = field.canonicalPoints()[i];
+      const Eigen::Vector3d& n = field.canonicalNormals()[i];
+      canonical.pointsMm.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      canonical.normals.emplace_back(static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z()));
+    }
+    writePly(*options.canonicalOut, canonical, "TissueMosaic deformation: canonical surface samples, world frame, mm");
+  }
   std::string snapshotLine;
   if (options.snapshot) snapshotLine = renderSnapshot(*options.snapshot, *pipeline);
 
@@ -293,6 +306,11 @@ void setupReconstruct(CLI::App& tool, CommandUse use) {
                       "every frame's deformation graph as JSON Lines: {\"frame\", \"time_s\", \"nodes\": [[gx, gy, gz, "
                       "tx, ty, tz, rx, ry, rz], ...]} (rest position, motion in mm, rotation vector; docs/DEFORMATION.md)")
       ->type_name("d.jsonl")
+      ->group(heading::output);
+  command->add_option("--canonical-out", options->canonicalOut,
+                      "the deformation's canonical surface at the end: its samples where the tissue rests (the first "
+                      "frame's state), with normals, as PLY (needs --deformation on; docs/DEFORMATION.md)")
+      ->type_name("canonical.ply")
       ->group(heading::output);
   command->add_option("--snapshot", options->snapshot, "an offscreen rendering of the model and the key-frame frusta "
                                                        "(needs VTK)")

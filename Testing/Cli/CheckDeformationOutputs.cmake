@@ -3,8 +3,8 @@
 # --deformation on, --deformation-out and --quality-json, and checks the contracts of docs/DEFORMATION.md: one JSON
 # line per fitted frame with "frame", "time_s" and "nodes" of nine numbers each, node count never falling; the
 # quality records' "deformation_mean_mm", "deformation_max_mm", "live_share_within_1mm", "rigid_share_within_1mm":
-# null on the first frame, numbers on every later tracked frame; the model equal to the one reconstructed without
-# the deformation (the rigid pipeline's, bit for bit).
+# null on the first frame, numbers on every later tracked frame; --canonical-out's PLY; the model equal to the one
+# reconstructed without the deformation (the rigid pipeline's, bit for bit).
 set(record "${SCAN}/deformation.jsonl")
 set(quality "${SCAN}/deformation_quality.json")
 file(REMOVE "${record}" "${quality}")
@@ -20,6 +20,7 @@ endforeach()
 execute_process(COMMAND "${CLI}" reconstruct --left-frames "${SCAN}/left" --right-frames "${SCAN}/right"
                         --calib "${SCAN}/rig.yml" --rectified --device cpu --quiet --out "${SCAN}/model_record.ply"
                         --deformation on --deformation-out "${record}" --quality-json "${quality}"
+                        --canonical-out "${SCAN}/canonical.ply"
                 RESULT_VARIABLE status ERROR_VARIABLE err)
 if(NOT status EQUAL 0)
   message(FATAL_ERROR "reconstruct --deformation-out failed (${status}): ${err}")
@@ -68,5 +69,10 @@ file(READ "${SCAN}/quality_off.json" q_off)
 string(JSON off_type TYPE "${q_off}" 1 deformation_max_mm)
 if(NOT off_type STREQUAL "NULL")
   message(FATAL_ERROR "with --deformation off the deformation figures should be null")
+endif()
+# --canonical-out: a PLY of the samples with normals.
+file(READ "${SCAN}/canonical.ply" header LIMIT 600)
+if(NOT header MATCHES "element vertex ([0-9]+)" OR CMAKE_MATCH_1 LESS 100 OR NOT header MATCHES "property float nx")
+  message(FATAL_ERROR "--canonical-out wrote no PLY of 100 samples or more with normals: ${header}")
 endif()
 message(STATUS "ok: ${line_count} deformation lines, ${previous_nodes} nodes at the end; the model is the rigid one")
