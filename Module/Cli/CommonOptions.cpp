@@ -2,7 +2,6 @@
 #include "Commands.h"
 
 #include "Core/Error.h"
-#include "Core/RectifiedGeometryFromPinhole.h"
 #include "IO/Calibration/CalibrationFile.h"
 #include "Stereo/StereoParameters.h"
 
@@ -127,28 +126,21 @@ void addGeometryOptions(CLI::App& command, GeometryOptions& geometry) {
 
 StereoGeometry resolveGeometry(const GeometryOptions& options, const cv::Size& frameSize,
                                const std::string& framesDescription) {
-  StereoGeometry geometry;
+  StereoGeometrySpec spec;
   if (!options.calib.empty()) {
-    const CalibrationFileContent content =
+    spec.calibration =
         readCalibrationFiles(CalibrationFiles{options.calib, options.calibExtrinsics, options.calibRight});
-    StereoCalibration calibration = content.calibration;
-    geometry.calibrationLayout = content.layout;
-    geometry.imageSizeFromFrames = calibration.imageSize.empty();
-    calibration.adoptFrameSize(frameSize, framesDescription);
-    auto rectifier = std::make_shared<const StereoRectifier>(calibration);
-    geometry.rectified = rectifier->geometry();
-    geometry.calibration = calibration;
-    if (!options.rectified) geometry.rectifier = rectifier;
-    return geometry;
-  }
-  if (!options.focalPx) {
+    spec.framesRectified = options.rectified;
+  } else if (!options.focalPx) {
     throw UsageError("give the geometry: --calib rig.yml, or --focal-px and --baseline-mm for rectified frames");
+  } else {
+    spec.focalPx = *options.focalPx;
+    spec.baselineMm = *options.baselineMm;
+    spec.cxPx = options.cxPx;
+    spec.cyPx = options.cyPx;
+    spec.doffsPx = options.doffsPx.value_or(0.0);
   }
-  const double unset = std::numeric_limits<double>::quiet_NaN();  // the image centre
-  geometry.rectified = rectifiedGeometryFromPinhole(frameSize, *options.focalPx, *options.baselineMm,
-                                                    options.cxPx.value_or(unset), options.cyPx.value_or(unset),
-                                                    options.doffsPx.value_or(0.0));
-  return geometry;
+  return resolveStereoGeometry(spec, frameSize, framesDescription);
 }
 
 std::string geometryOptionsText(const RectifiedGeometry& geometry) {

@@ -7,6 +7,7 @@
 /// geometry) with a UsageError.
 #include "Core/Device.h"
 #include "Core/StereoRig.h"
+#include "IO/StereoGeometry.h"
 
 #include <CLI/CLI.hpp>
 
@@ -63,16 +64,9 @@ struct GeometryOptions {
 };
 void addGeometryOptions(CLI::App& command, GeometryOptions& geometry);
 
-/// What the geometry options mean for frames of one size.
-struct StereoGeometry {
-  RectifiedGeometry rectified;                       ///< of the rectified frames the engine works on
-  std::optional<StereoCalibration> calibration;      ///< the rig, when --calib was given
-  std::shared_ptr<const StereoRectifier> rectifier;  ///< set when the frames must be rectified first
-  std::string calibrationLayout;                     ///< the calibration file's layout, e.g. "Kalibr camchain.yaml"
-  bool imageSizeFromFrames = false;                  ///< the calibration file gave no image size
-};
-/// Checks the options (UsageError: none, or both kinds) and that a calibration is for frames of `frameSize`
-/// (Error naming `framesDescription` otherwise); a calibration file without image size takes `frameSize`.
+/// Checks the options (UsageError: none, or both kinds) and resolves them through the engine (IO/StereoGeometry.h):
+/// a calibration must be for frames of `frameSize` (Error naming `framesDescription`), a file without image size
+/// takes it.
 StereoGeometry resolveGeometry(const GeometryOptions& geometry, const cv::Size& frameSize,
                                const std::string& framesDescription);
 
