@@ -132,18 +132,22 @@ std::unique_ptr<Reconstruction> makeReconstruction(std::shared_ptr<Rig> rig, con
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c) T_world_start(r, c) = pose.at(r, c);
   }
-  return std::make_unique<Reconstruction>(std::move(rig), readParameters(params), readDevice(device), T_world_start,
+  ReconstructionParameters parameters = readParameters(params);
+  const Device chosen = readDevice(device);
+  py::gil_scoped_release release;  // the pipeline is built here when the rig knows the frames' size
+  return std::make_unique<Reconstruction>(std::move(rig), std::move(parameters), chosen, T_world_start,
                                           keepDisparity);
 }
 
 PyFrameResult process(Reconstruction& reconstruction, const py::array& left, const py::array& right, double timeS,
                       bool bgr) {
-  const cv::Mat leftImage = engineImage(left, bgr, "left"), rightImage = engineImage(right, bgr, "right");
+  // Views of the arrays; an RGB pair is converted inside, with the GIL released, into buffers kept between frames.
+  const cv::Mat leftImage = imageView(left, "left"), rightImage = imageView(right, "right");
   FrameResult result;
   double engineMs = 0;
   {
     py::gil_scoped_release release;
-    result = reconstruction.process(leftImage, rightImage, timeS, &engineMs);
+    result = reconstruction.process(leftImage, rightImage, !bgr, timeS, &engineMs);
   }
   return convert(result, engineMs);
 }

@@ -5,6 +5,8 @@
 #include "Core/Error.h"
 #include "Core/Stopwatch.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <chrono>
 
 namespace tissuemosaic::python {
@@ -16,21 +18,38 @@ Reconstruction::Reconstruction(std::shared_ptr<Rig> rig, ReconstructionParameter
   require(rig_ != nullptr, "Reconstruction needs a rig (Rig.from_file or Rig.rectified)");
   parameters_.validate();
   requireUsableDevice(device_, "Reconstruction");
+  // Built now when the rig knows the frames' size (the usual case), else at the first frame.
+  if (const std::optional<cv::Size> size = rig_->imageSize()) build(*size);
 }
 
-FrameResult Reconstruction::process(const cv::Mat& left, const cv::Mat& right, double timeS, double* engineMs) {
+void Reconstruction::build(const cv::Size& frameSize) {
+  // As the command line: a calibration whose frames are raw makes the pipeline rectify them itself.
+  const std::shared_ptr<const StereoGeometry> geometry = rig_->resolve(frameSize, "the frames given to process()");
+  pipeline_ = geometry->rectifier
+                  ? std::make_unique<ReconstructionPipeline>(*geometry->calibration, parameters_, device_,
+                                                             T_world_startCamera_)
+                  : std::make_unique<ReconstructionPipeline>(geometry->rectified, parameters_, device_,
+                                                             T_world_startCamera_);
+  pipeline_->setFrameDisparityKept(keepDisparity_);
+}
+
+FrameResult Reconstruction::process(const cv::Mat& leftGiven, const cv::Mat& rightGiven, bool rgb, double timeS,
+                                    double* engineMs) {
   const std::lock_guard<std::mutex> lock(mutex_);
-  require(left.size() == right.size(), cv::format("the left frame is %dx%d but the right one %dx%d", left.cols,
-                                                  left.rows, right.cols, right.rows));
+  require(leftGiven.size() == rightGiven.size(),
+          cv::format("the left frame is %dx%d but the right one %dx%d", leftGiven.cols, leftGiven.rows,
+                     rightGiven.cols, rightGiven.rows));
   if (!pipeline_) {
-    // As the command line: a calibration whose frames are raw makes the pipeline rectify them itself.
-    const std::shared_ptr<const StereoGeometry> geometry = rig_->resolve(left.size(), "the frames given to process()");
-    pipeline_ = geometry->rectifier
-                    ? std::make_unique<ReconstructionPipeline>(*geometry->calibration, parameters_, device_,
-                                                               T_world_startCamera_)
-                    : std::make_unique<ReconstructionPipeline>(geometry->rectified, parameters_, device_,
-                                                               T_world_startCamera_);
-    pipeline_->setFrameDisparityKept(keepDisparity_);
+    build(leftGiven.size());
+  } else if (leftGiven.size() != pipeline_->geometry().imageSize) {
+    rig_->resolve(leftGiven.size(), "the frames given to process()");  // the CLI's message: "the calibration is for"
+  }
+  cv::Mat left = leftGiven, right = rightGiven;
+  if (rgb && left.channels() == 3) {
+    cv::cvtColor(leftGiven, leftBgr_, cv::COLOR_RGB2BGR);
+    cv::cvtColor(rightGiven, rightBgr_, cv::COLOR_RGB2BGR);
+    left = leftBgr_;
+    right = rightBgr_;
   }
   const auto start = std::chrono::steady_clock::now();
   FrameResult result = pipeline_->process(left, right, timeS);

@@ -21,9 +21,10 @@ public:
   Reconstruction(std::shared_ptr<Rig> rig, ReconstructionParameters parameters, Device device,
                  const Eigen::Matrix4d& T_world_startCamera, bool keepDisparity);
 
-  /// One frame (the engine's 8-bit BGR or grey images). Thread-safe: calls on one object run one at a time.
-  /// engineMs: the milliseconds of ReconstructionPipeline::process alone.
-  FrameResult process(const cv::Mat& left, const cv::Mat& right, double timeS, double* engineMs);
+  /// One frame: 8-bit BGR or grey images, or RGB ones (rgb: converted into buffers this object keeps, which the
+  /// pipeline does not hold past process(): no allocation and no page faults per frame). Thread-safe: calls on one
+  /// object run one at a time. engineMs: the milliseconds of ReconstructionPipeline::process alone.
+  FrameResult process(const cv::Mat& left, const cv::Mat& right, bool rgb, double timeS, double* engineMs);
 
   int frameCount() const;
   ModelPoints model() const;
@@ -38,6 +39,7 @@ public:
 
 private:
   const ReconstructionPipeline& pipeline() const;  ///< Error before the first frame
+  void build(const cv::Size& frameSize);            ///< the pipeline for frames of this size (under the lock)
 
   std::shared_ptr<Rig> rig_;
   ReconstructionParameters parameters_;
@@ -48,6 +50,7 @@ private:
   std::unique_ptr<ReconstructionPipeline> pipeline_;
   TimingTable timing_;
   Trajectory framePoses_;
+  cv::Mat leftBgr_, rightBgr_;  ///< RGB input converted
 };
 
 }  // namespace tissuemosaic::python
