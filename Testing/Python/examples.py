@@ -13,3 +13,12 @@ def run_example(name, *arguments):
                                text=True)
     assert completed.returncode == 0, f"{name} exited {completed.returncode}:\n{completed.stderr}"
     return json.loads(completed.stdout)
+
+
+def example_module(name):
+    """An example script imported as a module (its helpers, e.g. reconstruct_video.first_tum_pose)."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(name, EXAMPLES / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
