@@ -162,14 +162,6 @@ void addParamsOption(CLI::App& command, std::optional<std::string>& path, const 
       ->group(heading::common);
 }
 
-void requireDisparityRangeMeetsImage(const StereoParameters& parameters, int widthPx) {
-  if (parameters.disparityRangeMode != DisparityRangeMode::Fixed) return;  // the others are measured or derived
-  if (parameters.minDisparityPx < widthPx && parameters.maxDisparityPx > -widthPx) return;
-  throw Error(cv::format("the disparity range %d..%d px lies beyond the %d-pixel-wide frames: no left pixel can match "
-                         "a right one (set --min-disparity/--max-disparity within +-%d)",
-                         parameters.minDisparityPx, parameters.maxDisparityPx, widthPx, widthPx - 1));
-}
-
 namespace {
 
 /// "A:B" as two finite numbers; nullopt for anything else.

@@ -85,9 +85,6 @@ void addDeviceOption(CLI::App& command, DeviceOption& device, const std::string&
 /// --params p.yml: OpenCV YAML/XML parameters; `nodes` says which nodes this command reads.
 void addParamsOption(CLI::App& command, std::optional<std::string>& path, const std::string& nodes);
 
-/// Throws Error when no disparity of a fixed range can match inside frames widthPx wide (it would give 0 % density).
-void requireDisparityRangeMeetsImage(const StereoParameters& parameters, int widthPx);
-
 /// The stereo disparity range, overriding the parameters file's (whose default is the automatic range).
 struct DisparityRangeOptions {
   std::optional<int> minPx, maxPx;

@@ -88,6 +88,11 @@ def test_disparity_range_arguments(pair):
         tm.stereo(pair["left"], pair["right"], disparity_range=(5, 2))
     with pytest.raises(ValueError, match=r"disparity_range: expected \"auto\""):
         tm.stereo(pair["left"], pair["right"], disparity_range="wide")
+    with pytest.raises(tm.Error, match=r"the disparity range 400\.\.500 px lies beyond the 320-pixel-wide frames"):
+        tm.stereo(pair["left"], pair["right"], disparity_range=(400, 500))
+    with pytest.raises(tm.Error, match=r"the disparity range 400\.\.500 px lies beyond the 320-pixel-wide frames"):
+        tm.Reconstruction(pair["rectified_rig"], params={"stereo": {"disparityRange": "fixed", "minDisparityPx": 400,
+                                                                    "maxDisparityPx": 500}})
     # A featureless pair: the automatic range has too few matches, and says so.
     grey = np.full((180, 320, 3), 128, np.uint8)
     with pytest.raises(tm.Error, match=r"match"):

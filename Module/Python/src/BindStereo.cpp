@@ -48,6 +48,7 @@ StereoResult stereo(const py::array& left, const py::array& right, const std::sh
         rightImage = rightRectified;
       }
     }
+    requireDisparityRangeMeetsImage(parameters, leftImage.cols);
     require(parameters.disparityRangeMode != DisparityRangeMode::WorkingDistance || geometry,
             "a working distance (the parameters' disparity range) needs the rig to become disparities: give rig=");
     result = computePairDisparity(leftImage, rightImage, parameters, geometry ? geometry->rectified : RectifiedGeometry{},

@@ -25,6 +25,7 @@ Reconstruction::Reconstruction(std::shared_ptr<Rig> rig, ReconstructionParameter
 void Reconstruction::build(const cv::Size& frameSize) {
   // As the command line: a calibration whose frames are raw makes the pipeline rectify them itself.
   const std::shared_ptr<const StereoGeometry> geometry = rig_->resolve(frameSize, "the frames given to process()");
+  requireDisparityRangeMeetsImage(parameters_.stereo, frameSize.width);
   pipeline_ = geometry->rectifier
                   ? std::make_unique<ReconstructionPipeline>(*geometry->calibration, parameters_, device_,
                                                              T_world_startCamera_)
