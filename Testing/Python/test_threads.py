@@ -1,6 +1,9 @@
 """Two reconstructions processed at once on two threads give what each gives alone: they share no state, and the
 GIL, released while the engine works, lets them run side by side."""
+import re
+import sys
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -70,3 +73,53 @@ def test_one_reconstruction_from_two_threads_takes_frames_one_at_a_time(two_inpu
         thread.join()
     assert not errors
     assert reconstruction.frame_count == len(frames)
+
+
+def progress_during(call, repeats):
+    """How far a counter on another thread got during each of `repeats` calls of call(). The switch interval is set
+    so long that the interpreter never takes the GIL from a thread: the counter, which gives it up at each step
+    (time.sleep(0)), advances only while call() has released it, and stands still while call() holds it."""
+    counter = [0]
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            counter[0] += 1
+            time.sleep(0)
+
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1000.0)
+    thread = threading.Thread(target=count)
+    thread.start()
+    try:
+        progress = []
+        for _ in range(repeats):
+            before = counter[0]
+            call()
+            progress.append(counter[0] - before)
+        return progress
+    finally:
+        stop.set()
+        thread.join()
+        sys.setswitchinterval(interval)
+
+
+def test_the_gil_is_released_while_the_engine_works(two_inputs):
+    rig, frames = two_inputs[0]
+    reconstruction = tm.Reconstruction(rig, device="cpu")
+    frames_left = iter(frames)
+
+    def process():
+        left, right, time_s = next(frames_left)
+        reconstruction.process(left, right, time_s)
+
+    processing = progress_during(process, 9)
+    left, right, _ = frames[0]
+    matching = progress_during(lambda: tm.stereo(left, right, device="cpu"), 5)
+    # Control: a regular expression that backtracks for a while (about 50 ms) holds the GIL throughout.
+    backtracking = re.compile(r"(a|aa)+$")
+    holding = progress_during(lambda: backtracking.match("a" * 28 + "b"), 5)
+    print("counter steps per call: process", processing, "stereo", matching, "a GIL-holding call", holding)
+    assert all(steps > 1 for steps in processing)
+    assert all(steps > 1 for steps in matching)
+    assert all(steps <= 1 for steps in holding)
