@@ -145,3 +145,65 @@ def test_evaluate_gives_the_cli_figures(out_dir, cli, with_gui):
     # From memory (the Model) the same figures as from the file.
     assert tm.evaluate(reconstruction.model(), scan["surface"]) == figures
     assert figures["points"] == len(reconstruction.model()) and figures["rmse_mm"] < 1.0
+
+
+LAYOUTS = {
+    # docs/CALIBRATION.md's minimal examples, the same rig in four layouts (ROS: 780 px, 5 mm after rectification).
+    "opencv": {"rig.yml": "%YAML:1.0\n---\nimageSize: [640, 480]\nK1: [[800, 0, 320], [0, 800, 240], [0, 0, 1]]\n"
+                          "D1: [-0.1, 0.01, 0, 0, 0]\nK2: [[800, 0, 315], [0, 800, 240], [0, 0, 1]]\n"
+                          "D2: [-0.1, 0.01, 0, 0, 0]\nR: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\nT: [-5, 0, 0]\n"},
+    "stereo_calib": {"intrinsics.yml": "%YAML:1.0\n---\nM1: [[800, 0, 320], [0, 800, 240], [0, 0, 1]]\n"
+                                       "D1: [-0.1, 0.01, 0, 0, 0]\nM2: [[800, 0, 315], [0, 800, 240], [0, 0, 1]]\n"
+                                       "D2: [-0.1, 0.01, 0, 0, 0]\n",
+                     "extrinsics.yml": "%YAML:1.0\n---\nR: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\nT: [-5, 0, 0]\n"},
+    "kalibr": {"camchain.yaml": "cam0:\n  camera_model: pinhole\n  intrinsics: [800, 800, 320, 240]\n"
+                                "  distortion_model: radtan\n  distortion_coeffs: [-0.1, 0.01, 0, 0]\n"
+                                "  resolution: [640, 480]\ncam1:\n  camera_model: pinhole\n"
+                                "  intrinsics: [800, 800, 315, 240]\n  distortion_model: radtan\n"
+                                "  distortion_coeffs: [-0.1, 0.01, 0, 0]\n  resolution: [640, 480]\n"
+                                "  T_cn_cnm1:\n  - [1, 0, 0, -0.005]\n  - [0, 1, 0, 0]\n  - [0, 0, 1, 0]\n"
+                                "  - [0, 0, 0, 1]\n"},
+}
+
+
+@pytest.mark.parametrize("layout", sorted(LAYOUTS))
+def test_every_calibration_layout_gives_the_same_rig(layout, out_dir):
+    folder = out_dir / "layouts" / layout
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, text in LAYOUTS[layout].items():
+        (folder / name).write_text(text)
+    main_file = {"opencv": "rig.yml", "stereo_calib": "intrinsics.yml", "kalibr": "camchain.yaml"}[layout]
+    rig = tm.Rig.from_file(folder / main_file,
+                           extrinsics=folder / "extrinsics.yml" if layout == "stereo_calib" else None)
+    assert rig.layout
+    intrinsics = rig.intrinsics(image_size=(640, 480))  # stereo_calib files carry no image size
+    reference = tm.Rig.from_file(reference_rig(out_dir)).intrinsics()
+    for key in ("focal_px", "cx_px", "cy_px", "baseline_mm"):
+        assert intrinsics[key] == pytest.approx(reference[key], rel=1e-9, abs=1e-9), key
+
+
+def reference_rig(out_dir):
+    path = out_dir / "layouts" / "reference.yml"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(LAYOUTS["opencv"]["rig.yml"])
+    return path
+
+
+def test_ros_camera_info_pair(out_dir):
+    folder = out_dir / "layouts" / "ros"
+    folder.mkdir(parents=True, exist_ok=True)
+    eye = ("image_width: 640\nimage_height: 480\ncamera_name: stereo/{name}\n"
+           "camera_matrix: {{rows: 3, cols: 3, data: [800, 0, 320, 0, 800, 240, 0, 0, 1]}}\n"
+           "distortion_model: plumb_bob\n"
+           "distortion_coefficients: {{rows: 1, cols: 5, data: [-0.1, 0.01, 0, 0, 0]}}\n"
+           "rectification_matrix: {{rows: 3, cols: 3, data: [1, 0, 0, 0, 1, 0, 0, 0, 1]}}\n"
+           "projection_matrix: {{rows: 3, cols: 4, data: [780, 0, 318, {tx}, 0, 780, 241, 0, 0, 0, 1, 0]}}\n")
+    (folder / "left.yaml").write_text(eye.format(name="left", tx=0))
+    (folder / "right.yaml").write_text(eye.format(name="right", tx=-3.9))
+    rig = tm.Rig.from_file(folder / "left.yaml", right=folder / "right.yaml")
+    intrinsics = rig.intrinsics()
+    assert rig.image_size == (640, 480)
+    assert (intrinsics["focal_px"], intrinsics["cx_px"], intrinsics["cy_px"]) == (780, 318, 241)
+    assert intrinsics["baseline_mm"] == pytest.approx(5.0)
+    with pytest.raises(ValueError, match="not both"):
+        tm.Rig.from_file(folder / "left.yaml", right=folder / "right.yaml", extrinsics=folder / "right.yaml")
