@@ -2,7 +2,6 @@
 #include "Commands.h"
 
 #include "Core/Error.h"
-#include "Core/RectifiedGeometryFromPinhole.h"
 #include "IO/Calibration/CalibrationFile.h"
 #include "Stereo/StereoParameters.h"
 
@@ -142,31 +141,23 @@ void addGeometryOptions(CLI::App& command, GeometryOptions& geometry) {
 
 StereoGeometry resolveGeometry(const GeometryOptions& options, const cv::Size& frameSize,
                                const std::string& framesDescription) {
-  StereoGeometry geometry;
+  StereoGeometrySpec spec;
   if (!options.calib.empty()) {
-    const CalibrationFileContent content =
+    spec.calibration =
         readCalibrationFiles(CalibrationFiles{options.calib, options.calibExtrinsics, options.calibRight});
-    StereoCalibration calibration = content.calibration;
-    geometry.calibrationLayout = content.layout;
-    geometry.imageSizeFromFrames = calibration.imageSize.empty();
-    calibration.adoptFrameSize(frameSize, framesDescription);
-    auto rectifier = std::make_shared<const StereoRectifier>(calibration);
-    geometry.rectified = rectifier->geometry();
-    geometry.calibration = calibration;
-    if (!options.rectified) geometry.rectifier = rectifier;
-    return geometry;
-  }
-  if (options.baselineMm && !options.focalPx) {
+    spec.framesRectified = options.rectified;
+  } else if (options.baselineMm && !options.focalPx) {
     throw UsageError("--baseline-mm needs --focal-px (or --hamlyn, whose intrinsics.txt gives it)");
-  }
-  if (!options.focalPx) {
+  } else if (!options.focalPx) {
     throw UsageError("give the geometry: --calib rig.yml, or --focal-px and --baseline-mm for rectified frames");
+  } else {
+    spec.focalPx = *options.focalPx;
+    spec.baselineMm = *options.baselineMm;
+    spec.cxPx = options.cxPx;
+    spec.cyPx = options.cyPx;
+    spec.doffsPx = options.doffsPx.value_or(0.0);
   }
-  const double unset = std::numeric_limits<double>::quiet_NaN();  // the image centre
-  geometry.rectified = rectifiedGeometryFromPinhole(frameSize, *options.focalPx, *options.baselineMm,
-                                                    options.cxPx.value_or(unset), options.cyPx.value_or(unset),
-                                                    options.doffsPx.value_or(0.0));
-  return geometry;
+  return resolveStereoGeometry(spec, frameSize, framesDescription);
 }
 
 std::string geometryOptionsText(const RectifiedGeometry& geometry) {
@@ -186,14 +177,6 @@ void addParamsOption(CLI::App& command, std::optional<std::string>& path, const 
                   "parameters file (OpenCV YAML/XML; nodes " + nodes + "; missing keys keep the paper's defaults)")
       ->type_name("p.yml")
       ->group(heading::common);
-}
-
-void requireDisparityRangeMeetsImage(const StereoParameters& parameters, int widthPx) {
-  if (parameters.disparityRangeMode != DisparityRangeMode::Fixed) return;  // the others are measured or derived
-  if (parameters.minDisparityPx < widthPx && parameters.maxDisparityPx > -widthPx) return;
-  throw Error(cv::format("the disparity range %d..%d px lies beyond the %d-pixel-wide frames: no left pixel can match "
-                         "a right one (set --min-disparity/--max-disparity within +-%d)",
-                         parameters.minDisparityPx, parameters.maxDisparityPx, widthPx, widthPx - 1));
 }
 
 namespace {

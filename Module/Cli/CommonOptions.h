@@ -7,6 +7,7 @@
 /// geometry) with a UsageError.
 #include "Core/Device.h"
 #include "Core/StereoRig.h"
+#include "IO/StereoGeometry.h"
 #include "IO/TrajectoryTum.h"
 
 #include <CLI/CLI.hpp>
@@ -78,16 +79,9 @@ struct GeometryOptions {
 };
 void addGeometryOptions(CLI::App& command, GeometryOptions& geometry);
 
-/// What the geometry options mean for frames of one size.
-struct StereoGeometry {
-  RectifiedGeometry rectified;                       ///< of the rectified frames the engine works on
-  std::optional<StereoCalibration> calibration;      ///< the rig, when --calib was given
-  std::shared_ptr<const StereoRectifier> rectifier;  ///< set when the frames must be rectified first
-  std::string calibrationLayout;                     ///< the calibration file's layout, e.g. "Kalibr camchain.yaml"
-  bool imageSizeFromFrames = false;                  ///< the calibration file gave no image size
-};
-/// Checks the options (UsageError: none, or both kinds) and that a calibration is for frames of `frameSize`
-/// (Error naming `framesDescription` otherwise); a calibration file without image size takes `frameSize`.
+/// Checks the options (UsageError: none, or both kinds) and resolves them through the engine (IO/StereoGeometry.h):
+/// a calibration must be for frames of `frameSize` (Error naming `framesDescription`), a file without image size
+/// takes it.
 StereoGeometry resolveGeometry(const GeometryOptions& geometry, const cv::Size& frameSize,
                                const std::string& framesDescription);
 
@@ -105,9 +99,6 @@ void addDeviceOption(CLI::App& command, DeviceOption& device, const std::string&
 
 /// --params p.yml: OpenCV YAML/XML parameters; `nodes` says which nodes this command reads.
 void addParamsOption(CLI::App& command, std::optional<std::string>& path, const std::string& nodes);
-
-/// Throws Error when no disparity of a fixed range can match inside frames widthPx wide (it would give 0 % density).
-void requireDisparityRangeMeetsImage(const StereoParameters& parameters, int widthPx);
 
 /// The stereo disparity range, overriding the parameters file's (whose default is the automatic range).
 struct DisparityRangeOptions {

@@ -4,6 +4,8 @@
 #include "IgtLinkOptions.h"
 
 #include "IO/StereoFrameSource.h"
+#include "IO/StereoInput.h"
+#include "IO/StereoVideoLayout.h"
 
 namespace tissuemosaic::cli {
 
@@ -19,11 +21,16 @@ std::unique_ptr<StereoFrameSource> openInput(const InputOptions& input) {
   if (input.videoLayout != "sbs" && !packed && input.igtlSbs.empty()) {
     throw UsageError("--video-layout applies to --video and --igtl-sbs");
   }
-  const VideoLayout layout = parseVideoLayout(input.videoLayout);
-  if (folders) return StereoFrameSource::openFrameFolders(input.leftFrames, input.rightFrames, input.fps);
-  if (videos) return StereoFrameSource::openVideoPair(input.leftVideo, input.rightVideo);
-  if (igtl) return openIgtLinkInput(input, layout);
-  return StereoFrameSource::openStereoVideo(input.video, layout);
+  if (igtl) return openIgtLinkInput(input, parseVideoLayout(input.videoLayout));
+  StereoInputPaths paths;
+  paths.leftFrames = input.leftFrames;
+  paths.rightFrames = input.rightFrames;
+  paths.leftVideo = input.leftVideo;
+  paths.rightVideo = input.rightVideo;
+  paths.video = input.video;
+  paths.layout = input.videoLayout;
+  paths.fps = input.fps;
+  return openStereoInput(paths);
 }
 
 }  // namespace tissuemosaic::cli

@@ -11,6 +11,14 @@ class ReconstructionPipeline;
 
 namespace tissuemosaic::cli {
 
+/// The comment in the header of a reconstructed model's file (reconstruct, the Python module's save()).
+inline const char* const kReconstructedModelComment =
+    "TissueMosaic reconstruct: world frame = first left rectified camera, mm";
+/// The header of the key-frame trajectory file (reconstruct --trajectory, the Python module's save()).
+inline const char* const kKeyFrameTrajectoryHeader =
+    "TissueMosaic reconstruct: key frames, T_world_camera of the left rectified camera, mm\n"
+    "t tx ty tz qx qy qz qw";
+
 /// Throws Error, before any work is done, when the model path's extension cannot be written by this build.
 void checkModelOutputPath(const std::string& path);
 /// Binary PLY (xyz, rgb, normals) or, for .vtp, VTK XML poly data with the LPS mark.

@@ -188,7 +188,7 @@ void runReconstruct(ReconstructOptions options) {
   }
   require(model.size() > 0, "the reconstruction produced no model points (tracking never started?)");
   OutputBatch outputs;  // the model, trajectories, snapshot and timing replace existing files together, or not at all
-  writeModelFile(options.out, model.cloud, "TissueMosaic reconstruct: world frame = first left rectified camera, mm");
+  writeModelFile(options.out, model.cloud, kReconstructedModelComment);
   if (options.trajectory) {
     Trajectory keyFrames;
     for (const KeyFramePose& k : pipeline->keyFrames()) {
@@ -197,9 +197,7 @@ void runReconstruct(ReconstructOptions options) {
       pose.T_world_camera = k.T_world_camera;
       keyFrames.push_back(pose);
     }
-    writeTumTrajectory(*options.trajectory, keyFrames,
-                       "TissueMosaic reconstruct: key frames, T_world_camera of the left rectified camera, mm\n"
-                       "t tx ty tz qx qy qz qw");
+    writeTumTrajectory(*options.trajectory, keyFrames, kKeyFrameTrajectoryHeader);
   }
   if (options.framesTrajectory) {
     writeTumTrajectory(*options.framesTrajectory, framePoses,

@@ -8,8 +8,10 @@
 #include "IO/ImageFile.h"
 #include "IO/PointCloudPly.h"
 #include "Reconstruction/ReconstructionParameters.h"
+#include "Stereo/DisparityRangeEstimator.h"
 #include "Stereo/DisparityRangeFollower.h"
 #include "Stereo/DisparityScore.h"
+#include "Stereo/PairDisparity.h"
 #include "Stereo/StereoMatcher.h"
 
 #include <opencv2/core.hpp>
@@ -99,21 +101,19 @@ void runStereo(const StereoOptions& options) {
   }
 
   requireGeometryForWorkingDistance(parameters, geometry.has_value());
-  DisparityRangeFollower range(parameters, geometry ? geometry->rectified : RectifiedGeometry{}, device);
-  StereoMatcher matcher(device, parameters);
+  PairDisparity pairDisparity;
   try {
-    matcher.setDisparityRange(range.beforeFrame(left, right));
+    pairDisparity = computePairDisparity(left, right, parameters, geometry ? geometry->rectified : RectifiedGeometry{},
+                                         device, options.explain.has_value());
   } catch (const DisparityRangeError& error) {
     rethrowWithRangeOptions(error);
   }
-  std::printf("disparity range %s\n", range.description().c_str());
-  const std::string rowWarning = rowOffsetWarning(range.history());
+  std::printf("disparity range %s\n", pairDisparity.rangeDescription.c_str());
+  const std::string rowWarning = rowOffsetWarning(pairDisparity.range);
   if (!rowWarning.empty()) std::fprintf(stderr, "warning: the stereo pair is %s\n", rowWarning.c_str());
-  right = range.alignedRight(right);
-  StereoTimingsMs timings;
-  StereoExplanation explanation;
-  const cv::Mat disparity =
-      matcher.computeDisparity(left, right, &timings, options.explain ? &explanation : nullptr);
+  const cv::Mat& disparity = pairDisparity.disparityPx;
+  const StereoTimingsMs& timings = pairDisparity.timings;
+  const StereoExplanation& explanation = pairDisparity.explanation;
   writePfm(options.out, disparity);
   const int estimated = cv::countNonZero(disparity == disparity);
   std::printf("disparity %dx%d on %s: %d of %d pixels estimated (%.1f%%), written to %s\n", disparity.cols,

@@ -15,6 +15,7 @@ TM_JOBS="${TM_JOBS:-$(nproc)}"
 TM_PACKAGES=(build-essential cmake libopencv-dev libeigen3-dev libtbb-dev libgtest-dev libvtk9-dev libvtk9-qt-dev
              nlohmann-json3-dev libcli11-dev libyaml-cpp-dev libopenigtlink-dev
              gstreamer1.0-plugins-base gstreamer1.0-plugins-good qtbase5-dev libqt5opengl5-dev xvfb xauth xdotool imagemagick
+             pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module and its tests (docs/PYTHON.md)
              slurm-wlm munge)  # slurm-wlm, munge: the batch test's own one-node Slurm (docs/BATCH.md)
 
 tm_log() { printf '\n== %s\n' "$*"; }

@@ -140,4 +140,8 @@ struct StereoParameters {
   void writeFile(const std::string& path) const;
 };
 
+/// Throws Error when no disparity of a fixed range can match inside frames widthPx wide (it would give 0 % density):
+/// the command line and the Python module check it before any work.
+void requireDisparityRangeMeetsImage(const StereoParameters& parameters, int widthPx);
+
 }  // namespace tissuemosaic
