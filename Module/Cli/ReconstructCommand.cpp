@@ -291,8 +291,8 @@ void setupReconstruct(CLI::App& tool, CommandUse use) {
                       "the model agreement of every frame (docs/SCENE_MOTION.md): a JSON array of {\"frame\", \"status\" "
                       "(tracked | lost | relocalised), \"median_depth_difference_mm\", \"share_within_1mm\" (null where "
                       "not measured), \"inliers\", \"key_frame\", \"moving_matches\", \"disparity_range\", \"message\", "
-                      "\"scene_motion\", and with --deformation on \"deformation_mean_mm\", \"deformation_max_mm\", "
-                      "\"live_share_within_1mm\", \"rigid_share_within_1mm\" (docs/DEFORMATION.md)}")
+                      "\"scene_motion\", \"deformation_mean_mm\", \"deformation_max_mm\", "
+                      "\"live_share_within_1mm\", \"rigid_share_within_1mm\" (null unless --deformation on; docs/DEFORMATION.md)}")
       ->type_name("q.json")
       ->group(heading::output);
   command->add_option("--deformation", options->deformation,
