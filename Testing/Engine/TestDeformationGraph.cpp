@@ -128,8 +128,13 @@ TEST(DeformationFit, TheWarpedRestSurfaceFollowsBreathingTissueToItsTrueSurface)
       canonical.emplace_back(x, y, rest.heightMm(x, y));
     }
   }
+  PointList restNormals;
+  for (const Eigen::Vector3d& p : canonical) {
+    const cv::Vec3d n = rest.normal(p.x(), p.y());
+    restNormals.emplace_back(n[0], n[1], n[2]);
+  }
   DeformationGraph graph;  // the defaults: nodes every 4 mm
-  graph.cover(canonical);
+  graph.cover(canonical, restNormals);
   const auto distanceToTruth = [&](const Eigen::Vector3d& p) { return now.distanceMm(p.x(), p.y(), p.z()); };
   double before2 = 0;
   for (const Eigen::Vector3d& p : canonical) before2 += std::pow(distanceToTruth(p), 2);
@@ -160,7 +165,9 @@ TEST(DeformationFit, TheWarpedRestSurfaceFollowsBreathingTissueToItsTrueSurface)
       c.pointToPoint = true;
       correspondences.push_back(c);
     }
-    fit = fitDeformation(graph, correspondences);
+    DeformationFitParameters parameters;
+    parameters.restNormalWeight = 1e-3;  // the depth sees every point along its normal here: no drift to hold
+    fit = fitDeformation(graph, correspondences, parameters);
   }
   double after2 = 0, stillMotionMax = 0;
   for (const Eigen::Vector3d& p : canonical) {

@@ -94,6 +94,7 @@ void DeformationFitParameters::validate() const {
   check.requireRange("iterations", iterations, 1, 100);
   check.requireRange("regularisationWeight", regularisationWeight, 0.0, 1e6);
   check.requireRange("restWeight", restWeight, 1e-9, 1e6);
+  check.requireRange("restNormalWeight", restNormalWeight, 1e-9, 1e6);
   check.requireRange("huberMm", huberMm, 1e-3, 100.0);
 }
 
@@ -164,16 +165,28 @@ DeformationFitResult fitDeformation(DeformationGraph& graph, const DeformationCo
         }
       }
     }
-    // Rest: t_i -> 0 with a small weight, one row per axis; the rotations only damped by the same weight.
+    // Rest: t_i -> 0 along the node's tangent plane (restWeight) and along its normal (restNormalWeight); the
+    // rotations only damped.
     for (int i = 0; i < nodeCount; ++i) {
+      const DeformationNode& node = nodes[static_cast<std::size_t>(i)];
       Vector6d damping = Vector6d::Zero();
-      damping.head<3>().setConstant(parameters.restWeight);
+      damping.head<3>().setConstant(parameters.restNormalWeight);
       equations.addDiagonal(i, damping);
+      Eigen::Vector3d axes[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
+      double weights[3] = {parameters.restWeight, parameters.restWeight, parameters.restWeight};
+      if (node.restNormal.squaredNorm() > 0) {
+        const Eigen::Vector3d& n = node.restNormal;
+        const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+        axes[0] = n.cross(helper).normalized();
+        axes[1] = n.cross(axes[0]);
+        axes[2] = n;
+        weights[2] = parameters.restNormalWeight;
+      }
       const int single[1] = {i};
       for (int axis = 0; axis < 3; ++axis) {
         Vector6d row = Vector6d::Zero();
-        row[3 + axis] = 1;
-        equations.addRow(1, single, &row, nodes[static_cast<std::size_t>(i)].translationMm[axis], parameters.restWeight);
+        row.tail<3>() = axes[axis];
+        equations.addRow(1, single, &row, axes[axis].dot(node.translationMm), weights[axis]);
       }
     }
     Eigen::VectorXd step;

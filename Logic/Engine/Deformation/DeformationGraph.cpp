@@ -47,16 +47,21 @@ DeformationGraph::DeformationGraph(const DeformationGraphParameters& parameters)
 }
 
 int DeformationGraph::cover(
-    const std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>>& canonicalPointsMm) {
+    const std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>>& canonicalPointsMm,
+    const std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>>& normals) {
+  require(normals.empty() || normals.size() == canonicalPointsMm.size(),
+          "deformation graph: the points and their normals differ in number");
   const double spacing = parameters_.nodeSpacingMm;
   std::unordered_set<long long> visited;
   int added = 0;
-  for (const Eigen::Vector3d& p : canonicalPointsMm) {
+  for (std::size_t i = 0; i < canonicalPointsMm.size(); ++i) {
+    const Eigen::Vector3d& p = canonicalPointsMm[i];
     if (!p.allFinite() || !visited.insert(cellKey(p, spacing)).second) continue;
     const auto nearest = nearestNodes(nodes_, p, 1);
     if (!nearest.empty() && nearest.front().first <= spacing * spacing) continue;
     DeformationNode node;
     node.positionMm = p;
+    if (!normals.empty() && normals[i].allFinite() && normals[i].norm() > 0) node.restNormal = normals[i].normalized();
     nodes_.push_back(node);
     ++added;
   }

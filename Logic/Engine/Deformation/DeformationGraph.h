@@ -30,6 +30,9 @@ struct DeformationNode {
   Eigen::Vector3d positionMm = Eigen::Vector3d::Zero();           ///< g: where the node rests (canonical)
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();         ///< R: its rotation about g
   Eigen::Vector3d translationMm = Eigen::Vector3d::Zero();        ///< t: its motion
+  /// The surface's unit normal at the node at rest (of the point that made it), zero when not known: the fit's rest
+  /// term then holds the node only along the surface, where the depth does not see its motion.
+  Eigen::Vector3d restNormal = Eigen::Vector3d::Zero();
   /// Where the node is now: g + t.
   Eigen::Vector3d livePositionMm() const { return positionMm + translationMm; }
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
@@ -51,7 +54,9 @@ public:
   /// Adds a node (at rest: identity motion) in each spacing-sized cell of canonical points that no node within the
   /// spacing covers yet, at the first such point of the cell (in the input's order, so the graph is the same for the
   /// same points). Returns the number of nodes added; the neighbourhoods are recomputed when it is not 0.
-  int cover(const std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>>& canonicalPointsMm);
+  /// normals (optional: empty or one per point): the surface's unit normals there, kept as the nodes' restNormal.
+  int cover(const std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>>& canonicalPointsMm,
+            const std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>>& normals = {});
 
   /// The k nearest nodes of a canonical point with their blending weights; none when the graph is empty or no node
   /// lies within 2 node spacings.

@@ -208,7 +208,8 @@ DeformationFrame DeformationTracker::update(const cv::Mat& disparityPx, const Ei
   }
   frame.samplesAdded = static_cast<int>(canonical_.size() - before);
   if (frame.samplesAdded > 0) {
-    graph_.cover(Points(canonical_.begin() + static_cast<std::ptrdiff_t>(before), canonical_.end()));
+    graph_.cover(Points(canonical_.begin() + static_cast<std::ptrdiff_t>(before), canonical_.end()),
+                 Points(normals_.begin() + static_cast<std::ptrdiff_t>(before), normals_.end()));
   }
   frame.samples = static_cast<int>(canonical_.size());
   frame.nodes = graph_.nodeCount();
