@@ -46,10 +46,24 @@ struct DisparityToPoints {
   }
 };
 
-/// Normal from the cross product of the central differences of the points radiusPx away in x and y, turned toward
-/// the camera (n . p < 0); NaN where the point or a neighbour is missing or outside the image, or a neighbour's
-/// depth differs from the centre's by more than maxDepthJumpMm (a depth edge, not a surface). valid: 255 where the
-/// pixel has a normal (and so a point), else 0.
+/// The surface normal at point p from its neighbours radiusPx away in x and y (camera frame): the cross product of
+/// the central differences, turned toward the camera (n . p < 0). False where p or a neighbour is missing, or a
+/// neighbour's depth differs from p's by more than maxDepthJumpMm (a depth edge, not a surface).
+TM_HOST_DEVICE TM_FORCE_INLINE bool normalFromNeighbours(Float3 p, Float3 left, Float3 right, Float3 up, Float3 down,
+                                                         float maxDepthJumpMm, Float3& normal) {
+  if (!isFinite(p) || !isFinite(left) || !isFinite(right) || !isFinite(up) || !isFinite(down)) return false;
+  if (fabsf(left.z - p.z) > maxDepthJumpMm || fabsf(right.z - p.z) > maxDepthJumpMm ||
+      fabsf(up.z - p.z) > maxDepthJumpMm || fabsf(down.z - p.z) > maxDepthJumpMm)
+    return false;
+  const Float3 n = cross(right - left, down - up);
+  const float norm = length(n);
+  if (!(norm > 0)) return false;
+  normal = ((dot(n, p) > 0 ? -1.0f : 1.0f) / norm) * n;
+  return true;
+}
+
+/// Per pixel: normalFromNeighbours of the points radiusPx away; NaN also where a neighbour is outside the image.
+/// valid: 255 where the pixel has a normal (and so a point), else 0.
 struct PointNormals {
   ImageView<const Float3> pointsMm;
   ImageView<Float3> normals;
@@ -64,17 +78,10 @@ struct PointNormals {
     valid[index] = 0;
     const int r = radiusPx;
     if (x < r || y < r || x + r >= pointsMm.width || y + r >= pointsMm.height) return;
-    const Float3 p = pointsMm[index];
-    const Float3 left = pointsMm.at(x - r, y), right = pointsMm.at(x + r, y);
-    const Float3 up = pointsMm.at(x, y - r), down = pointsMm.at(x, y + r);
-    if (!isFinite(p) || !isFinite(left) || !isFinite(right) || !isFinite(up) || !isFinite(down)) return;
-    if (fabsf(left.z - p.z) > maxDepthJumpMm || fabsf(right.z - p.z) > maxDepthJumpMm ||
-        fabsf(up.z - p.z) > maxDepthJumpMm || fabsf(down.z - p.z) > maxDepthJumpMm)
+    Float3 n;
+    if (!normalFromNeighbours(pointsMm[index], pointsMm.at(x - r, y), pointsMm.at(x + r, y), pointsMm.at(x, y - r),
+                              pointsMm.at(x, y + r), maxDepthJumpMm, n))
       return;
-    Float3 n = cross(right - left, down - up);
-    const float norm = length(n);
-    if (!(norm > 0)) return;
-    n = ((dot(n, p) > 0 ? -1.0f : 1.0f) / norm) * n;
     normals[index] = n;
     valid[index] = 255;
   }

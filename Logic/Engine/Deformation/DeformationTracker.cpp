@@ -3,52 +3,55 @@
 #include "Core/Error.h"
 #include "Core/ParameterChecks.h"
 #include "Core/Stopwatch.h"
-
-#include <Eigen/Geometry>
+#include "Core/SurfaceKernels.h"
+#include "Core/SurfaceMeasurement.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 
 namespace tissuemosaic {
 namespace {
 
-/// The camera-frame point of pixel (x, y), false where it has no disparity.
-bool pixelPoint(const RectifiedGeometry& g, const cv::Mat& disparityPx, int x, int y, Eigen::Vector3d& point) {
-  if (x < 0 || y < 0 || x >= disparityPx.cols || y >= disparityPx.rows) return false;
-  const float d = disparityPx.at<float>(y, x);
-  if (!std::isfinite(d) || !(d + g.doffsPx > 0)) return false;
-  const double z = g.depthMm(d);
-  point = Eigen::Vector3d((x - g.cxLeftPx) * z / g.focalPx, (y - g.cyPx) * z / g.focalPx, z);
-  return true;
-}
+/// The frame's measurement turned into points by the rule measureSurface uses (surface::reprojectPixel), every
+/// disparity kept.
+struct FramePoints {
+  const cv::Mat& disparityPx;
+  surface::Reprojection reprojection;
+
+  /// The camera-frame point of pixel (x, y); false outside the image or where it has no disparity.
+  bool at(int x, int y, Eigen::Vector3d& point) const {
+    const Float3 p = pointF(x, y);
+    if (!isFinite(p)) return false;
+    point = Eigen::Vector3d(p.x, p.y, p.z);
+    return true;
+  }
+  /// The surface normal at pixel (x, y) from its neighbours `radius` pixels away (surface::normalFromNeighbours).
+  bool normalAt(int x, int y, int radius, double maxJumpMm, Eigen::Vector3d& normal) const {
+    Float3 n;
+    if (!surface::normalFromNeighbours(pointF(x, y), pointF(x - radius, y), pointF(x + radius, y),
+                                       pointF(x, y - radius), pointF(x, y + radius), static_cast<float>(maxJumpMm), n))
+      return false;
+    normal = Eigen::Vector3d(n.x, n.y, n.z);
+    return true;
+  }
+
+private:
+  Float3 pointF(int x, int y) const {
+    if (x < 0 || y < 0 || x >= disparityPx.cols || y >= disparityPx.rows) return nanFloat3();
+    return surface::reprojectPixel(reprojection, x, y, disparityPx.at<float>(y, x), -FLT_MAX, FLT_MAX);
+  }
+};
 
 /// The pixel nearest the projection of a camera-frame point; false behind the camera or outside the image.
 bool projectToPixel(const RectifiedGeometry& g, const Eigen::Vector3d& cameraPoint, int& x, int& y) {
   if (!(cameraPoint.z() > 1e-6)) return false;
-  x = static_cast<int>(std::lround(g.focalPx * cameraPoint.x() / cameraPoint.z() + g.cxLeftPx));
-  y = static_cast<int>(std::lround(g.focalPx * cameraPoint.y() / cameraPoint.z() + g.cyPx));
+  double u = 0, v = 0;
+  g.leftIntrinsics().project(cameraPoint.x(), cameraPoint.y(), cameraPoint.z(), u, v);
+  x = static_cast<int>(std::lround(u));
+  y = static_cast<int>(std::lround(v));
   return x >= 0 && y >= 0 && x < g.imageSize.width && y < g.imageSize.height;
-}
-
-/// The surface normal at pixel (x, y) from its neighbours `radius` pixels away (camera frame, facing the camera);
-/// false where a neighbour is missing or lies across a depth jump.
-bool pixelNormal(const RectifiedGeometry& g, const cv::Mat& disparityPx, int x, int y, int radius, double maxJumpMm,
-                 const Eigen::Vector3d& centre, Eigen::Vector3d& normal) {
-  Eigen::Vector3d left, right, up, down;
-  if (!pixelPoint(g, disparityPx, x - radius, y, left) || !pixelPoint(g, disparityPx, x + radius, y, right) ||
-      !pixelPoint(g, disparityPx, x, y - radius, up) || !pixelPoint(g, disparityPx, x, y + radius, down)) {
-    return false;
-  }
-  for (const Eigen::Vector3d* p : {&left, &right, &up, &down}) {
-    if (std::abs(p->z() - centre.z()) > maxJumpMm) return false;
-  }
-  const Eigen::Vector3d across = right - left, along = down - up;
-  normal = across.cross(along);
-  if (!(normal.norm() > 0)) return false;
-  normal.normalize();
-  if (normal.dot(centre) > 0) normal = -normal;
-  return true;
 }
 
 }  // namespace
@@ -89,6 +92,7 @@ DeformationFrame DeformationTracker::update(const cv::Mat& disparityPx, const Ei
   const Eigen::Matrix3d R_cw = R_wc.transpose();
   const Eigen::Vector3d t_cw = -R_cw * t_wc;
   const int stride = parameters_.sampleStridePx;
+  const FramePoints framePoints{disparityPx, reprojectionOf(geometry_)};
 
   // The samples in view (their live position projects into the image), evenly thinned to maxFitSamples.
   std::vector<int> inView;
@@ -111,8 +115,7 @@ DeformationFrame DeformationTracker::update(const cv::Mat& disparityPx, const Ei
     normal = graph_.warpNormal(normals_[static_cast<std::size_t>(i)], influence);
     int x = 0, y = 0;
     Eigen::Vector3d camera;
-    if (!projectToPixel(geometry_, R_cw * point + t_cw, x, y) || !pixelPoint(geometry_, disparityPx, x, y, camera))
-      return false;
+    if (!projectToPixel(geometry_, R_cw * point + t_cw, x, y) || !framePoints.at(x, y, camera)) return false;
     measured = R_wc * camera + t_wc;
     return true;
   };
@@ -183,10 +186,8 @@ DeformationFrame DeformationTracker::update(const cv::Mat& disparityPx, const Ei
       if (covered[static_cast<std::size_t>(cy) * cellsX + cx]) continue;
       const int x = cx * stride + stride / 2, y = cy * stride + stride / 2;
       Eigen::Vector3d camera, normalCamera;
-      if (!pixelPoint(geometry_, disparityPx, x, y, camera) ||
-          !pixelNormal(geometry_, disparityPx, x, y, 2, parameters_.maxDepthJumpMm, camera, normalCamera)) {
+      if (!framePoints.at(x, y, camera) || !framePoints.normalAt(x, y, 2, parameters_.maxDepthJumpMm, normalCamera))
         continue;
-      }
       const Eigen::Vector3d live = R_wc * camera + t_wc;
       // The inverse warp by fixed-point iteration: p = q - (warp(p) - p), exact where the field is a translation.
       Eigen::Vector3d rest = live;
