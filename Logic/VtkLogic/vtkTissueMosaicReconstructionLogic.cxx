@@ -813,12 +813,11 @@ std::vector<vtkTissueMosaicReconstructionLogic::TimingRow> vtkTissueMosaicRecons
   const bool lastIsKeyFrame = !this->Owned->frames.empty() && this->Owned->frames.back().keyFrame;
   const std::vector<double> lastMs = last.means(lastIsKeyFrame);
   const std::vector<double> keyMedians = timing.medians(true), keyMeans = timing.means(true);
-  const std::vector<double> otherMedians = timing.medians(false), otherMeans = timing.means(false);
+  const std::vector<double> otherMedians = timing.medians(false);
   std::vector<TimingRow> rows;
   const std::vector<std::string>& stages = tissuemosaic::TimingTable::stageNames();
   for (std::size_t i = 0; i < stages.size(); ++i) {
-    // The deformation's row only where it ran (fusion.deformation on): the paper's stages otherwise.
-    if (stages[i] == "deformation" && keyMeans[i] == 0 && otherMeans[i] == 0) continue;
+    if (!timing.stageShown(i)) continue;
     TimingRow row;
     row.stage = stages[i];
     row.lastMs = lastMs[i];

@@ -65,6 +65,11 @@ std::vector<double> TimingTable::percentiles99(bool keyFrames) const {
   return result;
 }
 
+bool TimingTable::stageShown(std::size_t stage) const {
+  if (stageNames()[stage] != "deformation") return true;
+  return means(true)[stage] != 0 || means(false)[stage] != 0;
+}
+
 std::string TimingTable::format() const {
   static const std::vector<std::string> labels = {"video reading", "stereo matching", "ORB matching and voting",
                                                   "DynamicR1PPnP", "model agreement", "refinement", "TSDF",
@@ -77,8 +82,7 @@ std::string TimingTable::format() const {
                     cv::format("other frames (%d)", otherFrames()).c_str());
   out << cv::format("%-26s %9s %9s %9s %9s %9s %9s\n", "", "median", "mean", "p99", "median", "mean", "p99");
   for (std::size_t i = 0; i < labels.size(); ++i) {
-    // The deformation row only where it ran (fusion.deformation on): the paper's table otherwise.
-    if (labels[i] == "deformation" && keyMean[i] == 0 && otherMean[i] == 0) continue;
+    if (!stageShown(i)) continue;
     out << cv::format("%-26s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f\n", labels[i].c_str(), keyMedian[i], keyMean[i],
                       keyP99[i], otherMedian[i], otherMean[i], otherP99[i]);
   }

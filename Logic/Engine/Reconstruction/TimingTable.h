@@ -25,6 +25,9 @@ public:
   std::vector<double> medians(bool keyFrames) const;
   std::vector<double> means(bool keyFrames) const;
   std::vector<double> percentiles99(bool keyFrames) const;  ///< Statistics.h percentile99
+  /// Whether a stage's row is shown (stageNames() order): every stage of the paper always; the deformation (not in
+  /// the paper, fusion.deformation) only where it ran.
+  bool stageShown(std::size_t stage) const;
 
   /// A plain-text table: one row per stage, columns key frame median / mean / p99, other frame median / mean / p99.
   std::string format() const;
