@@ -53,7 +53,7 @@ struct ReconstructOptions {
   GeometryOptions geometry;
   std::string out;
   std::optional<std::string> trajectory, framesTrajectory, timingJson, qualityJson, snapshot, startTum, params;
-  std::optional<std::string> deformation, deformationOut, canonicalOut;
+  std::optional<std::string> deformation, deformationOut, canonicalOut, liveOut;
   std::optional<int> maxFrames;
   DisparityRangeOptions range;
   DeviceOption device;
@@ -77,6 +77,7 @@ void runReconstruct(ReconstructOptions options) {
   if (options.timingJson) requireWritableOutput(*options.timingJson, "timing JSON (--timing-json)");
   if (options.deformationOut) requireWritableOutput(*options.deformationOut, "deformation record (--deformation-out)");
   if (options.canonicalOut) requireWritableOutput(*options.canonicalOut, "canonical surface (--canonical-out)");
+  if (options.liveOut) requireWritableOutput(*options.liveOut, "live model (--live-out)");
   if (options.snapshot) {
     checkSnapshotAvailable();
     requireWritableOutput(*options.snapshot, "snapshot (--snapshot)");
@@ -88,8 +89,8 @@ void runReconstruct(ReconstructOptions options) {
   if (options.params) parameters = ReconstructionParameters::readFile(*options.params);
   options.range.applyTo(parameters.stereo);
   if (options.deformation) parameters.fusion.deformation = *options.deformation == "on";
-  require((!options.deformationOut && !options.canonicalOut) || parameters.fusion.deformation,
-          std::string(options.deformationOut ? "--deformation-out" : "--canonical-out") +
+  require((!options.deformationOut && !options.canonicalOut && !options.liveOut) || parameters.fusion.deformation,
+          std::string(options.deformationOut ? "--deformation-out" : options.canonicalOut ? "--canonical-out" : "--live-out") +
               " needs the deformation on (--deformation on, or fusion.deformation: on in --params)");
   parameters.validate();
   const Device device = options.device.resolve();
@@ -165,7 +166,7 @@ void runReconstruct(ReconstructOptions options) {
     if (igtl) {
       igtl->frameProcessed(frame.index, frame.timeS, result.tracked, result.T_world_camera, result.trackingMessage,
                            result.leftRectified);
-      if (result.keyFrame && igtl->modelDue()) igtl->modelUpdated(pipeline->modelSnapshot().cloud, frame.timeS);
+      if (result.keyFrame && igtl->modelDue()) igtl->modelUpdated(pipeline->liveModelSnapshot().cloud, frame.timeS);
     }
     if (result.pointBudgetReached && !budgetWarned) {
       budgetWarned = true;
@@ -181,14 +182,21 @@ void runReconstruct(ReconstructOptions options) {
   require(frames == 1 || lost < frames - 1, "tracking was lost on every frame after the first: no reconstruction");
 
   const ModelPoints model = pipeline->modelSnapshot();
+  // The live surface (where the tissue is at the last frame) is what a viewer shows; the model at rest is exported.
+  const ModelPoints liveModel = parameters.fusion.deformation ? pipeline->liveModelSnapshot() : ModelPoints{};
   if (igtl) {
-    igtl->finished(model.cloud, lastTimeS,
+    igtl->finished(parameters.fusion.deformation ? liveModel.cloud : model.cloud, lastTimeS,
                    std::to_string(frames) + " frames, " + std::to_string(model.size()) + " model points" +
                        (stop.requested() ? " (stopped by a signal)" : ""));
   }
   require(model.size() > 0, "the reconstruction produced no model points (tracking never started?)");
   OutputBatch outputs;  // the model, trajectories, snapshot and timing replace existing files together, or not at all
   writeModelFile(options.out, model.cloud, kReconstructedModelComment);
+  if (options.liveOut) {
+    writeModelFile(*options.liveOut, liveModel.cloud,
+                   "TissueMosaic reconstruct: the fused model where the tissue is at the last frame (the live surface), "
+                   "world frame, mm");
+  }
   if (options.trajectory) {
     Trajectory keyFrames;
     for (const KeyFramePose& k : pipeline->keyFrames()) {
@@ -297,8 +305,8 @@ void setupReconstruct(CLI::App& tool, CommandUse use) {
       ->group(heading::output);
   command->add_option("--deformation", options->deformation,
                       "fit the deformation graph over the model to every frame (fusion.deformation; docs/DEFORMATION.md): "
-                      "the node motions and the live surface's agreement in --quality-json; the model and poses stay "
-                      "the rigid pipeline's")
+                      "the node motions and the live surface's agreement in --quality-json; the fused model follows "
+                      "the tissue: --out holds it at rest (the first frame's state), --live-out where it is at the end")
       ->check(CLI::IsMember({"on", "off"}))
       ->type_name("on|off")
       ->group(heading::options);
@@ -311,6 +319,11 @@ void setupReconstruct(CLI::App& tool, CommandUse use) {
                       "the deformation's canonical surface at the end: its samples where the tissue rests (the first "
                       "frame's state), with normals, as PLY (needs --deformation on; docs/DEFORMATION.md)")
       ->type_name("canonical.ply")
+      ->group(heading::output);
+  command->add_option("--live-out", options->liveOut,
+                      "the fused model where the tissue is at the last frame (the live surface: --out's model at rest "
+                      "moved by the last frame's deformation), as --out (needs --deformation on; docs/DEFORMATION.md)")
+      ->type_name("live.ply|.vtp")
       ->group(heading::output);
   command->add_option("--snapshot", options->snapshot, "an offscreen rendering of the model and the key-frame frusta "
                                                        "(needs VTK)")

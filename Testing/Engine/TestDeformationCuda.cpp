@@ -1,15 +1,19 @@
 // The deformation (fusion.deformation on, docs/DEFORMATION.md) with the CUDA pipeline against the CPU's (ctest label
 // "cuda"; skipped with a message where no GPU exists). The fit runs on the CPU for both devices, on the frame's
 // disparity that the CUDA stereo computes bit for bit as the CPU's: every frame's deformation figures and the graph
-// must be the same, while the CUDA pipeline keeps its maps on the device (reconstruct's way).
+// must be the same, while the CUDA pipeline keeps its maps on the device (reconstruct's way); and the fused model,
+// which follows the field (every point's motion computed on the host, applied by the fusion's kernels on each
+// device), must be the same bit for bit, at rest and where the tissue is now.
 #include "SyntheticScan.h"
 
 #include "Core/Device.h"
+#include "Fusion/PointModel.h"
 #include "Reconstruction/ReconstructionPipeline.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstring>
 
 using namespace tissuemosaic;
 
@@ -53,6 +57,17 @@ TEST(DeformationCuda, FollowsTheTissueLikeTheCpu) {
   for (std::size_t i = 0; i < cpuNodes.size(); ++i) {
     ASSERT_TRUE(cpuNodes[i].translationMm == gpuNodes[i].translationMm) << "node " << i;
   }
-  std::printf("CUDA against CPU over %d frames: %d fitted, %zu nodes, the same figures and node motions\n",
-              scan.frameCount(), fitted, gpuNodes.size());
+  const auto expectSameModel = [](const ModelPoints& a, const ModelPoints& b, const char* which) {
+    ASSERT_EQ(a.size(), b.size()) << which;
+    EXPECT_EQ(std::memcmp(a.cloud.pointsMm.data(), b.cloud.pointsMm.data(), a.size() * sizeof(cv::Point3f)), 0) << which;
+    EXPECT_EQ(std::memcmp(a.cloud.normals.data(), b.cloud.normals.data(), a.size() * sizeof(cv::Point3f)), 0) << which;
+    EXPECT_EQ(std::memcmp(a.cloud.colorsRgb.data(), b.cloud.colorsRgb.data(), a.size() * sizeof(cv::Vec3b)), 0) << which;
+    EXPECT_EQ(std::memcmp(a.weights.data(), b.weights.data(), a.size() * sizeof(float)), 0) << which;
+  };
+  const ModelPoints cpuModel = cpu.modelSnapshot();
+  expectSameModel(cpuModel, gpu.modelSnapshot(), "the model at rest");
+  expectSameModel(cpu.liveModelSnapshot(), gpu.liveModelSnapshot(), "the live model");
+  std::printf("CUDA against CPU over %d frames: %d fitted, %zu nodes, the same figures and node motions, the same "
+              "fused model of %zu points at rest and live\n",
+              scan.frameCount(), fitted, gpuNodes.size(), cpuModel.size());
 }

@@ -8,30 +8,26 @@
 #include <numeric>
 #include <unordered_set>
 
+#include <Eigen/Geometry>
+
 namespace tissuemosaic {
 namespace {
 
-/// Cells of the node spacing, keyed for a hash set (21 bits per axis: +-1e6 cells, kilometres at 1 mm).
-long long cellKey(const Eigen::Vector3d& pointMm, double spacingMm) {
-  const auto cell = [spacingMm](double v) { return static_cast<long long>(std::floor(v / spacingMm)) & 0x1FFFFF; };
-  return (cell(pointMm.x()) << 42) | (cell(pointMm.y()) << 21) | cell(pointMm.z());
+/// A node's cell of the node spacing (integer coordinates).
+Eigen::Vector3i cellOf(const Eigen::Vector3d& pointMm, double spacingMm) {
+  return {static_cast<int>(std::floor(pointMm.x() / spacingMm)), static_cast<int>(std::floor(pointMm.y() / spacingMm)),
+          static_cast<int>(std::floor(pointMm.z() / spacingMm))};
 }
 
-/// The n nearest of `nodes` to p (by squared distance, ties by index), nearest first; skip: an index left out.
-std::vector<std::pair<double, int>> nearestNodes(
-    const std::vector<DeformationNode, Eigen::aligned_allocator<DeformationNode>>& nodes, const Eigen::Vector3d& p,
-    int n, int skip = -1) {
-  std::vector<std::pair<double, int>> found;
-  found.reserve(static_cast<std::size_t>(n) + 1);
-  for (int j = 0; j < static_cast<int>(nodes.size()); ++j) {
-    if (j == skip) continue;
-    const std::pair<double, int> candidate((nodes[static_cast<std::size_t>(j)].positionMm - p).squaredNorm(), j);
-    if (static_cast<int>(found.size()) == n && !(candidate < found.back())) continue;
-    found.insert(std::upper_bound(found.begin(), found.end(), candidate), candidate);
-    if (static_cast<int>(found.size()) > n) found.pop_back();
-  }
-  return found;
+/// A cell keyed for a hash map (21 bits per axis: +-1e6 cells, kilometres at 1 mm).
+long long cellKey(const Eigen::Vector3i& cell) {
+  const auto bits = [](int v) { return static_cast<long long>(v) & 0x1FFFFF; };
+  return (bits(cell.x()) << 42) | (bits(cell.y()) << 21) | bits(cell.z());
 }
+
+/// The search for the nearest nodes stops this many node spacings out: farther nodes move no point (a point's
+/// weights reach 0 at 2 spacings at most) and no node's regularisation pairs them.
+constexpr int kSearchRingsOfCells = 4;
 
 }  // namespace
 
@@ -56,12 +52,13 @@ int DeformationGraph::cover(
   int added = 0;
   for (std::size_t i = 0; i < canonicalPointsMm.size(); ++i) {
     const Eigen::Vector3d& p = canonicalPointsMm[i];
-    if (!p.allFinite() || !visited.insert(cellKey(p, spacing)).second) continue;
-    const auto nearest = nearestNodes(nodes_, p, 1);
+    if (!p.allFinite() || !visited.insert(cellKey(cellOf(p, spacing))).second) continue;
+    const auto nearest = nearestNodes(p, 1);
     if (!nearest.empty() && nearest.front().first <= spacing * spacing) continue;
     DeformationNode node;
     node.positionMm = p;
     if (!normals.empty() && normals[i].allFinite() && normals[i].norm() > 0) node.restNormal = normals[i].normalized();
+    cells_[cellKey(cellOf(p, spacing))].push_back(static_cast<int>(nodes_.size()));
     nodes_.push_back(node);
     ++added;
   }
@@ -69,10 +66,41 @@ int DeformationGraph::cover(
   return added;
 }
 
+std::vector<std::pair<double, int>> DeformationGraph::nearestNodes(const Eigen::Vector3d& p, int n, int skip) const {
+  std::vector<std::pair<double, int>> found;
+  found.reserve(static_cast<std::size_t>(n) + 1);
+  const auto consider = [&](int j) {
+    if (j == skip) return;
+    const std::pair<double, int> candidate((nodes_[static_cast<std::size_t>(j)].positionMm - p).squaredNorm(), j);
+    if (static_cast<int>(found.size()) == n && !(candidate < found.back())) return;
+    found.insert(std::upper_bound(found.begin(), found.end(), candidate), candidate);
+    if (static_cast<int>(found.size()) > n) found.pop_back();
+  };
+  const double spacing = parameters_.nodeSpacingMm;
+  const Eigen::Vector3i centre = cellOf(p, spacing);
+  // Rings of cells outward: a node outside rings 0..r lies at least r spacings away, so once the n-th found is
+  // nearer than that, no farther ring can change the answer (ties by index, as a search over all nodes).
+  for (int ring = 0; ring <= kSearchRingsOfCells; ++ring) {
+    for (int dz = -ring; dz <= ring; ++dz) {
+      for (int dy = -ring; dy <= ring; ++dy) {
+        for (int dx = -ring; dx <= ring; ++dx) {
+          if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != ring) continue;  // this ring's shell only
+          const auto cell = cells_.find(cellKey(centre + Eigen::Vector3i(dx, dy, dz)));
+          if (cell == cells_.end()) continue;
+          for (const int j : cell->second) consider(j);
+        }
+      }
+    }
+    const double reached = ring * spacing;
+    if (static_cast<int>(found.size()) == n && found.back().first < reached * reached) break;
+  }
+  return found;
+}
+
 void DeformationGraph::updateNeighbours() {
   neighbours_.assign(nodes_.size(), {});
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    for (const auto& [distance2, j] : nearestNodes(nodes_, nodes_[i].positionMm, parameters_.neighbourNodes,
+    for (const auto& [distance2, j] : nearestNodes(nodes_[i].positionMm, parameters_.neighbourNodes,
                                                    static_cast<int>(i))) {
       (void)distance2;
       neighbours_[i].push_back(j);
@@ -83,7 +111,7 @@ void DeformationGraph::updateNeighbours() {
 NodeInfluence DeformationGraph::influence(const Eigen::Vector3d& canonicalMm) const {
   NodeInfluence result;
   const int k = parameters_.influenceNodes;
-  const auto nearest = nearestNodes(nodes_, canonicalMm, k + 1);
+  const auto nearest = nearestNodes(canonicalMm, k + 1);
   if (nearest.empty()) return result;
   const double reach = 2.0 * parameters_.nodeSpacingMm;
   if (nearest.front().first > reach * reach) return result;
@@ -129,6 +157,33 @@ Eigen::Vector3d DeformationGraph::warpNormal(const Eigen::Vector3d& canonicalNor
   }
   const double norm = turned.norm();
   return norm > 0 ? Eigen::Vector3d(turned / norm) : canonicalNormal;
+}
+
+Eigen::Matrix3d DeformationGraph::blendedRotation(const NodeInfluence& influence) const {
+  if (influence.count == 0) return Eigen::Matrix3d::Identity();
+  Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+  Eigen::Vector4d first = Eigen::Vector4d::Zero();
+  for (int n = 0; n < influence.count; ++n) {
+    const Eigen::Quaterniond q(nodes_[static_cast<std::size_t>(influence.node[n])].rotation);
+    Eigen::Vector4d c = q.coeffs();
+    if (n == 0) first = c;
+    else if (c.dot(first) < 0) c = -c;  // q and -q are one rotation: blend on one hemisphere
+    sum += influence.weight[n] * c;
+  }
+  const double norm = sum.norm();
+  if (!(norm > 0)) return Eigen::Matrix3d::Identity();
+  return Eigen::Quaterniond(sum / norm).toRotationMatrix();
+}
+
+Eigen::Vector3d DeformationGraph::inverseWarp(const Eigen::Vector3d& liveMm, NodeInfluence& influence,
+                                              int iterations) const {
+  Eigen::Vector3d rest = liveMm;
+  influence = NodeInfluence{};
+  for (int iteration = 0; iteration < iterations; ++iteration) {
+    influence = this->influence(rest);
+    rest = liveMm - (warp(rest, influence) - rest);
+  }
+  return rest;
 }
 
 void DeformationGraph::reset() {

@@ -13,6 +13,8 @@
 #include <Eigen/Core>
 #include <Eigen/StdVector>
 
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace tissuemosaic {
@@ -64,6 +66,15 @@ public:
   /// Where the canonical point is now, given its influence.
   Eigen::Vector3d warp(const Eigen::Vector3d& canonicalMm, const NodeInfluence& influence) const;
   Eigen::Vector3d warp(const Eigen::Vector3d& canonicalMm) const { return warp(canonicalMm, influence(canonicalMm)); }
+  /// The rotation a point turns by: the nodes' rotations blended as unit quaternions (normalised weighted sum, signs
+  /// aligned with the first node's), the identity for no influence. Close to the warp's local turn while
+  /// neighbouring nodes turn alike (as the regularisation keeps them), and always a rotation, so that it inverts by
+  /// its transpose.
+  Eigen::Matrix3d blendedRotation(const NodeInfluence& influence) const;
+  /// Where a live point rests: the canonical point whose warp lands on it, by fixed-point iteration
+  /// (p <- q - (warp(p) - p), `iterations` times; exact where the field is a translation). influence: the rest
+  /// point's, on return.
+  Eigen::Vector3d inverseWarp(const Eigen::Vector3d& liveMm, NodeInfluence& influence, int iterations = 4) const;
   /// The canonical normal turned by the blend of the nodes' rotations (normalised).
   Eigen::Vector3d warpNormal(const Eigen::Vector3d& canonicalNormal, const NodeInfluence& influence) const;
 
@@ -78,10 +89,14 @@ public:
   void reset();
 
 private:
+  /// The n nearest nodes of p within kSearchRingsOfCells node spacings (squared distance, index), nearest first
+  /// (ties by index); skip: a node left out. Found through the nodes' grid (cells of the node spacing).
+  std::vector<std::pair<double, int>> nearestNodes(const Eigen::Vector3d& p, int n, int skip = -1) const;
   void updateNeighbours();
   DeformationGraphParameters parameters_;
   std::vector<DeformationNode, Eigen::aligned_allocator<DeformationNode>> nodes_;
   std::vector<std::vector<int>> neighbours_;
+  std::unordered_map<long long, std::vector<int>> cells_;  ///< node indices per cell of the node spacing
 };
 
 }  // namespace tissuemosaic

@@ -189,13 +189,8 @@ DeformationFrame DeformationTracker::update(const cv::Mat& disparityPx, const Ei
       if (!framePoints.at(x, y, camera) || !framePoints.normalAt(x, y, 2, parameters_.maxDepthJumpMm, normalCamera))
         continue;
       const Eigen::Vector3d live = R_wc * camera + t_wc;
-      // The inverse warp by fixed-point iteration: p = q - (warp(p) - p), exact where the field is a translation.
-      Eigen::Vector3d rest = live;
       NodeInfluence influence;
-      for (int iteration = 0; iteration < 4; ++iteration) {
-        influence = graph_.influence(rest);
-        rest = live - (graph_.warp(rest, influence) - rest);
-      }
+      const Eigen::Vector3d rest = graph_.inverseWarp(live, influence);
       Eigen::Vector3d normal = R_wc * normalCamera;
       // Back through the blended rotation: the normal at rest.
       Eigen::Matrix3d blended = Eigen::Matrix3d::Zero();

@@ -102,6 +102,7 @@ inline float seenThroughEvidenceRate(int frames) {
 /// Breathing tissue passes its markers on every breath and leaves them as they are.
 struct UpdateMotionEvidence {
   ModelArrays model;
+  PointWarps warps;  ///< the frame meets the points where the tissue is now
   FramePose pose;
   PinholeCamera camera;
   MeasuredDepth measured;
@@ -117,12 +118,12 @@ struct UpdateMotionEvidence {
     Float4 positionWeight = model.positionWeight[index];
     const bool live = isLive(positionWeight);
     if (!live && markerRestFrames <= 0) return;
-    const Float3 pc = pose.worldToCamera(xyz(positionWeight));
+    const Float3 pc = pose.worldToCamera(warps.live(index, xyz(positionWeight)));
     int x, y;
     if (!camera.project(pc, x, y)) return;
     Float4 normal = model.normal[index];
     if (!live && !isMovedTissueMarker(positionWeight, normal)) return;
-    if (dot(pose.worldToCamera.rotate(xyz(normal)), pc) >= 0) return;  // back-facing
+    if (dot(pose.worldToCamera.rotate(warps.liveDirection(index, xyz(normal))), pc) >= 0) return;  // back-facing
     const float depth = measured.depthMm(x, y);
     if (!(depth > 0)) return;
     const float r = depth - pc.z;

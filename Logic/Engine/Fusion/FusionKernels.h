@@ -72,6 +72,38 @@ struct ModelArrays {
   Float4* colourWeight;    ///< RGB 0..255 (running average); w = accumulated colour weight (capped)
 };
 
+/// Where each model point's tissue is now, when the tissue deforms (fusion.deformation, docs/DEFORMATION.md): the
+/// model holds every point where it rests (canonical), and point i is now at live = R_i p + t_i, a rigid motion
+/// per point (three rows [R | t] per point). Every step that meets a frame (merging, the z-buffer, the samples, the
+/// motion evidence) sees the live points, and what a frame changes is taken back to rest by the inverse motion.
+/// rows == nullptr: the model does not deform (every point is where it was fused, and nothing is computed).
+struct PointWarps {
+  const Float4* rows;
+
+  TM_HOST_DEVICE TM_FORCE_INLINE Float3 live(int64_t i, Float3 p) const {
+    if (!rows) return p;
+    const Float4 a = rows[3 * i], b = rows[3 * i + 1], c = rows[3 * i + 2];
+    return {a.x * p.x + a.y * p.y + a.z * p.z + a.w, b.x * p.x + b.y * p.y + b.z * p.z + b.w,
+            c.x * p.x + c.y * p.y + c.z * p.z + c.w};
+  }
+  TM_HOST_DEVICE TM_FORCE_INLINE Float3 liveDirection(int64_t i, Float3 n) const {
+    if (!rows) return n;
+    const Float4 a = rows[3 * i], b = rows[3 * i + 1], c = rows[3 * i + 2];
+    return {a.x * n.x + a.y * n.y + a.z * n.z, b.x * n.x + b.y * n.y + b.z * n.z, c.x * n.x + c.y * n.y + c.z * n.z};
+  }
+  /// R_i^T (q - t_i): where a live position rests.
+  TM_HOST_DEVICE TM_FORCE_INLINE Float3 rest(int64_t i, Float3 q) const {
+    if (!rows) return q;
+    const Float4 a = rows[3 * i], b = rows[3 * i + 1], c = rows[3 * i + 2];
+    return restDirection(i, {q.x - a.w, q.y - b.w, q.z - c.w});
+  }
+  TM_HOST_DEVICE TM_FORCE_INLINE Float3 restDirection(int64_t i, Float3 n) const {
+    if (!rows) return n;
+    const Float4 a = rows[3 * i], b = rows[3 * i + 1], c = rows[3 * i + 2];
+    return {a.x * n.x + b.x * n.y + c.x * n.z, a.y * n.x + b.y * n.y + c.y * n.z, a.z * n.x + b.z * n.y + c.z * n.z};
+  }
+};
+
 /// One key frame's measurement on the device (left rectified camera frame, NaN = none).
 struct MeasurementView {
   ImageView<const Float3> pointsMm;
@@ -189,6 +221,7 @@ TM_HOST_DEVICE TM_FORCE_INLINE bool inFrontOf(Float3 q, Float3 pc, float marginM
 /// before is not fused again (it would leave again, and smear the model meanwhile).
 struct MergeModelPoints {
   ModelArrays model;
+  PointWarps warps;
   MeasurementView measurement;
   FramePose pose;
   FusionSettings settings;
@@ -199,7 +232,7 @@ struct MergeModelPoints {
     const Float4 positionWeight = model.positionWeight[index];
     const bool live = isLive(positionWeight);
     if (!live && !(settings.movedTissueRadiusMm > 0 && isMovedTissueMarker(positionWeight, model.normal[index]))) return;
-    const Float3 p = xyz(positionWeight);
+    const Float3 p = warps.live(index, xyz(positionWeight));  // where the tissue is now
     const Float3 pc = pose.worldToCamera(p);
     int px, py;
     if (!settings.camera.project(pc, px, py)) return;
@@ -208,7 +241,8 @@ struct MergeModelPoints {
       coverNearMarker(pc, px, py, r);
       return;
     }
-    const Float3 nc = pose.worldToCamera.rotate(xyz(model.normal[index]));
+    const Float3 nWorld = warps.liveDirection(index, xyz(model.normal[index]));
+    const Float3 nc = pose.worldToCamera.rotate(nWorld);
     float ownRayScale = 1.0f;
     bool ownAgrees = false;
     for (int y = py - r; y <= py + r; ++y) {
@@ -241,16 +275,16 @@ struct MergeModelPoints {
 
     const float averagedScale = 1.0f + (ownRayScale - 1.0f) / (weight + 1.0f);
     const Float3 centre = pose.cameraCentreWorld;
-    const Float3 moved = centre + averagedScale * (p - centre);
+    const Float3 moved = warps.rest(index, centre + averagedScale * (p - centre));
     model.positionWeight[index] = {moved.x, moved.y, moved.z, fminf(weight + 1.0f, settings.maxWeight)};
 
     const int64_t pixel = static_cast<int64_t>(py) * width + px;
     const Float3 measuredNormal = measurement.normals[pixel];
     if (isFinite(measuredNormal)) {
-      const Float3 sum = weight * xyz(model.normal[index]) + pose.cameraToWorld.rotate(measuredNormal);
+      const Float3 sum = weight * nWorld + pose.cameraToWorld.rotate(measuredNormal);
       const float norm = length(sum);
       if (norm > 0) {
-        const Float3 n = (1.0f / norm) * sum;
+        const Float3 n = warps.restDirection(index, (1.0f / norm) * sum);
         model.normal[index] = {n.x, n.y, n.z, model.normal[index].w};  // w: the motion evidence, kept
       }
     }
@@ -349,6 +383,7 @@ struct ClearDepthKeys {
 struct ProjectToDepthKeys {
   const Float4* positionWeight;
   const Float4* normal;
+  PointWarps warps;
   FramePose pose;
   PinholeCamera camera;
   uint64_t* keys;
@@ -356,10 +391,10 @@ struct ProjectToDepthKeys {
   TM_HOST_DEVICE void operator()(int64_t index) const {
     const Float4 point = positionWeight[index];
     if (!isLive(point)) return;
-    const Float3 pc = pose.worldToCamera(xyz(point));
+    const Float3 pc = pose.worldToCamera(warps.live(index, xyz(point)));
     int x, y;
     if (!camera.project(pc, x, y)) return;
-    if (dot(pose.worldToCamera.rotate(xyz(normal[index])), pc) >= 0) return;  // back-facing: hidden
+    if (dot(pose.worldToCamera.rotate(warps.liveDirection(index, xyz(normal[index]))), pc) >= 0) return;  // back-facing: hidden
     const uint64_t key = (static_cast<uint64_t>(floatBits(pc.z)) << 32) | static_cast<uint32_t>(index);
     atomicMinU64(keys + static_cast<int64_t>(y) * camera.width + x, key);
   }
@@ -404,14 +439,17 @@ struct GatherGridSamples {
   const int* offsets;
   const Float4* positionWeight;
   const Float4* normal;
+  PointWarps warps;        ///< the samples are where the tissue is now
   Float4* samplePositions;
   Float4* sampleNormals;
 
   TM_HOST_DEVICE void operator()(int64_t cell) const {
     if (!flags[cell]) return;
     const uint32_t point = static_cast<uint32_t>(keys[grid.pixelOf(cell)] & 0xffffffffu);
-    samplePositions[offsets[cell]] = positionWeight[point];
-    sampleNormals[offsets[cell]] = normal[point];
+    const Float4 p = positionWeight[point], n = normal[point];
+    const Float3 pLive = warps.live(point, xyz(p)), nLive = warps.liveDirection(point, xyz(n));
+    samplePositions[offsets[cell]] = {pLive.x, pLive.y, pLive.z, p.w};
+    sampleNormals[offsets[cell]] = {nLive.x, nLive.y, nLive.z, n.w};
   }
 };
 

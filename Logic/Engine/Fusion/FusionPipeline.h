@@ -36,6 +36,11 @@ struct FusionModel {
   std::size_t retiredMarkers = 0;  ///< of those, markers retired (kRetiredMarker)
   bool budgetReached = false;  ///< new points were refused for the budget
   ModelStore store;            ///< grows by doubling up to the budget (allocated at the first integrate)
+  /// The points' motions to where the tissue is now (PointWarps: three rows per point, for the first warpedCount
+  /// points), when the model deforms; empty otherwise.
+  Buffer<Float4> warpRows;
+  std::size_t warpedCount = 0;
+  bool deforming = false;
 
   // Per key frame, one pixel each.
   Image<Float3> pointsMm, normals;  ///< the uploaded measurement
@@ -50,6 +55,9 @@ struct FusionModel {
   Buffer<Float4> samplePositions, sampleNormals;  ///< sampleVisible's output
   Buffer<int> agreementCounters;         ///< kAgreementCounters (AgreementKernels.h)
   Image<float> disparity;                ///< a frame's disparity uploaded for the agreement (when it is on the host)
+
+  /// The warps the kernels apply: none unless the model deforms.
+  PointWarps warps() const { return {deforming ? warpRows.data() : nullptr}; }
 
   MeasurementView measurement() const {
     return {pointsMm.view(), normals.view(), colourBgr.data()};

@@ -41,7 +41,7 @@ IntegrateCounts integrateOn(FusionModel& model, const FramePose& pose, const Fus
   model.covered.setZero();
   model.counters.setZero();
   parallelFor<Backend>(static_cast<int64_t>(model.count),
-                       MergeModelPoints{model.store.arrays(), measurement, pose, settings, model.covered.data(),
+                       MergeModelPoints{model.store.arrays(), model.warps(), measurement, pose, settings, model.covered.data(),
                                         model.counters.data()});
   parallelFor<Backend>(pixels, FlagNewPixels{measurement, model.covered.data(), model.flags.data(),
                                              settings.newPointStepPx});
@@ -69,7 +69,7 @@ void drawDepthKeys(FusionModel& model, const FramePose& pose, const PinholeCamer
   const ModelArrays arrays = model.store.arrays();
   parallelFor<Backend>(static_cast<int64_t>(model.width) * model.height, ClearDepthKeys{model.depthKeys.data()});
   parallelFor<Backend>(static_cast<int64_t>(model.count),
-                       ProjectToDepthKeys{arrays.positionWeight, arrays.normal, pose, camera, model.depthKeys.data()});
+                       ProjectToDepthKeys{arrays.positionWeight, arrays.normal, model.warps(), pose, camera, model.depthKeys.data()});
   model.depthKeysPose = pose;
   model.depthKeysCurrent = true;
 }
@@ -101,7 +101,8 @@ int sampleVisibleOn(FusionModel& model, const FramePose& pose, const FusionSetti
   }
   parallelFor<Backend>(grid.cellCount(),
                        GatherGridSamples{model.depthKeys.data(), grid, model.flags.data(), model.offsets.data(),
-                                         arrays.positionWeight, arrays.normal, model.samplePositions.data(),
+                                         arrays.positionWeight, arrays.normal, model.warps(),
+                                         model.samplePositions.data(),
                                          model.sampleNormals.data()});
   return samples;
 }
@@ -130,7 +131,7 @@ int updateMotionOn(FusionModel& model, const FramePose& pose, const FusionSettin
   // The seen-through test reads the model's nearest surface per pixel at this pose.
   if (settings.seenThroughEvidenceRate > 0) drawDepthKeys<Backend>(model, pose, settings.camera);
   parallelFor<Backend>(static_cast<int64_t>(model.count),
-                       UpdateMotionEvidence{model.store.arrays(), pose, settings.camera, measured, thresholdMm,
+                       UpdateMotionEvidence{model.store.arrays(), model.warps(), pose, settings.camera, measured, thresholdMm,
                                             occlusionMarginMm, penalty, settings.markerRestFrames,
                                             settings.seenThroughEvidenceRate, model.depthKeys.data(),
                                             model.agreementCounters.data()});

@@ -28,7 +28,7 @@ std::size_t FusionModel::bytes() const {
   return 3 * store.capacity() * sizeof(Float4) + 2 * pointsMm.buffer().size() * sizeof(Float3) + colourBgr.size() +
          covered.size() + (flags.size() + offsets.size() + counters.size()) * sizeof(int) +
          depthKeys.size() * sizeof(uint64_t) + scanScratch.size() +
-         (samplePositions.size() + sampleNormals.size()) * sizeof(Float4);
+         (samplePositions.size() + sampleNormals.size() + warpRows.size()) * sizeof(Float4);
 }
 
 }  // namespace fusion
@@ -144,6 +144,8 @@ FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const 
           "of the rectified size " + std::to_string(size.width) + "x" + std::to_string(size.height));
   const fusion::FramePose pose = framePose(T_world_camera);
   fusion::FusionModel& model = *model_;
+  require(!model.deforming || model.warpedCount == model.count,
+          "PointFusion::integrate: the model's points have no motions (followDeformation after the last change)");
   const SurfaceMapsOnDevice* onDevice = measurement.onDevice.get();
   copySurfaceMaps(measurement.pointsCameraMm, measurement.normalsCamera, onDevice, model.pointsMm, model.normals);
   if (device_ == Device::Cuda && onDevice && onDevice->colourBgr.size() == model.colourBgr.size()) {
@@ -153,10 +155,12 @@ FusionStats PointFusion::integrate(const SurfaceMeasurement& measurement, const 
   }
 
   const fusion::FusionSettings settings = fusionSettings(geometry_, parameters_);
+  const std::size_t countBefore = model.count;
   const fusion::IntegrateCounts counts = device_ == Device::Cuda
                                              ? fusion::integrateCuda(model, pose, settings, parameters_.maxPoints)
                                              : fusion::integrateCpu(model, pose, settings, parameters_.maxPoints);
   synchronize(device_);
+  if (model.deforming && model.count > countBefore) restNewPoints(countBefore);
   FusionStats stats;
   stats.merged = counts.merged;
   stats.added = counts.added;
@@ -171,12 +175,97 @@ std::size_t PointFusion::retiredMarkerCount() const { return model_->retiredMark
 
 bool PointFusion::budgetReached() const { return model_->budgetReached; }
 
-ModelPoints PointFusion::download() const {
+namespace {
+
+/// Copies host values into the first elements of a device (or host) buffer.
+template <class T>
+void uploadPrefix(Buffer<T>& buffer, std::size_t first, std::size_t count, const T* host) {
+  if (count == 0) return;
+  if (buffer.device() == Device::Cuda) cuda::copyHostToDevice(buffer.data() + first, host, count * sizeof(T));
+  else std::copy_n(host, count, buffer.data() + first);
+}
+
+Eigen::Vector3f vector3(const fusion::Float4& a) { return {a.x, a.y, a.z}; }
+
+}  // namespace
+
+bool PointFusion::deforming() const { return model_->deforming; }
+
+void PointFusion::followDeformation(ModelDeformation& field) {
+  fusion::FusionModel& model = *model_;
+  deformation_ = &field;
+  const std::size_t n = model.count;
+  std::vector<fusion::Float4> positions(n);
+  downloadPrefix(model.store.positionWeight, n, positions.data());
+  std::vector<Eigen::Vector3f> restMm(n);
+  for (std::size_t i = 0; i < n; ++i) restMm[i] = vector3(positions[i]);
+  motions_.clear();
+  field.motionsOf(restMm, motions_);
+  require(motions_.size() == n, "PointFusion::followDeformation: the field gave a motion count other than the points'");
+  model.deforming = true;
+  uploadWarps();
+}
+
+void PointFusion::uploadWarps() {
+  fusion::FusionModel& model = *model_;
+  const std::size_t n = motions_.size();
+  std::vector<fusion::Float4> rows(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const PointMotion& m = motions_[i];
+    for (int r = 0; r < 3; ++r)
+      rows[3 * i + r] = {m.rotation(r, 0), m.rotation(r, 1), m.rotation(r, 2), m.translationMm(r)};
+  }
+  if (model.warpRows.size() < rows.size()) model.warpRows = Buffer<fusion::Float4>(device_, std::max<std::size_t>(rows.size(), 3 * model.store.capacity()));
+  uploadPrefix(model.warpRows, 0, rows.size(), rows.data());
+  model.warpedCount = n;
+  model.depthKeysCurrent = false;  // the points moved
+}
+
+void PointFusion::restNewPoints(std::size_t first) {
+  fusion::FusionModel& model = *model_;
+  const std::size_t added = model.count - first;
+  std::vector<fusion::Float4> positions(model.count), normals(model.count);
+  downloadPrefix(model.store.positionWeight, model.count, positions.data());
+  downloadPrefix(model.store.normal, model.count, normals.data());
+  std::vector<Eigen::Vector3f> liveMm(added), restMm;
+  for (std::size_t i = 0; i < added; ++i) liveMm[i] = vector3(positions[first + i]);
+  std::vector<PointMotion> motions;
+  deformation_->restOf(liveMm, restMm, motions);
+  require(restMm.size() == added && motions.size() == added,
+          "PointFusion::integrate: the deformation field gave a rest count other than the new points'");
+  for (std::size_t i = 0; i < added; ++i) {
+    fusion::Float4& p = positions[first + i];
+    fusion::Float4& n = normals[first + i];
+    const Eigen::Vector3f restNormal = motions[i].rotation.transpose() * vector3(n);
+    p = {restMm[i].x(), restMm[i].y(), restMm[i].z(), p.w};
+    n = {restNormal.x(), restNormal.y(), restNormal.z(), n.w};
+  }
+  uploadPrefix(model.store.positionWeight, first, added, positions.data() + first);
+  uploadPrefix(model.store.normal, first, added, normals.data() + first);
+  motions_.resize(first);
+  motions_.insert(motions_.end(), motions.begin(), motions.end());
+  uploadWarps();
+}
+
+ModelPoints PointFusion::download() const { return downloadPoints(false); }
+
+ModelPoints PointFusion::downloadLive() const { return downloadPoints(model_->deforming); }
+
+ModelPoints PointFusion::downloadPoints(bool whereNow) const {
   const std::size_t n = model_->count;
   std::vector<fusion::Float4> positions(n), normals(n), colours(n);
   downloadPrefix(model_->store.positionWeight, n, positions.data());
   downloadPrefix(model_->store.normal, n, normals.data());
   downloadPrefix(model_->store.colourWeight, n, colours.data());
+  if (whereNow) {
+    for (std::size_t i = 0; i < std::min(n, motions_.size()); ++i) {
+      const PointMotion& m = motions_[i];
+      const Eigen::Vector3f p = m.rotation * vector3(positions[i]) + m.translationMm;
+      const Eigen::Vector3f normal = m.rotation * vector3(normals[i]);
+      positions[i] = {p.x(), p.y(), p.z(), positions[i].w};
+      normals[i] = {normal.x(), normal.y(), normal.z(), normals[i].w};
+    }
+  }
   ModelPoints model;
   const std::size_t live = n - model_->markers;
   model.cloud.pointsMm.reserve(live);
@@ -259,7 +348,8 @@ ModelAgreement PointFusion::measureAgreement(const cv::Mat& disparityPx, const E
 
 double PointFusion::motionThresholdMm(const ModelAgreement& agreement) const {
   const double median = agreement.measured ? agreement.medianDepthDifferenceMm : 0.0;
-  return std::max(parameters_.motionMinThresholdMm, parameters_.motionNoiseFactor * median);
+  const double threshold = std::max(parameters_.motionMinThresholdMm, parameters_.motionNoiseFactor * median);
+  return model_->deforming && deformation_ ? std::max(threshold, deformation_->explainedWithinMm()) : threshold;
 }
 
 int PointFusion::updateMotion(ImageView<const float> disparityPx, const Eigen::Matrix4d& T_world_camera,
@@ -287,6 +377,8 @@ std::size_t PointFusion::deviceBytes() const { return device_ == Device::Cuda ? 
 
 void PointFusion::reset() {
   model_ = std::make_unique<fusion::FusionModel>(device_, geometry_.imageSize.width, geometry_.imageSize.height);
+  deformation_ = nullptr;
+  motions_.clear();
 }
 
 }  // namespace tissuemosaic

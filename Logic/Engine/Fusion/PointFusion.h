@@ -40,6 +40,31 @@ namespace fusion {
 struct FusionModel;  // device-resident state (FusionPipeline.h)
 }
 
+/// A model point's rigid motion from where its tissue rests to where it is now: live = rotation * rest +
+/// translationMm (world frame, mm).
+struct PointMotion {
+  Eigen::Matrix3f rotation = Eigen::Matrix3f::Identity();
+  Eigen::Vector3f translationMm = Eigen::Vector3f::Zero();
+};
+
+/// What the fusion needs of a deformation field to fuse a deforming tissue (Deformation/ModelWarp.h implements it
+/// over the deformation graph): the model then holds the tissue at rest (the canonical model), and each frame meets
+/// it where the field says it is now.
+class ModelDeformation {
+public:
+  virtual ~ModelDeformation() = default;
+  /// The motions of the model's points, given where they rest (world mm), index for index. The model's indices are
+  /// stable (points are only appended), so an implementation may keep per-index state.
+  virtual void motionsOf(const std::vector<Eigen::Vector3f>& restMm, std::vector<PointMotion>& motions) = 0;
+  /// Where points measured now rest (the inverse of the field), with their motions.
+  virtual void restOf(const std::vector<Eigen::Vector3f>& liveMm, std::vector<Eigen::Vector3f>& restMm,
+                      std::vector<PointMotion>& motions) = 0;
+  /// How far from the frame's depth the field may leave tissue that it follows (mm): motion evidence, which takes
+  /// out of the model what moved, counts only depths farther than this from a moved point (what the field cannot
+  /// explain: tissue cut or torn, a fold it cannot follow).
+  virtual double explainedWithinMm() const = 0;
+};
+
 /// The disparities whose depth lies inside the fusion's working range [minDepthMm, maxDepthMm] (the rest count as
 /// missing): what fusion, the refinement's ICP term and the model agreement measure with.
 DisparityRangePx workingDisparityRange(const RectifiedGeometry& geometry, const FusionParameters& fusion);
@@ -55,8 +80,17 @@ public:
   PointFusion& operator=(const PointFusion&) = delete;
 
   /// Fuses one key frame seen from T_world_camera (left rectified camera -> world, mm). The measurement must have
-  /// the geometry's image size (Error otherwise).
+  /// the geometry's image size (Error otherwise). While the model follows a deformation (followDeformation), the
+  /// frame meets every point where the field puts it, merges there and takes the merged point back to rest; the
+  /// points it adds are stored where the field says they rest.
   FusionStats integrate(const SurfaceMeasurement& measurement, const Eigen::Matrix4d& T_world_camera);
+  /// Moves the model to where `field` says the tissue is now: every later call (integrate, sampleVisible,
+  /// measureAgreement, updateMotion, downloadLive) sees the points there, until the next call. The model itself
+  /// stays at rest (download()). `field` must outlive the next integrate (which asks it where new points rest).
+  /// Without a call, the model is rigid and every step is the rigid fusion's, bit for bit.
+  void followDeformation(ModelDeformation& field);
+  /// True once followDeformation was called (until reset()).
+  bool deforming() const;
   /// Points in the model (those that left it through motion evidence not counted).
   std::size_t pointCount() const;
   /// Points that left the model by motion evidence and stay as moved-tissue markers (FusionParameters).
@@ -66,8 +100,11 @@ public:
   std::size_t retiredMarkerCount() const;
   /// True once new points were refused for the budget (until reset()).
   bool budgetReached() const;
-  /// Host copy of the whole model.
+  /// Host copy of the whole model (where the tissue rests, when it deforms: the canonical model).
   ModelPoints download() const;
+  /// Host copy of the model where the tissue is now (the live surface): download() moved by the last
+  /// followDeformation's field; download() itself when the model does not deform.
+  ModelPoints downloadLive() const;
   /// The model seen from a camera: up to maxPoints model points (world mm) and their normals (world) that project
   /// inside the image in front of the camera and pass the z-buffer (nearest per pixel), spread evenly over the
   /// image; not those that recent frames contradicted (motion evidence, kMaxSampledMotionEvidence). For the refinement's ICP term (p_i of the paper's eq. ICPterm). The samples are the z-buffer's pixels
@@ -91,7 +128,8 @@ public:
   int updateMotion(ImageView<const float> disparityPx, const Eigen::Matrix4d& T_world_camera,
                    const ModelAgreement& agreement);
   int updateMotion(const cv::Mat& disparityPx, const Eigen::Matrix4d& T_world_camera, const ModelAgreement& agreement);
-  /// The depth difference beyond which a frame with this agreement contradicts a model point (mm).
+  /// The depth difference beyond which a frame with this agreement contradicts a model point (mm); at least the
+  /// field's explainedWithinMm while the model follows a deformation.
   double motionThresholdMm(const ModelAgreement& agreement) const;
 
   /// Bytes held on the device (0 on the CPU).
@@ -103,10 +141,17 @@ public:
   const FusionParameters& parameters() const { return parameters_; }
 
 private:
+  ModelPoints downloadPoints(bool whereNow) const;
+  /// Stores the points integrate appended (from index `first`) where the field says they rest, with their motions.
+  void restNewPoints(std::size_t first);
+  void uploadWarps();
+
   RectifiedGeometry geometry_;
   FusionParameters parameters_;
   Device device_;
   std::unique_ptr<fusion::FusionModel> model_;
+  ModelDeformation* deformation_ = nullptr;  ///< the field the model follows (followDeformation), not owned
+  std::vector<PointMotion> motions_;         ///< per model point, the last field's motion
 };
 
 }  // namespace tissuemosaic

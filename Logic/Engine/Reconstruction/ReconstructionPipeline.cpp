@@ -6,6 +6,7 @@
 #include "Core/PixelFormat.h"
 #include "Core/Stopwatch.h"
 #include "Core/SurfaceMeasurement.h"
+#include "Deformation/ModelWarp.h"
 #include "Fusion/PointFusion.h"
 #include "Refinement/KeyFrameRefiner.h"
 #include "Refinement/Relocaliser.h"
@@ -17,6 +18,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <optional>
 
 namespace tissuemosaic {
@@ -76,6 +78,7 @@ struct ReconstructionPipeline::Impl {
   Relocaliser relocaliser;
   PointFusion fusion;
   std::optional<DeformationTracker> deformation;  ///< fusion.deformation on
+  std::optional<ModelWarp> modelWarp;             ///< the deformation's field as the fusion follows it
   std::vector<KeyFramePose> keyFrames;
   std::size_t peakDeviceBytes = 0;
   std::string lastRefinementMessage;
@@ -96,7 +99,11 @@ struct ReconstructionPipeline::Impl {
         tracker(g, trackerOptions(p, d, subPixel), T_world_start),
         refiner(g, p.refinement, p.tracking, p.features, d, subPixel), relocaliser(g, p.tracking, p.features, d),
         fusion(g, p.fusion, d) {
-    if (p.fusion.deformation) deformation.emplace(g);
+    if (p.fusion.deformation) {
+      deformation.emplace(g);
+      // The field follows the tissue to within the samples' agreement distance ("within" for its live share).
+      modelWarp.emplace(deformation->graph(), deformation->parameters().agreementMm);
+    }
   }
 
   void samplePeakDeviceMemory() {
@@ -296,6 +303,16 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
                                      : (tissueMoved ? SceneMotion::Tissue : SceneMotion::Still);
   }
   result.T_world_camera = track.T_world_camera;
+  if (track.tracked && s.deformation) {
+    // The tissue's motion beyond the camera's, at the tracked pose, before the frame meets the model: the fused
+    // model then follows it (its agreement, motion evidence, ICP samples and fusion see the tissue where it is now).
+    const auto deformationStart = Clock::now();
+    const cv::Mat disparity = result.disparityPx.empty() ? s.matcher.downloadLastDisparity() : result.disparityPx;
+    result.deformation = s.deformation->update(disparity, result.T_world_camera);
+    s.fusion.followDeformation(*s.modelWarp);
+    T_world_agreement = Eigen::Matrix4d::Constant(std::numeric_limits<double>::quiet_NaN());  // the model moved
+    result.timesMs.deformation = millisecondsSince(deformationStart);
+  }
   if (track.tracked) {
     if (!(T_world_agreement == result.T_world_camera)) measureAgreement(result.T_world_camera);
     result.agreement = agreement;
@@ -382,13 +399,6 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     pose.T_world_camera = result.T_world_camera;
     s.keyFrames.push_back(pose);
   }
-  if (result.tracked && s.deformation) {
-    // The tissue's motion beyond the camera's, at the frame's final pose.
-    const auto deformationStart = Clock::now();
-    const cv::Mat disparity = result.disparityPx.empty() ? s.matcher.downloadLastDisparity() : result.disparityPx;
-    result.deformation = s.deformation->update(disparity, result.T_world_camera);
-    result.timesMs.deformation = millisecondsSince(deformationStart);
-  }
   result.modelPoints = s.fusion.pointCount();
   result.pointBudgetReached = s.fusion.budgetReached();
   result.timesMs.total = millisecondsSince(start);
@@ -402,6 +412,7 @@ Device ReconstructionPipeline::device() const { return impl_->device; }
 int ReconstructionPipeline::frameCount() const { return impl_->tracker.frameCount(); }
 const std::vector<KeyFramePose>& ReconstructionPipeline::keyFrames() const { return impl_->keyFrames; }
 ModelPoints ReconstructionPipeline::modelSnapshot() const { return impl_->fusion.download(); }
+ModelPoints ReconstructionPipeline::liveModelSnapshot() const { return impl_->fusion.downloadLive(); }
 std::size_t ReconstructionPipeline::modelPointCount() const { return impl_->fusion.pointCount(); }
 std::size_t ReconstructionPipeline::peakDeviceBytes() const { return impl_->peakDeviceBytes; }
 void ReconstructionPipeline::setFrameDisparityKept(bool kept) { impl_->frameDisparityKept = kept; }

@@ -156,6 +156,9 @@ public:
   const std::vector<KeyFramePose>& keyFrames() const;
   /// A host copy of the fused model (world frame = the first left rectified camera, mm).
   ModelPoints modelSnapshot() const;
+  /// The fused model where the tissue is now (the live surface, fusion.deformation on): modelSnapshot() moved by
+  /// the last frame's deformation; modelSnapshot() itself when the deformation is off.
+  ModelPoints liveModelSnapshot() const;
   std::size_t modelPointCount() const;
   /// Peak device memory in use, sampled after every frame (cudaMemGetInfo: includes the CUDA context; 0 on the CPU).
   std::size_t peakDeviceBytes() const;
