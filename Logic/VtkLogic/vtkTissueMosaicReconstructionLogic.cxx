@@ -173,9 +173,10 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
           std::optional<ModelPoints> model;
           std::optional<tissuemosaic::ModelArrays> modelArrays;
           std::optional<std::vector<KeyFramePose>> keyFrames;
-          // The model changes at key frames (fusion) and where motion evidence removed points (any tracked frame).
-          if (result.keyFrame || result.pointsRemoved > 0) {
-            model = pipeline->modelSnapshot();
+          // The model changes at key frames (fusion) and where motion evidence removed points (any tracked frame);
+          // while it deforms, at every fitted frame: the view shows it where the tissue is now (the live model).
+          if (result.keyFrame || result.pointsRemoved > 0 || result.deformation.fitted) {
+            model = pipeline->liveModelSnapshot();
             // Double buffering: the owner swaps these in without touching the model's memory.
             modelArrays = tissuemosaic::makeModelArrays(model->cloud);
             keyFrames = pipeline->keyFrames();
@@ -244,7 +245,7 @@ void vtkTissueMosaicReconstructionLogic::Session::run() {
     runCatching(
         [&] {
           const bool any = pipeline && pipeline->frameCount() > 0;
-          const ModelPoints model = any ? pipeline->modelSnapshot() : ModelPoints{};
+          const ModelPoints model = any ? pipeline->liveModelSnapshot() : ModelPoints{};
           observer.scanEnded(any ? &model : nullptr, lastTimeS,
                              !ranToEnd ? "failed: " + errorText : endState == StateStopped ? "stopped" : "finished");
         },

@@ -159,13 +159,13 @@ Eigen::Vector3d DeformationGraph::warpNormal(const Eigen::Vector3d& canonicalNor
   return norm > 0 ? Eigen::Vector3d(turned / norm) : canonicalNormal;
 }
 
-Eigen::Matrix3d DeformationGraph::blendedRotation(const NodeInfluence& influence) const {
+Eigen::Matrix3d DeformationGraph::blendedRotation(const NodeInfluence& influence,
+                                                  const std::vector<Eigen::Quaterniond>& nodeRotations) {
   if (influence.count == 0) return Eigen::Matrix3d::Identity();
   Eigen::Vector4d sum = Eigen::Vector4d::Zero();
   Eigen::Vector4d first = Eigen::Vector4d::Zero();
   for (int n = 0; n < influence.count; ++n) {
-    const Eigen::Quaterniond q(nodes_[static_cast<std::size_t>(influence.node[n])].rotation);
-    Eigen::Vector4d c = q.coeffs();
+    Eigen::Vector4d c = nodeRotations[static_cast<std::size_t>(influence.node[n])].coeffs();
     if (n == 0) first = c;
     else if (c.dot(first) < 0) c = -c;  // q and -q are one rotation: blend on one hemisphere
     sum += influence.weight[n] * c;
@@ -175,12 +175,30 @@ Eigen::Matrix3d DeformationGraph::blendedRotation(const NodeInfluence& influence
   return Eigen::Quaterniond(sum / norm).toRotationMatrix();
 }
 
+Eigen::Matrix3d DeformationGraph::blendedRotation(const NodeInfluence& influence) const {
+  NodeInfluence local = influence;  // the same weights, over the influence's own nodes numbered 0..count-1
+  std::vector<Eigen::Quaterniond> rotations;
+  for (int n = 0; n < influence.count; ++n) {
+    rotations.emplace_back(nodes_[static_cast<std::size_t>(influence.node[n])].rotation);
+    local.node[n] = n;
+  }
+  return blendedRotation(local, rotations);
+}
+
+std::vector<Eigen::Quaterniond> DeformationGraph::nodeQuaternions() const {
+  std::vector<Eigen::Quaterniond> rotations;
+  rotations.reserve(nodes_.size());
+  for (const DeformationNode& node : nodes_) rotations.emplace_back(node.rotation);
+  return rotations;
+}
+
 Eigen::Vector3d DeformationGraph::inverseWarp(const Eigen::Vector3d& liveMm, NodeInfluence& influence,
                                               int iterations) const {
   Eigen::Vector3d rest = liveMm;
-  influence = NodeInfluence{};
+  influence = this->influence(liveMm);
   for (int iteration = 0; iteration < iterations; ++iteration) {
-    influence = this->influence(rest);
+    // The nodes move little between the live point and its rest: found at q, then again before the last step.
+    if (iteration == iterations - 1 && iteration > 0) influence = this->influence(rest);
     rest = liveMm - (warp(rest, influence) - rest);
   }
   return rest;

@@ -11,6 +11,7 @@
 /// every node, and recomputes the node neighbourhoods (the as-rigid-as-possible term's pairs). Nodes are never
 /// removed, so a node's index is stable for the research output (DeformationRecord.h).
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <Eigen/StdVector>
 
 #include <unordered_map>
@@ -71,9 +72,14 @@ public:
   /// neighbouring nodes turn alike (as the regularisation keeps them), and always a rotation, so that it inverts by
   /// its transpose.
   Eigen::Matrix3d blendedRotation(const NodeInfluence& influence) const;
+  /// The same with the nodes' rotations given as unit quaternions (nodeQuaternions()), for many points at once.
+  static Eigen::Matrix3d blendedRotation(const NodeInfluence& influence,
+                                         const std::vector<Eigen::Quaterniond>& nodeRotations);
+  /// Every node's rotation as a unit quaternion, index for index.
+  std::vector<Eigen::Quaterniond> nodeQuaternions() const;
   /// Where a live point rests: the canonical point whose warp lands on it, by fixed-point iteration
-  /// (p <- q - (warp(p) - p), `iterations` times; exact where the field is a translation). influence: the rest
-  /// point's, on return.
+  /// (p <- q - (warp(p) - p), `iterations` times; exact where the field is a translation), with the nodes found at q
+  /// and found again at p before the last step. influence: the rest point's, on return.
   Eigen::Vector3d inverseWarp(const Eigen::Vector3d& liveMm, NodeInfluence& influence, int iterations = 4) const;
   /// The canonical normal turned by the blend of the nodes' rotations (normalised).
   Eigen::Vector3d warpNormal(const Eigen::Vector3d& canonicalNormal, const NodeInfluence& influence) const;

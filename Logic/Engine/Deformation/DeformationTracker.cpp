@@ -96,9 +96,9 @@ DeformationFrame DeformationTracker::update(const cv::Mat& disparityPx, const Ei
 
   // The samples in view (their live position projects into the image), evenly thinned to maxFitSamples.
   std::vector<int> inView;
-  std::vector<NodeInfluence> influences(canonical_.size());
+  influences_.update(graph_, canonical_);
+  const InfluenceCache& influences = influences_;
   for (std::size_t i = 0; i < canonical_.size(); ++i) {
-    influences[i] = graph_.influence(canonical_[i]);
     int x = 0, y = 0;
     if (projectToPixel(geometry_, R_cw * graph_.warp(canonical_[i], influences[i]) + t_cw, x, y))
       inView.push_back(static_cast<int>(i));
@@ -177,7 +177,7 @@ DeformationFrame DeformationTracker::update(const cv::Mat& disparityPx, const Ei
   std::vector<char> covered(static_cast<std::size_t>(cellsX) * cellsY, 0);
   for (const int i : inView) {
     int x = 0, y = 0;
-    if (projectToPixel(geometry_, R_cw * graph_.warp(canonical_[static_cast<std::size_t>(i)]) + t_cw, x, y))
+    if (projectToPixel(geometry_, R_cw * graph_.warp(canonical_[static_cast<std::size_t>(i)], influences[static_cast<std::size_t>(i)]) + t_cw, x, y))
       covered[static_cast<std::size_t>(y / stride) * cellsX + x / stride] = 1;
   }
   const std::size_t before = canonical_.size();

@@ -14,6 +14,7 @@
 #include "Core/StereoRig.h"
 #include "Deformation/DeformationFit.h"
 #include "Deformation/DeformationGraph.h"
+#include "Deformation/InfluenceCache.h"
 
 #include <Eigen/Core>
 #include <Eigen/StdVector>
@@ -79,6 +80,7 @@ private:
   DeformationGraph graph_;
   Points canonical_, normals_;
   std::vector<float> weights_;  ///< per sample: the frames its running average holds
+  InfluenceCache influences_;   ///< per sample: its nodes
 };
 
 }  // namespace tissuemosaic
