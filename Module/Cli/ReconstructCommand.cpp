@@ -53,7 +53,8 @@ struct ReconstructOptions {
   GeometryOptions geometry;
   std::string out;
   std::optional<std::string> trajectory, framesTrajectory, timingJson, qualityJson, snapshot, startTum, params;
-  std::optional<std::string> deformation, deformationOut, canonicalOut, liveOut;
+  std::optional<std::string> deformation, deformationOut, canonicalOut, liveOut, liveFrames;
+  int liveEvery = 10;
   std::optional<int> maxFrames;
   DisparityRangeOptions range;
   DeviceOption device;
@@ -78,6 +79,12 @@ void runReconstruct(ReconstructOptions options) {
   if (options.deformationOut) requireWritableOutput(*options.deformationOut, "deformation record (--deformation-out)");
   if (options.canonicalOut) requireWritableOutput(*options.canonicalOut, "canonical surface (--canonical-out)");
   if (options.liveOut) requireWritableOutput(*options.liveOut, "live model (--live-out)");
+  if (options.liveFrames) {
+    std::error_code made;
+    std::filesystem::create_directories(*options.liveFrames, made);
+    require(std::filesystem::is_directory(*options.liveFrames),
+            "cannot make the folder '" + *options.liveFrames + "' for --live-frames");
+  }
   if (options.snapshot) {
     checkSnapshotAvailable();
     requireWritableOutput(*options.snapshot, "snapshot (--snapshot)");
@@ -89,8 +96,12 @@ void runReconstruct(ReconstructOptions options) {
   if (options.params) parameters = ReconstructionParameters::readFile(*options.params);
   options.range.applyTo(parameters.stereo);
   if (options.deformation) parameters.fusion.deformation = *options.deformation == "on";
-  require((!options.deformationOut && !options.canonicalOut && !options.liveOut) || parameters.fusion.deformation,
-          std::string(options.deformationOut ? "--deformation-out" : options.canonicalOut ? "--canonical-out" : "--live-out") +
+  require((!options.deformationOut && !options.canonicalOut && !options.liveOut && !options.liveFrames) ||
+              parameters.fusion.deformation,
+          std::string(options.deformationOut   ? "--deformation-out"
+                      : options.canonicalOut ? "--canonical-out"
+                      : options.liveOut      ? "--live-out"
+                                             : "--live-frames") +
               " needs the deformation on (--deformation on, or fusion.deformation: on in --params)");
   parameters.validate();
   const Device device = options.device.resolve();
@@ -152,6 +163,13 @@ void runReconstruct(ReconstructOptions options) {
     quality.add(result);
     if (deformationRecord && result.deformation.fitted) {
       deformationRecord->write(result.frameIndex, frame.timeS, *pipeline->deformationGraph());
+    }
+    if (options.liveFrames && result.tracked && result.frameIndex % options.liveEvery == 0) {
+      // Numbered as the generator's groundtruth/surface_NNNNNN.ply, for `eval` frame by frame.
+      writeModelFile((std::filesystem::path(*options.liveFrames) / cv::format("live_%06d.ply", result.frameIndex)).string(),
+                     pipeline->liveModelSnapshot().cloud,
+                     "TissueMosaic reconstruct: the fused model where the tissue is at frame " +
+                         std::to_string(result.frameIndex) + " (the live surface), world frame, mm");
     }
     if (result.tracked) {
       TimedPose pose;
@@ -324,6 +342,17 @@ void setupReconstruct(CLI::App& tool, CommandUse use) {
                       "the fused model where the tissue is at the last frame (the live surface: --out's model at rest "
                       "moved by the last frame's deformation), as --out (needs --deformation on; docs/DEFORMATION.md)")
       ->type_name("live.ply|.vtp")
+      ->group(heading::output);
+  command->add_option("--live-frames", options->liveFrames,
+                      "a folder (made if missing) for the live model every --live-every tracked frames, as "
+                      "live_NNNNNN.ply (N: the frame index, as a synthetic scan's groundtruth/surface_NNNNNN.ply; needs "
+                      "--deformation on)")
+      ->type_name("DIR")
+      ->group(heading::output);
+  command->add_option("--live-every", options->liveEvery, "--live-frames: write every N-th frame's live model")
+      ->check(CLI::Range(1, 1000000))
+      ->type_name("N")
+      ->default_val(10)
       ->group(heading::output);
   command->add_option("--snapshot", options->snapshot, "an offscreen rendering of the model and the key-frame frusta "
                                                        "(needs VTK)")

@@ -9,6 +9,7 @@
 set(record "${SCAN}/deformation.jsonl")
 set(quality "${SCAN}/deformation_quality.json")
 file(REMOVE "${record}" "${quality}")
+file(REMOVE_RECURSE "${SCAN}/live")
 foreach(mode on off)
   execute_process(COMMAND "${CLI}" reconstruct --left-frames "${SCAN}/left" --right-frames "${SCAN}/right"
                           --calib "${SCAN}/rig.yml" --rectified --device cpu --quiet --out "${SCAN}/model_${mode}.ply"
@@ -22,6 +23,7 @@ execute_process(COMMAND "${CLI}" reconstruct --left-frames "${SCAN}/left" --righ
                         --calib "${SCAN}/rig.yml" --rectified --device cpu --quiet --out "${SCAN}/model_record.ply"
                         --deformation on --deformation-out "${record}" --quality-json "${quality}"
                         --canonical-out "${SCAN}/canonical.ply" --live-out "${SCAN}/live_record.ply"
+                        --live-frames "${SCAN}/live" --live-every 5
                 RESULT_VARIABLE status ERROR_VARIABLE err)
 if(NOT status EQUAL 0)
   message(FATAL_ERROR "reconstruct --deformation-out failed (${status}): ${err}")
@@ -33,6 +35,12 @@ string(REGEX MATCH "element vertex [0-9]+" rest_count "${rest_header}")
 string(REGEX MATCH "element vertex [0-9]+" live_count "${live_header}")
 if(NOT rest_count OR NOT rest_count STREQUAL live_count)
   message(FATAL_ERROR "--live-out holds '${live_count}', the model at rest '${rest_count}'")
+endif()
+# --live-frames: live_NNNNNN.ply every 5th frame of the 12, the last of them the model where the tissue was then.
+file(GLOB live_frames RELATIVE "${SCAN}/live" "${SCAN}/live/*.ply")
+list(SORT live_frames)
+if(NOT live_frames STREQUAL "live_000000.ply;live_000005.ply;live_000010.ply")
+  message(FATAL_ERROR "--live-frames wrote '${live_frames}', expected live_000000.ply;live_000005.ply;live_000010.ply")
 endif()
 execute_process(COMMAND "${CMAKE_COMMAND}" -E compare_files "${SCAN}/model_record.ply" "${SCAN}/live_record.ply"
                 RESULT_VARIABLE live_differs)
