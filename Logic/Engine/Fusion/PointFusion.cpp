@@ -77,12 +77,12 @@ fusion::FusionSettings fusionSettings(const RectifiedGeometry& geometry, const F
   return s;
 }
 
-/// Copies the first `count` elements of a device buffer to host memory.
+/// Copies elements first..first+count-1 of a device (or host) buffer to host memory.
 template <class T>
-void downloadPrefix(const Buffer<T>& buffer, std::size_t count, T* host) {
+void downloadRange(const Buffer<T>& buffer, std::size_t first, std::size_t count, T* host) {
   if (count == 0) return;
-  if (buffer.device() == Device::Cuda) cuda::copyDeviceToHost(host, buffer.data(), count * sizeof(T));
-  else std::copy_n(buffer.data(), count, host);
+  if (buffer.device() == Device::Cuda) cuda::copyDeviceToHost(host, buffer.data() + first, count * sizeof(T));
+  else std::copy_n(buffer.data() + first, count, host);
 }
 
 cv::Mat continuous(const cv::Mat& image) { return image.isContinuous() ? image : image.clone(); }
@@ -177,9 +177,9 @@ bool PointFusion::budgetReached() const { return model_->budgetReached; }
 
 namespace {
 
-/// Copies host values into the first elements of a device (or host) buffer.
+/// Copies host values into elements first..first+count-1 of a device (or host) buffer.
 template <class T>
-void uploadPrefix(Buffer<T>& buffer, std::size_t first, std::size_t count, const T* host) {
+void uploadRange(Buffer<T>& buffer, std::size_t first, std::size_t count, const T* host) {
   if (count == 0) return;
   if (buffer.device() == Device::Cuda) cuda::copyHostToDevice(buffer.data() + first, host, count * sizeof(T));
   else std::copy_n(host, count, buffer.data() + first);
@@ -196,7 +196,7 @@ void PointFusion::followDeformation(ModelDeformation& field) {
   deformation_ = &field;
   const std::size_t n = model.count;
   std::vector<fusion::Float4> positions(n);
-  downloadPrefix(model.store.positionWeight, n, positions.data());
+  downloadRange(model.store.positionWeight, 0, n, positions.data());
   std::vector<Eigen::Vector3f> restMm(n);
   for (std::size_t i = 0; i < n; ++i) restMm[i] = vector3(positions[i]);
   motions_.clear();
@@ -215,8 +215,10 @@ void PointFusion::uploadWarps() {
     for (int r = 0; r < 3; ++r)
       rows[3 * i + r] = {m.rotation(r, 0), m.rotation(r, 1), m.rotation(r, 2), m.translationMm(r)};
   }
-  if (model.warpRows.size() < rows.size()) model.warpRows = Buffer<fusion::Float4>(device_, std::max<std::size_t>(rows.size(), 3 * model.store.capacity()));
-  uploadPrefix(model.warpRows, 0, rows.size(), rows.data());
+  if (model.warpRows.size() < rows.size()) {  // room for the store's capacity: reallocated as rarely as the store
+    model.warpRows = Buffer<fusion::Float4>(device_, std::max<std::size_t>(rows.size(), 3 * model.store.capacity()));
+  }
+  uploadRange(model.warpRows, 0, rows.size(), rows.data());
   model.warpedCount = n;
   model.depthKeysCurrent = false;  // the points moved
 }
@@ -224,24 +226,24 @@ void PointFusion::uploadWarps() {
 void PointFusion::restNewPoints(std::size_t first) {
   fusion::FusionModel& model = *model_;
   const std::size_t added = model.count - first;
-  std::vector<fusion::Float4> positions(model.count), normals(model.count);
-  downloadPrefix(model.store.positionWeight, model.count, positions.data());
-  downloadPrefix(model.store.normal, model.count, normals.data());
+  std::vector<fusion::Float4> positions(added), normals(added);
+  downloadRange(model.store.positionWeight, first, added, positions.data());
+  downloadRange(model.store.normal, first, added, normals.data());
   std::vector<Eigen::Vector3f> liveMm(added), restMm;
-  for (std::size_t i = 0; i < added; ++i) liveMm[i] = vector3(positions[first + i]);
+  for (std::size_t i = 0; i < added; ++i) liveMm[i] = vector3(positions[i]);
   std::vector<PointMotion> motions;
   deformation_->restOf(liveMm, restMm, motions);
   require(restMm.size() == added && motions.size() == added,
           "PointFusion::integrate: the deformation field gave a rest count other than the new points'");
   for (std::size_t i = 0; i < added; ++i) {
-    fusion::Float4& p = positions[first + i];
-    fusion::Float4& n = normals[first + i];
+    fusion::Float4& p = positions[i];
+    fusion::Float4& n = normals[i];
     const Eigen::Vector3f restNormal = motions[i].rotation.transpose() * vector3(n);
     p = {restMm[i].x(), restMm[i].y(), restMm[i].z(), p.w};
     n = {restNormal.x(), restNormal.y(), restNormal.z(), n.w};
   }
-  uploadPrefix(model.store.positionWeight, first, added, positions.data() + first);
-  uploadPrefix(model.store.normal, first, added, normals.data() + first);
+  uploadRange(model.store.positionWeight, first, added, positions.data());
+  uploadRange(model.store.normal, first, added, normals.data());
   motions_.resize(first);
   motions_.insert(motions_.end(), motions.begin(), motions.end());
   uploadWarps();
@@ -254,9 +256,9 @@ ModelPoints PointFusion::downloadLive() const { return downloadPoints(model_->de
 ModelPoints PointFusion::downloadPoints(bool whereNow) const {
   const std::size_t n = model_->count;
   std::vector<fusion::Float4> positions(n), normals(n), colours(n);
-  downloadPrefix(model_->store.positionWeight, n, positions.data());
-  downloadPrefix(model_->store.normal, n, normals.data());
-  downloadPrefix(model_->store.colourWeight, n, colours.data());
+  downloadRange(model_->store.positionWeight, 0, n, positions.data());
+  downloadRange(model_->store.normal, 0, n, normals.data());
+  downloadRange(model_->store.colourWeight, 0, n, colours.data());
   if (whereNow) {
     for (std::size_t i = 0; i < std::min(n, motions_.size()); ++i) {
       const PointMotion& m = motions_[i];
@@ -294,8 +296,8 @@ void PointFusion::sampleVisible(const Eigen::Matrix4d& T_world_camera, int maxPo
   const int n = device_ == Device::Cuda ? fusion::sampleVisibleCuda(model, pose, settings, maxPoints)
                                         : fusion::sampleVisibleCpu(model, pose, settings, maxPoints);
   std::vector<fusion::Float4> positions(n), normals(n);
-  downloadPrefix(model.samplePositions, n, positions.data());
-  downloadPrefix(model.sampleNormals, n, normals.data());
+  downloadRange(model.samplePositions, 0, n, positions.data());
+  downloadRange(model.sampleNormals, 0, n, normals.data());
   pointsWorldMm.reserve(n);
   normalsWorld.reserve(n);
   for (int i = 0; i < n; ++i) {
