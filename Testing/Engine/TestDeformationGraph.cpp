@@ -4,6 +4,8 @@
 // surface lies on the frame's true surface while the still tissue stays still.
 #include "Deformation/DeformationFit.h"
 #include "Deformation/DeformationGraph.h"
+#include "Deformation/InfluenceCache.h"
+#include "Deformation/RigidPart.h"
 
 #include "SyntheticBreathing.h"
 #include "SyntheticScan.h"
@@ -72,6 +74,64 @@ TEST(DeformationGraph, NodesMovedByOneRigidMotionMovePointsByIt) {
   for (const Eigen::Vector3d& p : points) ASSERT_LT((graph.warp(p) - (R * p + T)).norm(), 1e-9);
   const Eigen::Vector3d n(0, 0.6, 0.8);
   EXPECT_LT((graph.warpNormal(n, graph.influence(points[40])) - R * n).norm(), 1e-9);
+}
+
+using Points3 = std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>>;
+
+TEST(DeformationGraph, InfluencesKeptBetweenFramesEqualFreshOnes) {
+  // A grid of points, a graph over its first half, then over all: the cache finds the influences of the points near
+  // the new nodes again and keeps the rest, and every influence equals the graph's own.
+  Points3 points;
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 40; ++x) points.emplace_back(x * 1.0, y * 1.0, 0.1 * x);
+  const Points3 half(points.begin(), points.begin() + 400);
+  DeformationGraph graph;
+  graph.cover(half);
+  InfluenceCache cache;
+  EXPECT_EQ(cache.update(graph, half), 400);
+  EXPECT_EQ(cache.update(graph, half), 0) << "nothing changed: nothing found again";
+  graph.cover(points);
+  const int foundAgain = cache.update(graph, points);
+  EXPECT_GE(foundAgain, 400) << "the new points";
+  EXPECT_LT(foundAgain, 800) << "points far from the new nodes are kept";
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const NodeInfluence fresh = graph.influence(points[i]);
+    ASSERT_EQ(cache[i].count, fresh.count) << "point " << i;
+    for (int n = 0; n < fresh.count; ++n) {
+      ASSERT_EQ(cache[i].node[n], fresh.node[n]) << "point " << i;
+      ASSERT_EQ(cache[i].weight[n], fresh.weight[n]) << "point " << i;
+    }
+  }
+}
+
+TEST(DeformationGraph, TheRigidPartIgnoresAPatchThatMovesOnItsOwn) {
+  // Nodes over a 60 x 40 mm patch moved by one rigid motion (1 degree, 0.8 mm), a disc among them lifted 3 mm more:
+  // the rigid part is the common motion, not pulled by the disc.
+  Eigen::Matrix4d truth = Eigen::Matrix4d::Identity();
+  truth.topLeftCorner<3, 3>() = Eigen::AngleAxisd(M_PI / 180, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
+  truth.topRightCorner<3, 1>() = Eigen::Vector3d(0.5, -0.4, 0.5);
+  Points3 rest, live;
+  std::vector<double> weights;
+  for (double y = -20; y <= 20; y += 4) {
+    for (double x = -30; x <= 30; x += 4) {
+      const Eigen::Vector3d g(x, y, 80 + 0.05 * x * x / 10);
+      Eigen::Vector3d moved = truth.topLeftCorner<3, 3>() * g + truth.topRightCorner<3, 1>();
+      if (std::hypot(x - 10, y) < 10) moved.z() -= 3.0;  // the breathing disc, toward the scope
+      rest.push_back(g);
+      live.push_back(moved);
+      weights.push_back(1.0 + 0.1 * (static_cast<int>(x) % 3));
+    }
+  }
+  const Eigen::Matrix4d found = robustRigidMotion(rest, live, weights, 1.0);
+  double worstMm = 0;
+  for (const Eigen::Vector3d& g : rest) {
+    const Eigen::Vector3d a = found.topLeftCorner<3, 3>() * g + found.topRightCorner<3, 1>();
+    const Eigen::Vector3d b = truth.topLeftCorner<3, 3>() * g + truth.topRightCorner<3, 1>();
+    worstMm = std::max(worstMm, (a - b).norm());
+  }
+  EXPECT_LT(worstMm, 1e-6) << "the disc pulled the rigid part";
+  // Fewer than three points: no rigid part.
+  EXPECT_TRUE(robustRigidMotion({rest[0], rest[1]}, {live[0], live[1]}, {1.0, 1.0}, 1.0).isIdentity());
 }
 
 TEST(DeformationGraph, InvalidParametersAreRefused) {

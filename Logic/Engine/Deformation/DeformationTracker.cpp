@@ -5,6 +5,7 @@
 #include "Core/Stopwatch.h"
 #include "Core/SurfaceKernels.h"
 #include "Core/SurfaceMeasurement.h"
+#include "Deformation/RigidPart.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -67,6 +68,7 @@ void DeformationTrackerParameters::validate() const {
   check.requireRange("agreementMm", agreementMm, 0.01, 100.0);
   check.requireRange("maxDepthJumpMm", maxDepthJumpMm, 0.01, 1000.0);
   check.requireRange("maxSampleWeight", maxSampleWeight, 1.0, 1e6);
+  check.requireRange("rigidPartToleranceMm", rigidPartToleranceMm, 0.01, 100.0);
 }
 
 DeformationTracker::DeformationTracker(const RectifiedGeometry& geometry, const DeformationTrackerParameters& parameters)
@@ -82,15 +84,47 @@ DeformationTracker::Points DeformationTracker::livePoints() const {
   return live;
 }
 
+Eigen::Matrix4d DeformationTracker::takeRigidPart(const DeformationCorrespondences& correspondences) {
+  // The nodes this frame's depth reached, weighted by how much of it.
+  std::vector<double> reach(static_cast<std::size_t>(graph_.nodeCount()), 0.0);
+  for (const DeformationCorrespondence& c : correspondences) {
+    if (!c.influence) continue;
+    for (int n = 0; n < c.influence->count; ++n) reach[static_cast<std::size_t>(c.influence->node[n])] += c.influence->weight[n];
+  }
+  Points rest, live;
+  std::vector<double> weights;
+  auto& nodes = graph_.nodes();
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    if (!(reach[j] > 0)) continue;
+    rest.push_back(nodes[j].positionMm);
+    live.push_back(nodes[j].livePositionMm());
+    weights.push_back(reach[j]);
+  }
+  const Eigen::Matrix4d rigid = robustRigidMotion(rest, live, weights, parameters_.rigidPartToleranceMm);
+  Eigen::Matrix4d back = Eigen::Matrix4d::Identity();  // the rigid motion undone
+  back.topLeftCorner<3, 3>() = rigid.topLeftCorner<3, 3>().transpose();
+  back.topRightCorner<3, 1>() = -back.topLeftCorner<3, 3>() * rigid.topRightCorner<3, 1>();
+  // live(p) = sum_j w_j (R_j (p - g_j) + g_j + t_j) is affine in each node's motion: undoing D on every reached node
+  // moves the tissue they carry by D^-1 exactly.
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    if (!(reach[j] > 0)) continue;
+    DeformationNode& node = nodes[j];
+    const Eigen::Vector3d liveMm = back.topLeftCorner<3, 3>() * node.livePositionMm() + back.topRightCorner<3, 1>();
+    node.translationMm = liveMm - node.positionMm;
+    node.rotation = back.topLeftCorner<3, 3>() * node.rotation;
+  }
+  return back;
+}
+
 DeformationFrame DeformationTracker::update(const cv::Mat& disparityPx, const Eigen::Matrix4d& T_world_camera) {
   const auto start = std::chrono::steady_clock::now();
   require(disparityPx.type() == CV_32F && disparityPx.size() == geometry_.imageSize,
           "deformation: the disparity must be CV_32F of the geometry's size");
   DeformationFrame frame;
-  const Eigen::Matrix3d R_wc = T_world_camera.block<3, 3>(0, 0);
-  const Eigen::Vector3d t_wc = T_world_camera.block<3, 1>(0, 3);
-  const Eigen::Matrix3d R_cw = R_wc.transpose();
-  const Eigen::Vector3d t_cw = -R_cw * t_wc;
+  Eigen::Matrix3d R_wc = T_world_camera.block<3, 3>(0, 0);
+  Eigen::Vector3d t_wc = T_world_camera.block<3, 1>(0, 3);
+  Eigen::Matrix3d R_cw = R_wc.transpose();
+  Eigen::Vector3d t_cw = -R_cw * t_wc;
   const int stride = parameters_.sampleStridePx;
   const FramePoints framePoints{disparityPx, reprojectionOf(geometry_)};
 
@@ -168,6 +202,15 @@ DeformationFrame DeformationTracker::update(const cv::Mat& disparityPx, const Ei
       frame.meanNodeMotionMm = fit.meanNodeMotionMm;
       frame.maxNodeMotionMm = fit.maxNodeMotionMm;
       frame.dataRmsMm = fit.dataRmsMm;
+      if (parameters_.cameraTakesRigidPart) {
+        frame.cameraCorrection = takeRigidPart(correspondences);
+        // The rest of the frame (its new samples) at the corrected pose.
+        const Eigen::Matrix4d corrected = frame.cameraCorrection * T_world_camera;
+        R_wc = corrected.block<3, 3>(0, 0);
+        t_wc = corrected.block<3, 1>(0, 3);
+        R_cw = R_wc.transpose();
+        t_cw = -R_cw * t_wc;
+      }
     }
   }
 

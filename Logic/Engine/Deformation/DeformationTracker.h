@@ -34,6 +34,12 @@ struct DeformationTrackerParameters {
   double agreementMm = 1.0;           ///< "within" for the live and rigid agreement shares
   double maxDepthJumpMm = 2.0;        ///< no sample (no normal) where a neighbour's depth differs by more than this
   double maxSampleWeight = 32;        ///< a sample's running average counts at most this many frames
+  /// The camera takes the field's rigid part over the tissue the frame sees (RigidPart.h), so that the field holds
+  /// only what moves against the rest: a camera error is then corrected, not taken on by the field as tissue motion
+  /// (and fused as such). Where most of the view moves as one (breathing under a still scope), the camera takes that
+  /// motion, as the rigid pipeline's does.
+  bool cameraTakesRigidPart = true;
+  double rigidPartToleranceMm = 1.0;  ///< nodes moving farther than this from the rigid part do not count (Tukey)
 
   void validate() const;
 };
@@ -53,6 +59,9 @@ struct DeformationFrame {
   double liveShareWithin1mm = 0;
   double rigidShareWithin1mm = 0;
   double milliseconds = 0;
+  /// The correction the camera takes (cameraTakesRigidPart): the frame's pose is cameraCorrection * T_world_camera
+  /// (world frame, mm). Identity otherwise.
+  Eigen::Matrix4d cameraCorrection = Eigen::Matrix4d::Identity();
 };
 
 class DeformationTracker {
@@ -75,6 +84,9 @@ public:
   const DeformationTrackerParameters& parameters() const { return parameters_; }
 
 private:
+  /// Finds the field's rigid part D over the nodes the correspondences reach, undoes it on them, returns D^-1.
+  Eigen::Matrix4d takeRigidPart(const DeformationCorrespondences& correspondences);
+
   RectifiedGeometry geometry_;
   DeformationTrackerParameters parameters_;
   DeformationGraph graph_;

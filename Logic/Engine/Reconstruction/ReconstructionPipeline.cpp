@@ -309,6 +309,11 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     const auto deformationStart = Clock::now();
     const cv::Mat disparity = result.disparityPx.empty() ? s.matcher.downloadLastDisparity() : result.disparityPx;
     result.deformation = s.deformation->update(disparity, result.T_world_camera);
+    if (!result.deformation.cameraCorrection.isIdentity()) {
+      // The camera takes the field's rigid part (DeformationTrackerParameters::cameraTakesRigidPart).
+      result.T_world_camera = result.deformation.cameraCorrection * result.T_world_camera;
+      s.tracker.correctLastPose(result.T_world_camera);
+    }
     s.fusion.followDeformation(*s.modelWarp);
     T_world_agreement = Eigen::Matrix4d::Constant(std::numeric_limits<double>::quiet_NaN());  // the model moved
     result.timesMs.deformation = millisecondsSince(deformationStart);
