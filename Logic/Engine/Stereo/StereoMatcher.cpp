@@ -226,12 +226,15 @@ std::string rangeTooNarrowWarning(const RangeEndCounts& counts) {
   const double high = static_cast<double>(counts.atMax) / counts.withWinner;
   const double low = static_cast<double>(counts.atMin) / counts.withWinner;
   if (high < kRangeEndWarningShare && low < kRangeEndWarningShare) return {};
-  const bool beyondMax = high >= low;
-  return cv::format("the disparity range %s cannot hold the scene: %.0f%% of the pixels' best matches lie on its %s "
-                    "end (%d px), so the scene's disparities reach %s it and those pixels are lost; widen the range "
-                    "(--disparity-range, --disparities) or let it be chosen automatically (--disparity-range auto)",
-                    counts.range.text().c_str(), 100.0 * (beyondMax ? high : low), beyondMax ? "upper" : "lower",
-                    beyondMax ? counts.range.maxPx : counts.range.minPx, beyondMax ? "above" : "below");
+  // One end alone over the share says which way the scene lies; both (winners strewn over a range far from the
+  // scene, as on fine texture) say only that it lies outside.
+  const char* where = low < kRangeEndWarningShare ? "above" : high < kRangeEndWarningShare ? "below" : "beyond";
+  return cv::format("the disparity range %s cannot hold the scene: %.0f%% of the pixels' best matches lie on its upper "
+                    "end (%d px) and %.0f%% on its lower end (%d px), so the scene's disparities reach %s it and those "
+                    "pixels are lost; widen the range (--disparity-range, --disparities) or let it be chosen "
+                    "automatically (--disparity-range auto)",
+                    counts.range.text().c_str(), 100.0 * high, counts.range.maxPx, 100.0 * low, counts.range.minPx,
+                    where);
 }
 
 long long StereoMatcher::lastCellsScored() const {
