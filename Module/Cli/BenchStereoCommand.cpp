@@ -82,10 +82,12 @@ void runBenchStereo(const BenchStereoOptions& settings) {
 
   std::fprintf(stderr, "bench stereo: rendering a %dx%d synthetic pair...\n", options.width, options.height);
   const synthetic::SyntheticStereoPair pair = synthetic::renderSyntheticStereoPair(options);
-  double minTruth = 1e9;
+  double minTruth = 1e9, maxTruth = -1e9;
   for (int i = 0; i < pair.disparityPx.rows * pair.disparityPx.cols; ++i) {
     const float t = pair.disparityPx.at<float>(i);
-    if (std::isfinite(t)) minTruth = std::min<double>(minTruth, t);
+    if (!std::isfinite(t)) continue;
+    minTruth = std::min<double>(minTruth, t);
+    maxTruth = std::max<double>(maxTruth, t);
   }
   require(minTruth < 1e9, "the synthetic pair has no visible surface");
 
@@ -94,6 +96,13 @@ void runBenchStereo(const BenchStereoOptions& settings) {
   if (settings.method) parameters.method = parseStereoMethod(*settings.method);
   settings.search.applyTo(parameters);
   StereoMatcher matcher(device, parameters);  // validates the parameters
+  // The pair's disparities grow with the width: at 3840x2160 they span more than 256 candidates.
+  const bool rangeHoldsTruth = maxTruth <= parameters.maxDisparityPx;
+  if (!rangeHoldsTruth) {
+    std::fprintf(stderr, "warning: bench stereo: the range %d..%d px does not hold the pair's true disparities "
+                 "%.1f..%.1f px (more --disparities)\n", parameters.minDisparityPx, parameters.maxDisparityPx,
+                 minTruth, maxTruth);
+  }
 
   // The guided search is judged against the exhaustive one on the same pair, in the same run.
   std::optional<ExhaustiveReference> exhaustive;
@@ -132,8 +141,10 @@ void runBenchStereo(const BenchStereoOptions& settings) {
               stereoMethodName(parameters.method), stereoSearchName(parameters.search), disparities,
               parameters.minDisparityPx, repeats, cpuThreadCount());
   std::printf(" %s,\n", timings.json().c_str());
-  std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f},\n \"cells_scored\": %lld,\n \"explain\": %s",
-              ours.density, ours.badOver1, cells, explanation.json().c_str());
+  std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f},\n \"true_disparity_px\": [%.1f, %.1f], "
+              "\"range_holds_truth\": %s, \"cells_scored\": %lld,\n \"explain\": %s",
+              ours.density, ours.badOver1, minTruth, maxTruth, rangeHoldsTruth ? "true" : "false", cells,
+              explanation.json().c_str());
   if (exhaustive) {
     const DisparityScore reference = scoreDisparity(exhaustive->disparity, pair.disparityPx);
     const bool keeps = ours.density >= reference.density - 0.002 && ours.badOver1 <= reference.badOver1 + 0.005;
