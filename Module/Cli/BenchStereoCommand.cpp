@@ -136,10 +136,11 @@ void runBenchStereo(const BenchStereoOptions& settings) {
   const long long cells = matcher.lastCellsScored();
 
   std::printf("{\"command\": \"bench stereo\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
-              "\"height\": %d, \"method\": \"%s\", \"search\": \"%s\", \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
+              "\"height\": %d, \"method\": \"%s\", \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d, "
+              "\"search\": \"%s\",\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height,
-              stereoMethodName(parameters.method), stereoSearchName(parameters.search), disparities,
-              parameters.minDisparityPx, repeats, cpuThreadCount());
+              stereoMethodName(parameters.method), disparities, parameters.minDisparityPx, repeats, cpuThreadCount(),
+              stereoSearchName(parameters.search));
   std::printf(" %s,\n", timings.json().c_str());
   std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f},\n \"true_disparity_px\": [%.1f, %.1f], "
               "\"range_holds_truth\": %s, \"cells_scored\": %lld,\n \"explain\": %s",
