@@ -48,7 +48,10 @@ N changes its count); --disparity-range auto times the automatic range (the scen
 default scan) and the Disparity range options ask for others. "disparity_range_px" is the widest range searched,
 "disparity_range" says how the ranges were chosen and "key_frame_true_disparity_px" gives the key frames' true
 disparities: the scan keeps its field of view and working distance at every size, so its disparities grow with the
-width.
+width. Where the bench's own range cannot hold the first frame's true disparities (--disparities 256 at 3840x2160:
+-80..175 px against 220-298 px), it is moved onto them, keeping its count ("disparity_range_moved_to_scene": true).
+"frames_beyond_disparity_range" counts the frames whose best matches piled up on an end of the range (the scene
+outgrew it; `reconstruct` warns and counts the same), with a warning on stderr at the first.
 
 --stream renders each frame just before it is processed (outside the timed stages) instead of all of them first,
 so that the peak host memory is the pipeline's own: for long runs (a 5-minute scan at 30 fps is --frames 9000).
@@ -75,6 +78,7 @@ struct BenchReconstructOptions {
   std::optional<std::string> params, out;
   bool stream = false;
   DisparityRangeOptions range;
+  StereoSearchOption search;
   DeviceOption device;
 };
 
@@ -116,6 +120,25 @@ double residentHostMib() {
   return read == 2 ? resident * (sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0)) : 0;
 }
 
+/// The bench's range where it holds the true disparities (NaN: no surface) with a margin of 8 px + 10 % of their
+/// span; else the same count of candidates centred on them, or, fewer than they need, starting just below them.
+void fitBenchRangeToScene(StereoParameters& stereo, const cv::Mat& truePx) {
+  double low = INFINITY, high = -INFINITY;
+  for (int i = 0; i < truePx.rows * truePx.cols; ++i) {
+    const float t = truePx.at<float>(i);
+    if (!std::isfinite(t)) continue;
+    low = std::min<double>(low, t);
+    high = std::max<double>(high, t);
+  }
+  if (!(low <= high)) return;
+  const double margin = 8 + 0.1 * (high - low);
+  if (stereo.minDisparityPx <= low - margin && stereo.maxDisparityPx >= high + margin) return;
+  const int count = stereo.disparityCount();
+  const int start = count >= (high - low) + 2 * margin ? static_cast<int>(std::lround((low + high - (count - 1)) / 2))
+                                                       : static_cast<int>(std::floor(low - margin));
+  stereo.setFixedDisparityRange(start, start + count - 1);
+}
+
 void runBenchReconstruct(const BenchReconstructOptions& settings) {
   synthetic::SyntheticScanOptions options;
   options.width = settings.width;
@@ -147,6 +170,7 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   if (settings.params) parameters = ReconstructionParameters::readFile(*settings.params);
   applyBenchDisparityRange(parameters.stereo, options.width, settings.disparities, settings.params.has_value());
   settings.range.applyTo(parameters.stereo);
+  settings.search.applyTo(parameters.stereo);
   parameters.validate();
 
   const synthetic::SyntheticScan scan(options);
@@ -159,6 +183,24 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
     std::fprintf(stderr, "\n");
   }
   std::vector<MemorySample> memory;
+  // The bench's own range (no file, no range option) is moved onto the scene where it cannot hold the first frame's
+  // true disparities: at 3840x2160, -80..175 px (256 candidates) missed the scan's 220-298 px and lost 59 of 60 frames.
+  const DisparityRangeOptions& asked = settings.range;
+  const bool benchRange = !settings.params && !asked.minPx && !asked.maxPx && !asked.range && !asked.depthMm;
+  const std::optional<DisparityRange> benchRangeBefore =
+      benchRange ? std::optional<DisparityRange>(DisparityRange{parameters.stereo.minDisparityPx,
+                                                                parameters.stereo.maxDisparityPx})
+                 : std::nullopt;
+  if (benchRange) {
+    const cv::Mat truth = stream ? scan.renderFrame(0).disparityPx : rendered.front().disparityPx;
+    fitBenchRangeToScene(parameters.stereo, truth);
+    if (parameters.stereo.minDisparityPx != benchRangeBefore->minPx) {
+      std::fprintf(stderr, "bench reconstruct: the range %s does not hold the scene's disparities: searching %d..%d px "
+                   "(%d candidates) instead\n", benchRangeBefore->text().c_str(), parameters.stereo.minDisparityPx,
+                   parameters.stereo.maxDisparityPx, parameters.stereo.disparityCount());
+    }
+  }
+  int framesBeyondRange = 0;  // frames whose scene outgrew the range (rangeTooNarrowWarning)
 
   ReconstructionPipeline pipeline(scan.geometry(), parameters, device, scan.T_world_camera(0));
   pipeline.setFrameDisparityKept(false);  // as `reconstruct` runs it; the key frames' maps come down after their timing
@@ -217,6 +259,9 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
                    pipeline.keyFrames().size());
     }
     lost += !result.tracked;
+    if (const std::string warning = rangeTooNarrowWarning(result.disparityRangeEnds); !warning.empty()) {
+      if (framesBeyondRange++ == 0) std::fprintf(stderr, "\nwarning: frame %d: %s\n", k, warning.c_str());
+    }
     if (k > 0) {
       stereoParts.add(result.stereoPartsMs);
       if (result.disparityRangeMs > 0) rangeMs.push_back(result.disparityRangeMs);
@@ -325,9 +370,10 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
   }
   memoryJson += "]";
   std::printf("{\"command\": \"bench reconstruct\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
-              "\"height\": %d, \"frames\": %d, \"lost\": %d, \"cpu_threads\": %d, \"key_frames\": %zu, "
+              "\"height\": %d, \"frames\": %d, \"lost\": %d, \"frames_beyond_disparity_range\": %d, \"cpu_threads\": %d, \"key_frames\": %zu, "
               "\"model_points\": %zu, \"key_frame_position_rmse_mm\": %.4f, \"model_rmse_mm\": %.4f, \"model_p95_mm\": %.4f, \"peak_host_mib\": %.1f, "
-              "\"peak_device_mib\": %.1f, \"disparity_range_px\": [%d, %d], \"key_frame_true_disparity_px\": [%.1f, "
+              "\"peak_device_mib\": %.1f, \"disparity_range_px\": [%d, %d], \"disparity_range_moved_to_scene\": %s, "
+              "\"key_frame_true_disparity_px\": [%.1f, "
               "%.1f],\n \"model_share_beyond_mm\": {\"1\": %.6f, \"5\": %.6f, \"50\": %.6f}, "
               "\"model_max_mm\": %.2f, \"key_frame_stereo_gross_share\": {\"mean\": %.5f, \"worst\": %.5f, "
               "\"worst_frame\": %d},\n \"memory\": %s,\n \"refinement_parts_median_ms\": %s,\n "
@@ -338,8 +384,10 @@ void runBenchReconstruct(const BenchReconstructOptions& settings) {
               "\"key_frames_guided\": %d, \"intermediate_frames\": %d, \"intermediate_frames_guided\": %d},\n \"key_frame_detail\": [%s],\n \"disparity_range\": %s, \"disparity_range_median_ms\": %.3f, "
               "\"disparity_range_wait_p99_ms\": %.3f,\n \"timing\": %s}\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height, framesToProcess,
-              lost, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
-              usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), searched.minPx, searched.maxPx, trueDisparityMin, trueDisparityMax, shareBeyond(1), shareBeyond(5),
+              lost, framesBeyondRange, cpuThreadCount(), pipeline.keyFrames().size(), model.size(), keyFrameErrorMm, modelRmseMm, modelP95Mm,
+              usage.ru_maxrss / 1024.0, pipeline.peakDeviceBytes() / (1024.0 * 1024.0), searched.minPx, searched.maxPx,
+              benchRangeBefore && benchRangeBefore->minPx != parameters.stereo.minDisparityPx ? "true" : "false",
+              trueDisparityMin, trueDisparityMax, shareBeyond(1), shareBeyond(5),
               shareBeyond(50), distances.empty() ? 0.0 : distances.back(),
               keyFramesScored ? keyFrameGrossSum / keyFramesScored : 0.0, worstKeyFrameGross, worstKeyFrame,
               memoryJson.c_str(), refinementParts.json(median).c_str(), refinementParts.json(largest).c_str(),
@@ -380,6 +428,7 @@ void setupBenchReconstruct(CLI::App& bench) {
       ->group(heading::options);
   addBenchDisparitiesOption(*command, options->disparities);
   addDisparityRangeOptions(*command, options->range);
+  addStereoSearchOption(*command, options->search);
   addDeviceOption(*command, options->device);
   addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
   command->callback([options] { runBenchReconstruct(*options); });

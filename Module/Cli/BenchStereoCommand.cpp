@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <vector>
 
 namespace tissuemosaic::cli {
@@ -36,14 +37,36 @@ aggregation as zncc, scanline optimisation and winners as outliers_holes, median
 "explain" holds the counts of `tissuemosaic stereo --explain` for the pair, from one more, untimed run.
 --params p.yml times other stereo parameters (node "stereo", e.g. a wider window at HD); the range stays the
 bench's own (--disparities candidates from just below the pair's smallest true disparity), and --method, when given,
-overrides the file's.)";
+overrides the file's. --stereo-search guided times the guided search (docs/STEREO.md) and, in the same run, the
+exhaustive one ("exhaustive": its accuracy, cells and total; "guided_keeps_accuracy": density at most 0.002 lower
+and bad-1 at most 0.005 higher, issue 51's rule for a default). "cells_scored": the (pixel, disparity) cells ZNCC
+scored.)";
 
 struct BenchStereoOptions {
   int width = 960, height = 540, disparities = 100, seed = 7;
   std::optional<int> repeats;
   std::optional<std::string> method, params;
+  StereoSearchOption search;
   DeviceOption device;
 };
+
+/// The exhaustive search's result, cells and total times on the bench's pair (the guided search's reference).
+struct ExhaustiveReference {
+  cv::Mat disparity;
+  long long cells = 0;
+  std::vector<double> totalMs;
+};
+
+ExhaustiveReference timeExhaustive(StereoMatcher&& matcher, const synthetic::SyntheticStereoPair& pair, int repeats) {
+  ExhaustiveReference reference;
+  for (int run = 0; run < repeats + 2; ++run) {
+    StereoTimingsMs t;
+    reference.disparity = matcher.computeDisparity(pair.leftRectified, pair.rightRectified, &t);
+    if (run >= 2) reference.totalMs.push_back(t.total());
+  }
+  reference.cells = matcher.lastCellsScored();
+  return reference;
+}
 
 void runBenchStereo(const BenchStereoOptions& settings) {
   synthetic::SyntheticStereoOptions options =
@@ -59,17 +82,35 @@ void runBenchStereo(const BenchStereoOptions& settings) {
 
   std::fprintf(stderr, "bench stereo: rendering a %dx%d synthetic pair...\n", options.width, options.height);
   const synthetic::SyntheticStereoPair pair = synthetic::renderSyntheticStereoPair(options);
-  double minTruth = 1e9;
+  double minTruth = 1e9, maxTruth = -1e9;
   for (int i = 0; i < pair.disparityPx.rows * pair.disparityPx.cols; ++i) {
     const float t = pair.disparityPx.at<float>(i);
-    if (std::isfinite(t)) minTruth = std::min<double>(minTruth, t);
+    if (!std::isfinite(t)) continue;
+    minTruth = std::min<double>(minTruth, t);
+    maxTruth = std::max<double>(maxTruth, t);
   }
   require(minTruth < 1e9, "the synthetic pair has no visible surface");
 
   const int minDisparityPx = static_cast<int>(std::floor(minTruth)) - 2;
   parameters.setFixedDisparityRange(minDisparityPx, minDisparityPx + disparities - 1);
   if (settings.method) parameters.method = parseStereoMethod(*settings.method);
+  settings.search.applyTo(parameters);
   StereoMatcher matcher(device, parameters);  // validates the parameters
+  // The pair's disparities grow with the width: at 3840x2160 they span more than 256 candidates.
+  const bool rangeHoldsTruth = maxTruth <= parameters.maxDisparityPx;
+  if (!rangeHoldsTruth) {
+    std::fprintf(stderr, "warning: bench stereo: the range %d..%d px does not hold the pair's true disparities "
+                 "%.1f..%.1f px (more --disparities)\n", parameters.minDisparityPx, parameters.maxDisparityPx,
+                 minTruth, maxTruth);
+  }
+
+  // The guided search is judged against the exhaustive one on the same pair, in the same run.
+  std::optional<ExhaustiveReference> exhaustive;
+  if (parameters.search == StereoSearch::Guided && parameters.method == StereoMethod::Paper) {
+    StereoParameters exhaustiveParameters = parameters;
+    exhaustiveParameters.search = StereoSearch::Exhaustive;
+    exhaustive = timeExhaustive(StereoMatcher(device, exhaustiveParameters), pair, repeats);
+  }
 
   TimingSeries timings({"zncc", "outliers_holes", "refinement", "total", "upload"});
   cv::Mat disparity;
@@ -92,15 +133,29 @@ void runBenchStereo(const BenchStereoOptions& settings) {
   const DisparityScore ours = scoreDisparity(disparity, pair.disparityPx);
   StereoExplanation explanation;  // an extra run: counting waits between the steps, so it is not timed
   matcher.computeDisparity(pair.leftRectified, pair.rightRectified, nullptr, &explanation);
+  const long long cells = matcher.lastCellsScored();
 
   std::printf("{\"command\": \"bench stereo\", \"device\": \"%s\", \"device_name\": \"%s\", \"width\": %d, "
-              "\"height\": %d, \"method\": \"%s\", \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d,\n",
+              "\"height\": %d, \"method\": \"%s\", \"disparities\": %d, \"min_disparity\": %d, \"repeats\": %d, \"cpu_threads\": %d, "
+              "\"search\": \"%s\",\n",
               deviceLabel(device), deviceDescription(device).c_str(), options.width, options.height,
-              stereoMethodName(parameters.method), disparities,
-              parameters.minDisparityPx, repeats, cpuThreadCount());
+              stereoMethodName(parameters.method), disparities, parameters.minDisparityPx, repeats, cpuThreadCount(),
+              stereoSearchName(parameters.search));
   std::printf(" %s,\n", timings.json().c_str());
-  std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f},\n \"explain\": %s", ours.density, ours.badOver1,
+  std::printf(" \"accuracy\": {\"density\": %.4f, \"bad1\": %.4f},\n \"true_disparity_px\": [%.1f, %.1f], "
+              "\"range_holds_truth\": %s, \"cells_scored\": %lld,\n \"explain\": %s",
+              ours.density, ours.badOver1, minTruth, maxTruth, rangeHoldsTruth ? "true" : "false", cells,
               explanation.json().c_str());
+  if (exhaustive) {
+    const DisparityScore reference = scoreDisparity(exhaustive->disparity, pair.disparityPx);
+    const bool keeps = ours.density >= reference.density - 0.002 && ours.badOver1 <= reference.badOver1 + 0.005;
+    std::printf(",\n \"exhaustive\": {\"density\": %.4f, \"bad1\": %.4f, \"cells_scored\": %lld, "
+                "\"total_median_ms\": %.4f, \"total_mean_ms\": %.4f},\n \"guided_keeps_accuracy\": %s, "
+                "\"guided_over_exhaustive_total\": %.4f",
+                reference.density, reference.badOver1, exhaustive->cells, median(exhaustive->totalMs),
+                mean(exhaustive->totalMs), keeps ? "true" : "false",
+                median(timings.values("total")) / median(exhaustive->totalMs));
+  }
 
   if (device == Device::Cpu) {
     const int sgbmDisparities = (disparities + 15) / 16 * 16;
@@ -147,6 +202,7 @@ void setupBenchStereo(CLI::App& bench) {
   command->add_option("--method", options->method, "the matcher (default: the parameters', paper)")
       ->type_name("paper|ad-census")
       ->group(heading::options);
+  addStereoSearchOption(*command, options->search);
   addParamsOption(*command, options->params, "stereo");
   addDeviceOption(*command, options->device);
   command->callback([options] { runBenchStereo(*options); });

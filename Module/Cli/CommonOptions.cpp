@@ -288,6 +288,20 @@ void addBenchDisparitiesOption(CLI::App& command, std::optional<int>& disparitie
       ->group(heading::options);
 }
 
+void StereoSearchOption::applyTo(StereoParameters& parameters) const {
+  if (search) parameters.search = parseStereoSearch(*search);
+}
+
+void addStereoSearchOption(CLI::App& command, StereoSearchOption& option) {
+  command
+      .add_option("--stereo-search", option.search,
+                  "candidates the paper's matcher scores: every one of the range (exhaustive, the paper's), or "
+                  "windows from a half-resolution pass (guided; docs/STEREO.md) (default: the parameters')")
+      ->type_name("exhaustive|guided")
+      ->check(CLI::IsMember({"exhaustive", "guided"}))
+      ->group(heading::options);
+}
+
 void applyBenchDisparityRange(StereoParameters& parameters, int widthPx, const std::optional<int>& disparities,
                               bool fromParametersFile) {
   if (fromParametersFile && !disparities) return;

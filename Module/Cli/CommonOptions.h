@@ -112,6 +112,14 @@ struct DisparityRangeOptions {
 };
 void addDisparityRangeOptions(CLI::App& command, DisparityRangeOptions& range);
 
+/// --stereo-search exhaustive|guided: which cells the paper's matcher scores (StereoParameters::search), over the
+/// parameters file's.
+struct StereoSearchOption {
+  std::optional<std::string> search;
+  void applyTo(StereoParameters& parameters) const;
+};
+void addStereoSearchOption(CLI::App& command, StereoSearchOption& option);
+
 /// UsageError when the parameters ask for a working distance and there is no geometry to turn it into disparities.
 void requireGeometryForWorkingDistance(const StereoParameters& parameters, bool haveGeometry);
 /// The automatic range's failure (too few feature matches), said with the options that avoid it.

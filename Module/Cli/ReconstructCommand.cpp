@@ -57,6 +57,7 @@ struct ReconstructOptions {
   int liveEvery = 10;
   std::optional<int> maxFrames;
   DisparityRangeOptions range;
+  StereoSearchOption search;
   DeviceOption device;
   IgtLinkServerOptions igtl;
   bool quiet = false;
@@ -95,6 +96,7 @@ void runReconstruct(ReconstructOptions options) {
   ReconstructionParameters parameters;
   if (options.params) parameters = ReconstructionParameters::readFile(*options.params);
   options.range.applyTo(parameters.stereo);
+  options.search.applyTo(parameters.stereo);
   if (options.deformation) parameters.fusion.deformation = *options.deformation == "on";
   require((!options.deformationOut && !options.canonicalOut && !options.liveOut && !options.liveFrames) ||
               parameters.fusion.deformation,
@@ -140,6 +142,7 @@ void runReconstruct(ReconstructOptions options) {
   std::optional<DeformationRecordWriter> deformationRecord;
   if (options.deformationOut) deformationRecord.emplace(*options.deformationOut);
   bool budgetWarned = false;
+  int framesBeyondRange = 0;  // frames whose scene outgrew the disparity range (rangeTooNarrowWarning)
   StereoFrame frame;
   double lastTimeS = 0;
   for (int index = 0; (maxFrames < 0 || index < maxFrames) && !stop.requested(); ++index) {
@@ -156,6 +159,9 @@ void runReconstruct(ReconstructOptions options) {
     if (index == 0) {
       const std::string warning = rowOffsetWarning(pipeline->disparityRangeHistory());
       if (!warning.empty()) progress.message("warning: the stereo pair is " + warning);
+    }
+    if (const std::string warning = rangeTooNarrowWarning(result.disparityRangeEnds); !warning.empty()) {
+      if (framesBeyondRange++ == 0) progress.message("warning: frame " + std::to_string(frame.index) + ": " + warning);
     }
     result.timesMs.videoReading += readMs;
     result.timesMs.total += readMs;
@@ -249,7 +255,11 @@ void runReconstruct(ReconstructOptions options) {
   std::cout << "reconstructed " << frames << " frames (" << frames - lost << " tracked, " << lost << " lost, "
             << pipeline->keyFrames().size() << " key frames) on " << deviceDescription(device) << "\n"
             << "model: " << model.size() << " points -> " << options.out << "\n"
-            << "disparity range " << pipeline->disparityRangeDescription() << "\n\n"
+            << "disparity range " << pipeline->disparityRangeDescription()
+            << (framesBeyondRange > 0 ? "; warning: the scene outgrew it on " + std::to_string(framesBeyondRange) +
+                                            " frames (most of their pixels lost)"
+                                      : std::string())
+            << "\n\n"
             << timing.format() << "\n"
             << cv::format("peak memory: host %.0f MiB (resident), device %.0f MiB (in use, with the CUDA context)\n",
                           hostMb, deviceMb);
@@ -281,7 +291,8 @@ void runReconstruct(ReconstructOptions options) {
          << source->droppedFrames() << ", \"stopped_by_signal\": " << (stop.requested() ? "true" : "false")
          << ", \"peak_host_mib\": " << cv::format("%.1f", hostMb) << ", \"peak_device_mib\": "
          << cv::format("%.1f", deviceMb) << ", \"disparity_range\": "
-         << disparityRangeJson(pipeline->disparityRangeHistory()) << ", \"lost_spans\": " << quality.lostSpansJson()
+         << disparityRangeJson(pipeline->disparityRangeHistory()) << ", \"frames_beyond_disparity_range\": "
+         << framesBeyondRange << ", \"lost_spans\": " << quality.lostSpansJson()
          << ", \"relocalisations\": " << quality.relocalisationsJson() << ", \"timing\": " << timing.toJson() << "}\n";
     writeStreamAtomically(*options.timingJson, "timing JSON", [&](std::ostream& out) { out << json.str(); });
   }
@@ -364,6 +375,7 @@ void setupReconstruct(CLI::App& tool, CommandUse use) {
       ->group(heading::options);
   command->add_option("--max-frames", options->maxFrames, "stop after N frames")->group(heading::options);
   addDisparityRangeOptions(*command, options->range);
+  addStereoSearchOption(*command, options->search);
   addDeviceOption(*command, options->device);
   addParamsOption(*command, options->params, "stereo, features, tracking, refinement, fusion, pipeline");
   addIgtLinkServerOptions(*command, options->igtl);

@@ -41,17 +41,20 @@ struct StereoOptions {
   GeometryOptions geometry;
   std::optional<std::string> cloud, rectifiedLeft, groundTruth, method, params, explain;
   DisparityRangeOptions range;
+  StereoSearchOption search;
   DeviceOption device;
 };
 
 void writeExplanation(const std::string& path, const StereoExplanation& explanation, const cv::Mat& disparity,
-                      const StereoParameters& parameters) {
+                      const StereoParameters& parameters, long long cellsScored) {
   std::FILE* file = std::fopen(path.c_str(), "w");
   if (!file) throw Error("cannot write '" + path + "'");
   const int written = std::fprintf(file, "{\"command\": \"stereo\", \"width\": %d, \"height\": %d, \"method\": \"%s\", "
-                                         "\"min_disparity\": %d, \"max_disparity\": %d,\n \"explain\": %s}\n",
+                                         "\"search\": \"%s\", \"min_disparity\": %d, \"max_disparity\": %d, "
+                                         "\"cells_scored\": %lld,\n \"explain\": %s}\n",
                                    disparity.cols, disparity.rows, stereoMethodName(parameters.method),
-                                   parameters.minDisparityPx, parameters.maxDisparityPx, explanation.json().c_str());
+                                   stereoSearchName(parameters.search), parameters.minDisparityPx,
+                                   parameters.maxDisparityPx, cellsScored, explanation.json().c_str());
   if (std::fclose(file) != 0 || written < 0) throw Error("cannot write '" + path + "'");
 }
 
@@ -76,6 +79,7 @@ void runStereo(const StereoOptions& options) {
   StereoParameters parameters =
       options.params ? ReconstructionParameters::readFile(*options.params).stereo : StereoParameters{};
   options.range.applyTo(parameters);
+  options.search.applyTo(parameters);
   if (options.method) parameters.method = parseStereoMethod(*options.method);
   parameters.validate();
   const Device device = options.device.resolve();
@@ -111,6 +115,8 @@ void runStereo(const StereoOptions& options) {
   std::printf("disparity range %s\n", pairDisparity.rangeDescription.c_str());
   const std::string rowWarning = rowOffsetWarning(pairDisparity.range);
   if (!rowWarning.empty()) std::fprintf(stderr, "warning: the stereo pair is %s\n", rowWarning.c_str());
+  const std::string rangeWarning = rangeTooNarrowWarning(pairDisparity.rangeEnds);
+  if (!rangeWarning.empty()) std::fprintf(stderr, "warning: %s\n", rangeWarning.c_str());
   const cv::Mat& disparity = pairDisparity.disparityPx;
   const StereoTimingsMs& timings = pairDisparity.timings;
   const StereoExplanation& explanation = pairDisparity.explanation;
@@ -131,7 +137,7 @@ void runStereo(const StereoOptions& options) {
               adCensus ? "median+checks" : "refinement", timings.refinement, timings.total());
 
   if (options.explain) {
-    writeExplanation(*options.explain, explanation, disparity, parameters);
+    writeExplanation(*options.explain, explanation, disparity, parameters, pairDisparity.cellsScored);
     std::printf("removed: outside the right image %ld, textureless window %ld, at the range's end %ld, left-right "
                 "check %ld, highlight %ld, outlier sweeps %ld; hole filling gave back %ld, left %ld unfilled; written "
                 "to %s\n",
@@ -193,6 +199,7 @@ void setupStereo(CLI::App& tool) {
       ->type_name("explain.json")
       ->group(heading::output);
   addDisparityRangeOptions(*command, options->range);
+  addStereoSearchOption(*command, options->search);
   addDeviceOption(*command, options->device, "where to compute");
   addParamsOption(*command, options->params, "stereo");
   command->callback([options] { runStereo(*options); });

@@ -10,11 +10,12 @@
 
 namespace tissuemosaic::test {
 
-/// Numeric fields of StereoParameters, besides the method and the disparity range's mode; the lists below must
-/// name every one of them.
+/// Numeric fields of StereoParameters, besides the method, the search and the disparity range's mode; the lists
+/// below must name every one of them.
 constexpr std::size_t kStereoParameterNumericFields = 41;
 static_assert(sizeof(StereoParameters) ==
-                      sizeof(StereoMethod) + sizeof(DisparityRangeMode) + kStereoParameterNumericFields * sizeof(int) &&
+                      sizeof(StereoMethod) + sizeof(StereoSearch) + sizeof(DisparityRangeMode) +
+                          kStereoParameterNumericFields * sizeof(int) &&
                   sizeof(int) == sizeof(float),
               "a StereoParameters field was added: list it in StereoParametersTestFields.h (and in the panel)");
 
@@ -118,6 +119,7 @@ struct StereoParameterFields {
 /// Every field of a and b equal, the failing ones named.
 inline void expectSameParameters(const StereoParameters& a, const StereoParameters& b) {
   EXPECT_EQ(a.method, b.method);
+  EXPECT_EQ(a.search, b.search);  // no control of its own in the panel: the stored struct keeps it
   EXPECT_EQ(a.disparityRangeMode, b.disparityRangeMode);
   const StereoParameterFields fields;
   for (const auto& field : fields.ints) EXPECT_EQ(a.*field.second, b.*field.second) << field.first;

@@ -204,11 +204,13 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     cv::Mat disparityPx;
     double milliseconds = 0;
     StereoTimingsMs parts;
+    RangeEndCounts rangeEnds;
   };
   PendingResult<TimedDisparity> stereo = s.worker.run([&] {
     const auto stereoStart = Clock::now();
     TimedDisparity computed;
     s.matcher.match(result.leftRectified, result.rightRectified, &computed.parts);
+    computed.rangeEnds = s.matcher.lastRangeEndCounts();
     if (s.frameDisparityKept) {
       const auto downloadStart = Clock::now();
       computed.disparityPx = s.matcher.downloadLastDisparity();
@@ -224,6 +226,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     result.disparityPx = computed.disparityPx;
     result.timesMs.stereo = computed.milliseconds;
     result.stereoPartsMs = computed.parts;
+    result.disparityRangeEnds = computed.rangeEnds;
   };
   // The tracker lifts its features with the disparity at their keypoints, sampled where the map lies.
   double samplingMs = 0;

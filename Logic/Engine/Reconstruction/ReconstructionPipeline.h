@@ -113,6 +113,7 @@ struct FrameResult {
   cv::Mat leftRectified, rightRectified;
   cv::Mat disparityPx;                    ///< CV_32F, NaN = none; empty when the pipeline keeps none (setFrameDisparityKept)
   DisparityRange disparityRange;          ///< the range this frame was matched over
+  RangeEndCounts disparityRangeEnds;      ///< its winners on the range's ends (rangeTooNarrowWarning)
   /// Automatic range: milliseconds of the sparse left-right matching: the first frame's, before its stereo on the
   /// calling thread; later, every DisparityRangeEstimatorOptions::sampleEveryFrames-th frame is measured on a thread
   /// of its own beside the frames after it, and its time is given on the frame that applies it. 0 otherwise.

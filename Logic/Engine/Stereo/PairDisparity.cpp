@@ -13,6 +13,8 @@ PairDisparity computePairDisparity(const cv::Mat& leftRectified, const cv::Mat& 
   const cv::Mat right = range.alignedRight(rightRectified);
   result.disparityPx = matcher.computeDisparity(leftRectified, right, &result.timings,
                                                 explain ? &result.explanation : nullptr);
+  result.rangeEnds = matcher.lastRangeEndCounts();
+  if (explain) result.cellsScored = matcher.lastCellsScored();
   result.range = range.history();
   result.rangeDescription = range.description();
   return result;

@@ -22,6 +22,8 @@ struct PairDisparity {
   std::string rangeDescription;   ///< DisparityRangeFollower::description()
   StereoTimingsMs timings;
   StereoExplanation explanation;  ///< filled when asked for
+  RangeEndCounts rangeEnds;       ///< winners on the range's ends (rangeTooNarrowWarning)
+  long long cellsScored = 0;      ///< (pixel, disparity) cells ZNCC scored (StereoMatcher::lastCellsScored; 0 unasked)
 };
 
 /// Matches a rectified pair (8-bit grey or BGR, same size). geometry: of the rectified pair (a default one when there

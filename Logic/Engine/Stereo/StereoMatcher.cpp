@@ -43,9 +43,37 @@ StereoWorkspace::StereoWorkspace(Device device_, StereoMethod method_, int width
       radialHitDistance(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       radialHitValue(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
       rayPasses(device, 8 * pixelsIf(paper() && device == Device::Cpu, width, height)),
-      rowSum(device, static_cast<std::size_t>(width) * height), rowCount(device, static_cast<std::size_t>(width) * height) {
+      rowSum(device, static_cast<std::size_t>(width) * height), rowCount(device, static_cast<std::size_t>(width) * height),
+      rangeEndRowCounts(device, 3 * static_cast<std::size_t>(height)) {
   rightWinnerKeys.setZero();  // the GPU launcher leaves them zero after each frame
   if (!paper()) adCensus = std::make_unique<AdCensusWorkspace>(device, width, height, disparityCount);
+}
+
+GuidedWorkspace::GuidedWorkspace(Device device, int width, int height, int coarseDisparityCount)
+    : coarse(std::make_unique<StereoWorkspace>(device, StereoMethod::Paper, (width + 1) / 2, (height + 1) / 2,
+                                               coarseDisparityCount)),
+      windowLow(device, width, height), windowHigh(device, width, height), fellBack(device, width, height) {}
+
+StereoParameters guidedCoarseParameters(const StereoParameters& p) {
+  StereoParameters coarse = p;
+  coarse.search = StereoSearch::Exhaustive;
+  const auto floorHalf = [](int v) { return v >= 0 ? v / 2 : -((-v + 1) / 2); };
+  coarse.minDisparityPx = floorHalf(p.minDisparityPx);
+  coarse.maxDisparityPx = -floorHalf(-p.maxDisparityPx);
+  coarse.specularMarginPx = p.specularMarginPx / 2;
+  coarse.specularMaxRadiusPx = std::max(1, p.specularMaxRadiusPx / 2);
+  coarse.trackingHighlightMarginPx = p.trackingHighlightMarginPx / 2;
+  return coarse;
+}
+
+long long cellsScored(const StereoWorkspace& w) {
+  const long long pixels = static_cast<long long>(w.width) * w.height;
+  if (!w.lastSearchGuided) return pixels * w.disparityCount;
+  const std::vector<int16_t> low = w.guided->windowLow.buffer().toHost(), high = w.guided->windowHigh.buffer().toHost();
+  const std::vector<uint8_t> fellBack = w.guided->fellBack.buffer().toHost();
+  long long cells = 0;
+  for (std::size_t i = 0; i < low.size(); ++i) cells += high[i] - low[i] + 1 + (fellBack[i] ? w.disparityCount : 0);
+  return cells;
 }
 
 AdCensusWorkspace::AdCensusWorkspace(Device device, int width, int height, int disparityCount)
@@ -178,6 +206,40 @@ void StereoMatcher::match(const cv::Mat& leftRectified, const cv::Mat& rightRect
   const StereoParameters sized = p.forImageWidth(leftRectified.cols);
   if (cuda) stereo::runStereoPipelineCuda(*workspace, sized, t, explanation);
   else stereo::runStereoPipelineCpu(*workspace, sized, t, explanation);
+}
+
+RangeEndCounts StereoMatcher::lastRangeEndCounts() const {
+  require(impl_->workspace != nullptr, "no disparity has been computed yet");
+  const std::vector<int32_t> rows = impl_->workspace->rangeEndRowCounts.toHost();
+  RangeEndCounts counts;
+  counts.range = disparityRange();
+  for (std::size_t i = 0; i + 2 < rows.size(); i += 3) {
+    counts.withWinner += rows[i];
+    counts.atMin += rows[i + 1];
+    counts.atMax += rows[i + 2];
+  }
+  return counts;
+}
+
+std::string rangeTooNarrowWarning(const RangeEndCounts& counts) {
+  if (counts.withWinner <= 0) return {};
+  const double high = static_cast<double>(counts.atMax) / counts.withWinner;
+  const double low = static_cast<double>(counts.atMin) / counts.withWinner;
+  if (high < kRangeEndWarningShare && low < kRangeEndWarningShare) return {};
+  // One end alone over the share says which way the scene lies; both (winners strewn over a range far from the
+  // scene, as on fine texture) say only that it lies outside.
+  const char* where = low < kRangeEndWarningShare ? "above" : high < kRangeEndWarningShare ? "below" : "beyond";
+  return cv::format("the disparity range %s cannot hold the scene: %.0f%% of the pixels' best matches lie on its upper "
+                    "end (%d px) and %.0f%% on its lower end (%d px), so the scene's disparities reach %s it and those "
+                    "pixels are lost; widen the range (--disparity-range, --disparities) or let it be chosen "
+                    "automatically (--disparity-range auto)",
+                    counts.range.text().c_str(), 100.0 * high, counts.range.maxPx, 100.0 * low, counts.range.minPx,
+                    where);
+}
+
+long long StereoMatcher::lastCellsScored() const {
+  require(impl_->workspace != nullptr, "no disparity has been computed yet");
+  return stereo::cellsScored(*impl_->workspace);
 }
 
 cv::Mat StereoMatcher::lastZnccDisparity() const {

@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace tissuemosaic {
@@ -27,6 +28,22 @@ struct StereoTimingsMs {
   double download = 0;       ///< device to host copy of the result
   double total() const { return zncc + outliersHoles + refinement; }
 };
+
+/// How many of a frame's best ZNCC (or AD-Census) matches lie on the range's end candidates: where the scene's
+/// disparities reach beyond the range, the cost is still improving at its end and the winners pile up there.
+struct RangeEndCounts {
+  DisparityRange range;
+  long withWinner = 0;  ///< left pixels with a best match
+  long atMin = 0;       ///< ... on the range's first candidate
+  long atMax = 0;       ///< ... on its last one
+};
+
+/// A frame whose winners lie this often (of those with one) on an end of the range is said to have outgrown it
+/// (StereoRangeEnds tests: 1-2 % on a range that holds a random texture, 57 % on one 8 px short of it).
+constexpr double kRangeEndWarningShare = 0.05;
+/// Empty when the range holds the frame; else one sentence with both ends' shares, which way the scene lies where one
+/// end alone is over the share, and what to do.
+std::string rangeTooNarrowWarning(const RangeEndCounts& counts);
 
 class StereoMatcher {
 public:
@@ -49,6 +66,13 @@ public:
              StereoExplanation* explanation = nullptr);
   /// A host copy (CV_32F) of the last call's disparity: what computeDisparity returned. Throws Error before the first call.
   cv::Mat downloadLastDisparity() const;
+
+  /// The last call's winners on the range's ends (a download of three counts per image row).
+  RangeEndCounts lastRangeEndCounts() const;
+
+  /// (pixel, disparity) cells the last call scored for ZNCC: pixels x range count under the exhaustive search,
+  /// fewer under the guided one (StereoParameters::search; it downloads the candidate windows).
+  long long lastCellsScored() const;
 
   /// Intermediate results of the last call, for tests and the GUI: integer ZNCC winners (NaN where none),
   /// and the discrete disparities after outlier removal and hole filling.

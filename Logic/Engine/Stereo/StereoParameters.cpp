@@ -22,6 +22,14 @@ StereoMethod parseStereoMethod(const std::string& name) {
   throw Error("unknown stereo method '" + name + "' (choices: paper, ad-census)");
 }
 
+const char* stereoSearchName(StereoSearch search) { return search == StereoSearch::Guided ? "guided" : "exhaustive"; }
+
+StereoSearch parseStereoSearch(const std::string& name) {
+  if (name == "exhaustive") return StereoSearch::Exhaustive;
+  if (name == "guided") return StereoSearch::Guided;
+  throw Error("unknown stereo search '" + name + "' (choices: exhaustive, guided)");
+}
+
 const char* disparityRangeModeName(DisparityRangeMode mode) {
   switch (mode) {
     case DisparityRangeMode::Fixed: return "fixed";
@@ -100,6 +108,7 @@ void StereoParameters::validate() const {
 void StereoParameters::write(cv::FileStorage& storage) const {
   storage << "stereo" << "{";
   storage << "method" << stereoMethodName(method);
+  storage << "search" << stereoSearchName(search);
   storage << "disparityRange" << disparityRangeModeName(disparityRangeMode);
   storage << "minDisparityPx" << minDisparityPx << "maxDisparityPx" << maxDisparityPx;
   storage << "workingDistanceNearMm" << workingDistanceNearMm << "workingDistanceFarMm" << workingDistanceFarMm;
@@ -143,6 +152,10 @@ StereoParameters StereoParameters::read(const cv::FileNode& node) {
   if (!node["method"].empty()) {
     if (!node["method"].isString()) throw Error("stereo parameter method must be a string (paper or ad-census)");
     p.method = parseStereoMethod(static_cast<std::string>(node["method"]));
+  }
+  if (!node["search"].empty()) {
+    if (!node["search"].isString()) throw Error("stereo parameter search must be a string (exhaustive or guided)");
+    p.search = parseStereoSearch(static_cast<std::string>(node["search"]));
   }
   kStereo.readKey(node, "minDisparityPx", p.minDisparityPx);
   kStereo.readKey(node, "maxDisparityPx", p.maxDisparityPx);

@@ -32,6 +32,18 @@ enum class DisparityRangeMode {
   WorkingDistance,  ///< workingDistanceNearMm..FarMm through the rig: d = f B / Z - doffs
 };
 
+/// Which (pixel, disparity) cells the paper's method scores (docs/STEREO.md, "Guided search").
+enum class StereoSearch {
+  Exhaustive,  ///< every candidate of the range at every pixel: section II as written
+  Guided,      ///< a half-resolution exhaustive pass gives each pixel a window of candidates; the full range where
+               ///< that prior is missing or its winner lies on the window's edge
+};
+
+/// "exhaustive" or "guided".
+const char* stereoSearchName(StereoSearch search);
+/// Throws Error naming the choices for anything else.
+StereoSearch parseStereoSearch(const std::string& name);
+
 /// "auto", "fixed" or "working-distance".
 const char* disparityRangeModeName(DisparityRangeMode mode);
 /// Throws Error naming the choices for anything else.
@@ -42,6 +54,8 @@ constexpr int kHighlightSizesWidthPx = 960;
 
 struct StereoParameters {
   StereoMethod method = StereoMethod::Paper;
+  /// The paper's method only (AD-Census always scores every cell). File key "search".
+  StereoSearch search = StereoSearch::Exhaustive;
 
   /// The disparity range. Automatic by default: a surgeon knows neither disparities nor, often, the distance.
   /// Files: key "disparityRange"; a file that gives minDisparityPx/maxDisparityPx without it means Fixed.

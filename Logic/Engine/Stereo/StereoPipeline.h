@@ -8,6 +8,7 @@
 #include "Core/Image.h"
 #include "Core/PinnedHostBuffer.h"
 #include "AdCensusKernels.h"
+#include "GuidedSearchKernels.h"
 #include "HighlightKernels.h"
 #include "StereoKernels.h"
 #include "StereoMatcher.h"
@@ -27,6 +28,17 @@ struct AdCensusWorkspace {
   Buffer<int64_t> packedWindows;        ///< first pass of an aggregation round: packed (sum, count)
   Buffer<int64_t> prefix;               ///< prefix sums along rows or columns (one more entry per line)
   Buffer<int32_t> pathCost;             ///< the four scanline directions summed
+};
+
+struct StereoWorkspace;
+
+/// The working set of the guided search (StereoSearch::Guided; GuidedSearchKernels.h): the half-resolution
+/// matcher's own working set, and each pixel's candidate window and fallback mark.
+struct GuidedWorkspace {
+  GuidedWorkspace(Device device, int width, int height, int coarseDisparityCount);
+  std::unique_ptr<StereoWorkspace> coarse;  ///< (width + 1) / 2 x (height + 1) / 2
+  Image<int16_t> windowLow, windowHigh;     ///< each pixel's candidates, disparities inclusive
+  Image<uint8_t> fellBack;                  ///< 1 where the window's winner failed and the whole range was scored
 };
 
 /// The working set of one matcher: sized for its images, disparity range and method. The buffers that only the
@@ -71,7 +83,19 @@ struct StereoWorkspace {
   Buffer<int64_t> rowSum;  ///< fixed-point row sums of the box filters (exact)
   Buffer<int> rowCount;
   std::unique_ptr<AdCensusWorkspace> adCensus;  ///< AD-Census only
+  /// The guided search only, made at its first frame; null while a frame is searched exhaustively, and so whether
+  /// the last frame was guided (a pair too small for a half-resolution window is searched exhaustively).
+  std::unique_ptr<GuidedWorkspace> guided;
+  bool lastSearchGuided = false;
+  Buffer<int32_t> rangeEndRowCounts;  ///< CountRangeEndWinners: 3 per row
 };
+
+/// The half-resolution matcher's parameters for the guided search at full-resolution parameters p: the exhaustive
+/// search over the halved range (its ends rounded outward) with halved highlight sizes.
+StereoParameters guidedCoarseParameters(const StereoParameters& p);
+/// (pixel, disparity) cells the last frame scored: every cell of the range under the exhaustive search; the windows
+/// and the fallbacks' whole ranges under the guided one (downloads the windows).
+long long cellsScored(const StereoWorkspace& workspace);
 
 /// Runs the whole of section II on workspace.left/right; the result is workspace.smoothed (NaN = none). explanation
 /// (optional): filled with the frame's counts (StereoExplanation.h), at the cost of downloads between the steps.

@@ -25,6 +25,10 @@ struct BackendLaunchers {
   void (*highlightSeeds)(const DetectHighlightSeeds&);
 };
 
+template <class Backend>
+void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimingsMs& timings,
+                       const BackendLaunchers& launch, StereoExplanation* explanation);
+
 namespace {
 
 /// The robust functions 1 - exp(-c / lambda) in cost units, rounded.
@@ -150,6 +154,50 @@ struct PipelineSteps {
   }
 
   bool specularMasking() const { return p.specularMinGrey <= 255.0f; }
+
+  ZnccVolumeInputs znccVolumeInputs() {
+    return ZnccVolumeInputs{w.left.view(), w.right.view(), w.sumLeft.view(), w.inverseNormLeft.view(),
+                            w.sumRight.view(), w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx,
+                            p.disparityCount(), w.volume.data(), w.volumeLayout(), w.znccDisparity.view(),
+                            w.rightZnccDisparity.view(), w.rightWinnerKeys.data()};
+  }
+
+  /// The guided search (GuidedSearchKernels.h) where the half-resolution pair holds a matching window, else the
+  /// exhaustive one. Guided: the whole section II at half resolution (exhaustive over the halved range), its filled
+  /// disparities as each pixel's prior, the windows' cells, the whole range where a window failed, and the right-view
+  /// winners from the volume.
+  void znccVolume() {
+    const int coarseWidth = (w.width + 1) / 2, coarseHeight = (w.height + 1) / 2;
+    const bool guided = p.search == StereoSearch::Guided && coarseWidth >= p.znccWindowPx &&
+                        coarseHeight >= p.znccWindowPx;
+    w.lastSearchGuided = guided;
+    if (!guided) {
+      launch.znccVolume(znccVolumeInputs());
+      return;
+    }
+    const StereoParameters coarseParameters = guidedCoarseParameters(p);
+    if (!w.guided || w.guided->coarse->disparityCount != coarseParameters.disparityCount()) {
+      w.guided = std::make_unique<GuidedWorkspace>(w.device, w.width, w.height, coarseParameters.disparityCount());
+    }
+    GuidedWorkspace& g = *w.guided;
+    StereoWorkspace& coarse = *g.coarse;
+    parallelFor<Backend>(coarseWidth * static_cast<int64_t>(coarseHeight),
+                         HalveGrey{w.leftGrey.view(), w.rightGrey.view(), coarse.leftGrey.view(), coarse.rightGrey.view()});
+    StereoTimingsMs coarseTimings;
+    runStereoPipeline<Backend>(coarse, coarseParameters, coarseTimings, launch, nullptr);
+    parallelFor<Backend>(pixels(), CandidateWindows{coarse.filledDisparity.view(), g.windowLow.view(),
+                                                    g.windowHigh.view(), p.minDisparityPx, p.maxDisparityPx,
+                                                    kGuidedWindowMarginPx});
+    ScoreGuidedCells score{w.left.view(), w.right.view(), w.sumLeft.view(), w.inverseNormLeft.view(),
+                           w.sumRight.view(), w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx,
+                           p.disparityCount(), w.volume.data(), w.volumeLayout(), g.windowLow.view(),
+                           g.windowHigh.view(), w.znccDisparity.view(), g.fellBack.view(), false};
+    parallelFor<Backend>(pixels(), score);
+    score.fallbackPass = true;
+    parallelFor<Backend>(pixels(), score);
+    parallelFor<Backend>(pixels(), RightWinnersFromVolume{w.volume.data(), w.volumeLayout(), p.minDisparityPx,
+                                                          p.disparityCount(), w.rightZnccDisparity.view()});
+  }
 
   /// The highlight masks of both eyes: the seeds (HighlightKernels.h), tested at the disparity of each view's own
   /// winners (w.discrete, the left winners after the left-right check, and the right-view winners), grown by
@@ -363,11 +411,7 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
   } else {
     steps.windowStatistics(w.left, w.sumLeft, w.inverseNormLeft);
     steps.windowStatistics(w.right, w.sumRight, w.inverseNormRight);
-    const ImageView<const float> left = w.left.view(), right = w.right.view();
-    launch.znccVolume(ZnccVolumeInputs{left, right, w.sumLeft.view(), w.inverseNormLeft.view(), w.sumRight.view(),
-                                       w.inverseNormRight.view(), p.znccRadiusPx(), p.minDisparityPx,
-                                       p.disparityCount(), w.volume.data(), w.volumeLayout(), w.znccDisparity.view(),
-                                       w.rightZnccDisparity.view(), w.rightWinnerKeys.data()});
+    steps.znccVolume();
     clock.mark();
 
     steps.outliersAndHoles();
@@ -378,6 +422,8 @@ void runStereoPipeline(StereoWorkspace& w, const StereoParameters& p, StereoTimi
     steps.awayFromHighlights();
     clock.mark();
   }
+  parallelFor<Backend>(w.height, CountRangeEndWinners{w.znccDisparity.view(), p.minDisparityPx, p.maxDisparityPx,
+                                                      w.rangeEndRowCounts.data()}, 1);
   const std::vector<double> stageMs = clock.stageMilliseconds();  // waits for the device
   timings.zncc = stageMs[0];
   timings.outliersHoles = stageMs[1];
