@@ -162,7 +162,7 @@ vtkTissueMosaicReconstructionLogic::ScanObserver qTissueMosaicIgtLinkWidget::sca
     running->publisher.frameProcessed(result.frameIndex, timeS, result.tracked, result.T_world_camera,
                                       result.trackingMessage, result.leftRectified);
     if (result.keyFrame && running->publisher.modelDue())
-      running->publisher.modelUpdated(pipeline.modelSnapshot().cloud, timeS);
+      running->publisher.modelUpdated(pipeline.liveModelSnapshot().cloud, timeS);  // where the tissue is now
   };
   observer.scanEnded = [link](const tissuemosaic::ModelPoints* model, double timeS, const std::string& how) {
     const std::shared_ptr<Link> running = link();
