@@ -95,6 +95,7 @@ void DeformationFitParameters::validate() const {
   check.requireRange("regularisationWeight", regularisationWeight, 0.0, 1e6);
   check.requireRange("restWeight", restWeight, 1e-9, 1e6);
   check.requireRange("restNormalWeight", restNormalWeight, 1e-9, 1e6);
+  check.requireRange("restRotationWeight", restRotationWeight, 0.0, 1e6);
   check.requireRange("huberMm", huberMm, 1e-3, 100.0);
 }
 
@@ -165,8 +166,8 @@ DeformationFitResult fitDeformation(DeformationGraph& graph, const DeformationCo
         }
       }
     }
-    // Rest: t_i -> 0 along the node's tangent plane (restWeight) and along its normal (restNormalWeight); the
-    // rotations only damped.
+    // Rest: t_i -> 0 along the node's tangent plane (restWeight) and along its normal (restNormalWeight); R_i ->
+    // identity (restRotationWeight, on its rotation vector: d log(exp(delta) R) / d delta = I near the identity).
     for (int i = 0; i < nodeCount; ++i) {
       const DeformationNode& node = nodes[static_cast<std::size_t>(i)];
       Vector6d damping = Vector6d::Zero();
@@ -187,6 +188,15 @@ DeformationFitResult fitDeformation(DeformationGraph& graph, const DeformationCo
         Vector6d row = Vector6d::Zero();
         row.tail<3>() = axes[axis];
         equations.addRow(1, single, &row, axes[axis].dot(node.translationMm), weights[axis]);
+      }
+      if (parameters.restRotationWeight > 0) {
+        const Eigen::AngleAxisd turned(node.rotation);
+        const Eigen::Vector3d theta = turned.angle() * turned.axis();
+        for (int axis = 0; axis < 3; ++axis) {
+          Vector6d row = Vector6d::Zero();
+          row(axis) = 1.0;
+          equations.addRow(1, single, &row, theta(axis), parameters.restRotationWeight);
+        }
       }
     }
     Eigen::VectorXd step;

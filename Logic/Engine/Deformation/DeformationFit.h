@@ -5,6 +5,7 @@
 ///   E = sum_c rho(n_c . (warp(p_c) - q_c))                 (point-to-plane, Huber's rho; feature matches: each axis)
 ///     + w_reg sum_i sum_{j in N(i)} |R_i (g_j - g_i) + g_i + t_i - (g_j + t_j)|^2   (as rigid as possible)
 ///     + w_rest sum_i |P_i t_i|^2 + w_rest,n sum_i (n_i . t_i)^2   (rest: P_i projects on the node's tangent plane)
+///     + w_rest,R sum_i |log R_i|^2                                  (rotations at rest)
 /// over every node's rotation (updated as R <- exp(theta) R) and translation, the sparse normal equations solved by
 /// a sparse Cholesky factorisation. The correspondences come from the caller (the pipeline associates the live model
 /// with the frame's depth through the camera pose); the fit starts from the graph's current motions (the last
@@ -45,6 +46,10 @@ struct DeformationFitParameters {
   /// along their normals where an instrument hid the tissue (hard-mode scan: 2.18 mm RMS from the rest surface at
   /// 0.001, 1.98 at 1).
   double restNormalWeight = 1;
+  /// w_rest,R: pulls each node's rotation toward the identity, per rad^2 (16: as restWeight on a 4 mm arm, the node
+  /// spacing). Without it a node that little depth reaches (at the edge of the view) turned freely from frame to
+  /// frame, and the tissue it carries leaned: on the hard-mode scan the model at rest leaned by 1 mm at the sides.
+  double restRotationWeight = 16;
   double huberMm = 1.0;               ///< data residuals beyond this count linearly (outliers, wrong associations)
 
   /// Throws Error naming the first parameter out of range.

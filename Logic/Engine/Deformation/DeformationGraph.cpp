@@ -2,6 +2,7 @@
 
 #include "Core/Error.h"
 #include "Core/ParameterChecks.h"
+#include "Deformation/NodeCells.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,17 +14,8 @@
 namespace tissuemosaic {
 namespace {
 
-/// A node's cell of the node spacing (integer coordinates).
-Eigen::Vector3i cellOf(const Eigen::Vector3d& pointMm, double spacingMm) {
-  return {static_cast<int>(std::floor(pointMm.x() / spacingMm)), static_cast<int>(std::floor(pointMm.y() / spacingMm)),
-          static_cast<int>(std::floor(pointMm.z() / spacingMm))};
-}
-
-/// A cell keyed for a hash map (21 bits per axis: +-1e6 cells, kilometres at 1 mm).
-long long cellKey(const Eigen::Vector3i& cell) {
-  const auto bits = [](int v) { return static_cast<long long>(v) & 0x1FFFFF; };
-  return (bits(cell.x()) << 42) | (bits(cell.y()) << 21) | bits(cell.z());
-}
+using node_cells::cellKey;
+using node_cells::cellOf;
 
 /// The search for the nearest nodes stops this many node spacings out: farther nodes move no point (a point's
 /// weights reach 0 at 2 spacings at most) and no node's regularisation pairs them.

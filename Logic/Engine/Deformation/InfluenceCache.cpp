@@ -1,6 +1,7 @@
 #include "Deformation/InfluenceCache.h"
 
 #include "Core/ParallelFor.h"
+#include "Deformation/NodeCells.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,14 +10,8 @@
 namespace tissuemosaic {
 namespace {
 
-/// A point's cell of the node spacing, keyed (21 bits per axis).
-long long cellKey(long long x, long long y, long long z) {
-  return ((x & 0x1FFFFF) << 42) | ((y & 0x1FFFFF) << 21) | (z & 0x1FFFFF);
-}
-long long cellOf(double v, double spacingMm) { return static_cast<long long>(std::floor(v / spacingMm)); }
-
 /// A node added within 2 spacings of a point (the reach of its weights) lies at most 3 cells from the point's cell.
-constexpr long long kChangedCellReach = 3;
+constexpr int kChangedCellReach = 3;
 
 }  // namespace
 
@@ -31,12 +26,11 @@ void InfluenceCache::collectChangedCells(const DeformationGraph& graph) {
   changedCells_.clear();
   const auto& nodes = graph.nodes();
   for (int j = nodesSeen_; j < graph.nodeCount(); ++j) {
-    const Eigen::Vector3d& g = nodes[static_cast<std::size_t>(j)].positionMm;
-    const long long cx = cellOf(g.x(), spacingMm_), cy = cellOf(g.y(), spacingMm_), cz = cellOf(g.z(), spacingMm_);
-    for (long long dz = -kChangedCellReach; dz <= kChangedCellReach; ++dz)
-      for (long long dy = -kChangedCellReach; dy <= kChangedCellReach; ++dy)
-        for (long long dx = -kChangedCellReach; dx <= kChangedCellReach; ++dx)
-          changedCells_.push_back(cellKey(cx + dx, cy + dy, cz + dz));
+    const Eigen::Vector3i cell = node_cells::cellOf(nodes[static_cast<std::size_t>(j)].positionMm, spacingMm_);
+    for (int dz = -kChangedCellReach; dz <= kChangedCellReach; ++dz)
+      for (int dy = -kChangedCellReach; dy <= kChangedCellReach; ++dy)
+        for (int dx = -kChangedCellReach; dx <= kChangedCellReach; ++dx)
+          changedCells_.push_back(node_cells::cellKey(cell + Eigen::Vector3i(dx, dy, dz)));
   }
   std::sort(changedCells_.begin(), changedCells_.end());
   changedCells_.erase(std::unique(changedCells_.begin(), changedCells_.end()), changedCells_.end());
@@ -46,7 +40,7 @@ void InfluenceCache::collectChangedCells(const DeformationGraph& graph) {
 bool InfluenceCache::inChangedCell(const Eigen::Vector3d& p) const {
   if (changedCells_.empty()) return false;
   return std::binary_search(changedCells_.begin(), changedCells_.end(),
-                            cellKey(cellOf(p.x(), spacingMm_), cellOf(p.y(), spacingMm_), cellOf(p.z(), spacingMm_)));
+                            node_cells::cellKey(node_cells::cellOf(p, spacingMm_)));
 }
 
 int InfluenceCache::refresh(const DeformationGraph& graph, const std::vector<Eigen::Vector3d>& points) {
