@@ -45,15 +45,10 @@ FrameResult Reconstruction::process(const cv::Mat& leftGiven, const cv::Mat& rig
   } else if (leftGiven.size() != pipeline_->geometry().imageSize) {
     rig_->resolve(leftGiven.size(), "the frames given to process()");  // the CLI's message: "the calibration is for"
   }
-  cv::Mat left = leftGiven, right = rightGiven;
-  if (rgb && left.channels() == 3) {
-    cv::cvtColor(leftGiven, leftBgr_, cv::COLOR_RGB2BGR);
-    cv::cvtColor(rightGiven, rightBgr_, cv::COLOR_RGB2BGR);
-    left = leftBgr_;
-    right = rightBgr_;
-  }
+  // RGB frames go to the engine as they are (no conversion, no copy): it reads them in that order.
   const auto start = std::chrono::steady_clock::now();
-  FrameResult result = pipeline_->process(left, right, timeS);
+  FrameResult result =
+      pipeline_->process(leftGiven, rightGiven, timeS, rgb ? ChannelOrder::Rgb : ChannelOrder::Bgr);
   *engineMs = millisecondsSince(start);
   timing_.add(result);
   if (result.tracked) {
