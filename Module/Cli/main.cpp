@@ -3,6 +3,7 @@
 // working (bad data, unreadable file, tracking lost), 2 a command line that does not make sense.
 #include "CommonOptions.h"
 #include "Commands.h"
+#include "OptionNames.h"
 #include "UsageMessage.h"
 #include "Core/Error.h"
 
@@ -129,6 +130,8 @@ int main(int argc, char** argv) {
     std::cerr << command << ": error: " << usageMessage(error, tool) << "\n"
               << "run '" << command << " --help' for the options\n";
     return 2;
+  } catch (const ParameterError& error) {  // the engine names the value; the command line names its option
+    std::cerr << toolName << " " << commandPath(tool) << ": error: " << cli::withOptionName(error) << "\n";
   } catch (const Error& error) {
     std::cerr << toolName << " " << commandPath(tool) << ": error: " << error.what() << "\n";
   } catch (const cv::Exception& error) {

@@ -1,6 +1,7 @@
 #include "IO/Calibration/CalibrationFile.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterError.h"
 #include "IO/Calibration/CalibrationLayout.h"
 
 namespace tissuemosaic {
@@ -48,6 +49,8 @@ CalibrationFileContent readCalibrationFiles(const CalibrationFiles& files) {
       content.calibration.validate();
       return content;
     }
+  } catch (const ParameterError& e) {  // one input missing or wrong: keep which, for the front end to name it
+    throw ParameterError(e.parameter(), context + e.what());
   } catch (const Error& e) {
     throw Error(context + e.what());
   } catch (const cv::Exception& e) {
