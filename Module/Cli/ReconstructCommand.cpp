@@ -3,7 +3,8 @@
 #include "CommonOptions.h"
 #include "Commands.h"
 #include "IgtLinkOptions.h"
-#include "ModelOutput.h"
+#include "ModelFile.h"
+#include "Snapshot.h"
 #include "ProgressBar.h"
 #include "StopSignal.h"
 

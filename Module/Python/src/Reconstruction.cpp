@@ -1,11 +1,9 @@
 #include "Reconstruction.h"
 
-#include "ModelOutput.h"  // Module/Cli: the model file as `reconstruct --out` writes it
+#include "ModelFile.h"  // Logic/ModelFile: the model file as `reconstruct --out` writes it
 
 #include "Core/Error.h"
 #include "Core/Stopwatch.h"
-
-#include <opencv2/imgproc.hpp>
 
 #include <chrono>
 
@@ -104,11 +102,11 @@ std::string Reconstruction::disparityRangeDescription() const {
 }
 
 void Reconstruction::save(const std::string& modelPath, const std::string& trajectoryPath) const {
-  cli::checkModelOutputPath(modelPath);
+  checkModelOutputPath(modelPath);
   const ModelPoints points = model();
   require(points.size() > 0, "the reconstruction has no model points yet (tracking never started?)");
-  cli::writeModelFile(modelPath, points.cloud, cli::kReconstructedModelComment);
-  if (!trajectoryPath.empty()) writeTumTrajectory(trajectoryPath, keyFrameTrajectory(), cli::kKeyFrameTrajectoryHeader);
+  writeModelFile(modelPath, points.cloud, kReconstructedModelComment);
+  if (!trajectoryPath.empty()) writeTumTrajectory(trajectoryPath, keyFrameTrajectory(), kKeyFrameTrajectoryHeader);
 }
 
 }  // namespace tissuemosaic::python
