@@ -261,6 +261,7 @@ void runReconstruct(ReconstructOptions options) {
     writeStreamAtomically(*options.timingJson, "timing JSON", [&](std::ostream& out) { out << json.str(); });
   }
   outputs.commit();
+  stop.throwIfRequested("after " + std::to_string(frames) + " frames");  // exit status 128 + the signal
 }
 
 }  // namespace

@@ -100,6 +100,8 @@ cat "$work/partial.err"
 [ -e "$work/runs/partial/done.json" ] && fail "the stopped row has a done record"
 grep -q "stopped by a signal before the end of its input" "$work/runs/partial/failed.json" ||
   fail "the stopped row's failure record does not say why"
+grep -q '"exit_status":143' "$work/runs/partial/failed.json" ||
+  fail "the stopped row's failure record does not keep reconstruct's exit status 143 (128 + SIGTERM)"
 
 [ "$failures" -eq 0 ] && echo "batch local: PASS"
 [ "$failures" -eq 0 ]
