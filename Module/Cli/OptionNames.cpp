@@ -18,6 +18,7 @@ std::string optionFor(const std::string& parameter) {
       {"extrinsicsCalibration", "--calib-extrinsics"},
       {"modelPath", "--out"},
       {"repeats", "--repeats"},
+      {"maxAlignmentRotationSdDeg", "--max-alignment-sd-deg"},
   };
   const auto found = options.find(parameter);
   return found != options.end() ? found->second : std::string();

@@ -12,7 +12,8 @@
 
 namespace {
 
-/// The Python argument for each engine parameter a ParameterError names (Core/ParameterError.h).
+/// The Python argument for each engine parameter a ParameterError names (Core/ParameterError.h); "" for a value
+/// Python does not take (e.g. eval's alignment limit), whose message then comes as it is.
 std::string pythonArgument(const std::string& parameter) {
   static const std::map<std::string, std::string> names = {
       {"focalPx", "focal_px"},         {"baselineMm", "baseline_mm"},   {"cxPx", "cx_px"},
@@ -20,7 +21,7 @@ std::string pythonArgument(const std::string& parameter) {
       {"disparityRange", "disparity_range"}, {"calibration", "path"}, {"rightCalibration", "right"},
       {"extrinsicsCalibration", "extrinsics"}, {"modelPath", "path"}};
   const auto found = names.find(parameter);
-  return found != names.end() ? found->second : parameter;
+  return found != names.end() ? found->second : std::string();
 }
 
 }  // namespace
@@ -36,7 +37,8 @@ PYBIND11_MODULE(_tissuemosaic, module) {
     try {
       if (thrown) std::rethrow_exception(thrown);
     } catch (const ParameterError& e) {
-      error((pythonArgument(e.parameter()) + ": " + e.what()).c_str());
+      const std::string argument = pythonArgument(e.parameter());
+      error((argument.empty() ? std::string(e.what()) : argument + ": " + e.what()).c_str());
     }
   });
   module.def("cuda_available", &cudaAvailable, "True when this build has CUDA and a GPU is usable");
