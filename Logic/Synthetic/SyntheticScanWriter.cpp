@@ -9,6 +9,7 @@
 
 #include "Core/Error.h"
 #include "IO/DisparityPfm.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "IO/MeshPly.h"
 #include "IO/TrajectoryTum.h"
 
@@ -121,7 +122,7 @@ int writeSyntheticScan(const SyntheticScan& scan, const std::string& directory, 
     require(ok, "cannot write image '" + path.string() + "'");
     ++written;
   };
-  scan.calibration().write((root / "rig.yml").string());
+  writeStereoCalibration(scan.calibration(), (root / "rig.yml").string());
   ++written;
 
   Trajectory trajectory;

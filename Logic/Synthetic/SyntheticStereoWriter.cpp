@@ -4,6 +4,7 @@
 
 #include "Core/Error.h"
 #include "IO/DisparityPfm.h"
+#include "IO/Calibration/CalibrationFile.h"
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -32,7 +33,7 @@ std::vector<std::string> writeSyntheticStereoPair(const SyntheticStereoPair& pai
   image("left_raw.png", pair.leftRaw);
   image("right_raw.png", pair.rightRaw);
   const std::string rig = (folder / "rig.yml").string();
-  pair.calibration.write(rig);
+  writeStereoCalibration(pair.calibration, rig);
   written.push_back(rig);
   for (const auto& [name, map] : {std::pair<const char*, const cv::Mat&>{"disparity.pfm", pair.disparityPx},
                                   std::pair<const char*, const cv::Mat&>{"depth_mm.pfm", pair.depthMm}}) {

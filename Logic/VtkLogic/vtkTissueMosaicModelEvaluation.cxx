@@ -1,6 +1,7 @@
 #include "vtkTissueMosaicModelEvaluation.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterError.h"
 #include "Core/ParallelFor.h"
 
 #include <Eigen/Geometry>
@@ -150,11 +151,14 @@ ModelEvaluation evaluateModel(const std::vector<Eigen::Vector3d>& modelPoints, c
     } else {
     evaluation.trajectory = trajectoryErrors(associated, TrajectoryAlignment::Rigid);
     if (!(evaluation.trajectory->alignmentRotationSdDeg <= options.maxAlignmentRotationSdDeg)) {
-      throw Error(cv::format(
-          "the trajectory alignment cannot place the model: its rotation is uncertain by %.3g degrees (limit %g, "
-          "--max-alignment-sd-deg), because the %zu associated positions span too little across their main "
-          "direction for their scatter; evaluate a longer trajectory, or leave the trajectories out (and use ICP)",
-          evaluation.trajectory->alignmentRotationSdDeg, options.maxAlignmentRotationSdDeg, associated.size()));
+      throw ParameterError(
+          "maxAlignmentRotationSdDeg",
+          cv::format("the trajectory alignment cannot place the model: its rotation is uncertain by %.3g degrees "
+                     "(limit %g), because the %zu associated positions span too little across their main "
+                     "direction for their scatter; evaluate a longer trajectory, or leave the trajectories out (and "
+                     "use ICP)",
+                     evaluation.trajectory->alignmentRotationSdDeg, options.maxAlignmentRotationSdDeg,
+                     associated.size()));
     }
     evaluation.T_reference_model = evaluation.trajectory->T_reference_estimate;
     steps.push_back("trajectory");

@@ -4,6 +4,7 @@
 #include "vtkTissueMosaicPointCloud.h"
 
 #include "Core/Error.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "Stereo/DisparityRangeFollower.h"
 
 #include <vtkObjectFactory.h>
@@ -142,7 +143,7 @@ bool vtkTissueMosaicStereoLogic::LoadCalibration(const std::string& path) {
   tissuemosaic::RectifiedGeometry geometry;
   const bool loaded = runCatching(
       [&] {
-        const tissuemosaic::StereoRectifier rectifier(tissuemosaic::StereoCalibration::read(path));
+        const tissuemosaic::StereoRectifier rectifier(tissuemosaic::readStereoCalibration(path));
         geometry = rectifier.geometry();
       },
       this->LastErrorText);

@@ -3,7 +3,8 @@
 #include "CommonOptions.h"
 #include "Commands.h"
 #include "IgtLinkOptions.h"
-#include "ModelOutput.h"
+#include "ModelFile.h"
+#include "Snapshot.h"
 #include "ProgressBar.h"
 #include "StopSignal.h"
 
@@ -297,6 +298,7 @@ void runReconstruct(ReconstructOptions options) {
     writeStreamAtomically(*options.timingJson, "timing JSON", [&](std::ostream& out) { out << json.str(); });
   }
   outputs.commit();
+  stop.throwIfRequested("after " + std::to_string(frames) + " frames");  // exit status 128 + the signal
 }
 
 }  // namespace

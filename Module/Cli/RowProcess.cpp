@@ -128,6 +128,15 @@ RowRecord finishedRowRecord(const RunningRow& running, int waitStatus) {
     }
   } else {
     record.reason = errorLine(rowFiles(row).log);
+    if (record.reason.empty() && record.exitStatus > 128) {
+      // reconstruct stopped by a signal (a time limit, scancel) writes its partial outputs and exits 128 + the
+      // signal: measureRow says why they do not count (stopped_by_signal in the timing JSON).
+      try {
+        measureRow(row);
+      } catch (const Error& error) {
+        record.reason = error.what();
+      }
+    }
     if (record.reason.empty()) record.reason = "exit status " + std::to_string(record.exitStatus);
   }
   record.status = "failed";

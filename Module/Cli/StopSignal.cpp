@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstring>
 
 namespace tissuemosaic::cli {
 namespace {
@@ -38,5 +39,14 @@ StopOnSignal::~StopOnSignal() {
 }
 
 bool StopOnSignal::requested() const { return stopSignal != 0; }
+
+int StopOnSignal::signal() const { return stopSignal; }
+
+void StopOnSignal::throwIfRequested(const std::string& what) const {
+  const int number = stopSignal;
+  if (number == 0) return;
+  throw StoppedBySignal{number, "stopped by signal " + std::to_string(number) + " (" + strsignal(number) + ") " + what +
+                                    ": the outputs hold those frames only"};
+}
 
 }  // namespace tissuemosaic::cli

@@ -188,6 +188,7 @@ void runTrack(TrackOptions options) {
               std::string(mostFeatures == 0 ? " (no frame has a single ORB feature: are the frames black, saturated or "
                                               "uniform?)"
                                             : ""));
+  stop.throwIfRequested("after " + std::to_string(count) + " frames");  // exit status 128 + the signal
 }
 
 }  // namespace

@@ -1,8 +1,11 @@
 // tissuemosaic: the headless command-line tool. Entry point only: each command lives in its own file (Commands.h),
 // the option groups that commands share in CommonOptions.h; CLI11 parses. Exit status: 0 done, 1 an error while
-// working (bad data, unreadable file, tracking lost), 2 a command line that does not make sense.
+// working (bad data, unreadable file, tracking lost), 2 a command line that does not make sense, 128 + the signal
+// (130, 143) when SIGINT or SIGTERM stopped a command that then wrote its partial outputs (StopSignal.h).
 #include "CommonOptions.h"
 #include "Commands.h"
+#include "OptionNames.h"
+#include "StopSignal.h"
 #include "UsageMessage.h"
 #include "Core/Error.h"
 
@@ -129,6 +132,12 @@ int main(int argc, char** argv) {
     std::cerr << command << ": error: " << usageMessage(error, tool) << "\n"
               << "run '" << command << " --help' for the options\n";
     return 2;
+  } catch (const cli::StoppedBySignal& stopped) {
+    // The outputs are written; the status tells scripts and batch runners the run is not whole.
+    std::cerr << toolName << " " << commandPath(tool) << ": " << stopped.message << "\n";
+    return stopped.exitStatus();
+  } catch (const ParameterError& error) {  // the engine names the value; the command line names its option
+    std::cerr << toolName << " " << commandPath(tool) << ": error: " << cli::withOptionName(error) << "\n";
   } catch (const Error& error) {
     std::cerr << toolName << " " << commandPath(tool) << ": error: " << error.what() << "\n";
   } catch (const cv::Exception& error) {

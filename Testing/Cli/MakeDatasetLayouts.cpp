@@ -8,6 +8,7 @@
 //                    OUT/hamlyn_options.txt: the same geometry as plain options
 // Videos are MPEG-4 (lossy): each test compares two runs over the same file, never with the frames.
 #include "Core/StereoRig.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "IO/TrajectoryTum.h"
 
 #include <opencv2/imgcodecs.hpp>
@@ -55,7 +56,7 @@ int main(int argc, char** argv) {
   }
   try {
     const fs::path scan(argv[1]), out(argv[2]);
-    const StereoCalibration rig = StereoCalibration::read((scan / "rig.yml").string());
+    const StereoCalibration rig = readStereoCalibration((scan / "rig.yml").string());
     const Trajectory truth = readTumTrajectory((scan / "groundtruth" / "trajectory.txt").string());
     const std::vector<fs::path> left = sortedFiles(scan / "left"), right = sortedFiles(scan / "right");
 

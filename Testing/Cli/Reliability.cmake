@@ -17,7 +17,7 @@ tm_cli_failure(secondary_output_missing_folder "cannot write trajectory \\(--tra
 # WEAK: a frame rate and a principal point far out of range.
 tm_cli_usage_error(fps_tiny "--fps: must be a number of frames per second within \\[0.01, 10000\\], got '1e-300'"
                    track ${scan_frames} --calib ${work}/scan/rig.yml --rectified --fps 1e-300 --out ${work}/t.txt)
-tm_cli_failure(cx_far_outside "--cx-px -1e\\+09 lies far outside the 480-pixel-wide frames"
+tm_cli_failure(cx_far_outside "error: --cx-px: the principal point's x -1e\\+09 px lies far outside the 480-pixel-wide frames"
                track ${scan_frames} --focal-px 500 --baseline-mm 5 --cx-px -1e9 --out ${work}/t.txt)
 tm_cli_failure(max_frames_negative "--max-frames must be positive"
                reconstruct ${scan_frames} --calib ${work}/scan/rig.yml --rectified --max-frames -1 --out ${work}/m.ply)

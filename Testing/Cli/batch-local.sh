@@ -91,7 +91,12 @@ printf 'name,out,args\npartial,runs/partial,"--left-frames scan2/left --right-fr
 batch=$!
 waited=0
 until pgrep -f -- "$work/runs/partial/model.ply" > /dev/null || [ $waited -gt 600 ]; do sleep 0.05; waited=$((waited + 1)); done
-sleep 1
+# The signal once reconstruct's log shows a frame done ("N/30 frames: ..."): it handles SIGTERM by then. (A fixed
+# second after the start could still find it reading its inputs on a loaded machine, which SIGTERM ends outright.)
+waited=0
+until grep -aEq "[0-9]+/[0-9]+ frames:" "$work/runs/partial/reconstruct.log" 2>/dev/null || [ $waited -gt 1200 ]; do
+  sleep 0.05; waited=$((waited + 1))
+done
 row_pid=$(pgrep -f -- "$work/runs/partial/model.ply")
 kill -TERM $row_pid
 wait "$batch"; status=$?
@@ -100,6 +105,8 @@ cat "$work/partial.err"
 [ -e "$work/runs/partial/done.json" ] && fail "the stopped row has a done record"
 grep -q "stopped by a signal before the end of its input" "$work/runs/partial/failed.json" ||
   fail "the stopped row's failure record does not say why"
+grep -Eq '"exit_status": *143' "$work/runs/partial/failed.json" ||
+  fail "the stopped row's failure record does not keep reconstruct's exit status 143 (128 + SIGTERM)"
 
 [ "$failures" -eq 0 ] && echo "batch local: PASS"
 [ "$failures" -eq 0 ]

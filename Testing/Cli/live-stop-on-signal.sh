@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # live-stop-on-signal.sh CLI SCAN OUT SECONDS: reconstructs the synthetic scan SCAN (tissuemosaic synth scan) played
 # live at 30 fps through a GStreamer pipeline (both eyes composited side by side, looping), sends SIGINT after
-# SECONDS, and checks a clean stop: exit status 0, the model and trajectory written, the dropped frames reported.
+# SECONDS, and checks a clean stop: exit status 130 (128 + SIGINT: the run is not whole), the model and trajectory
+# written, the dropped frames reported.
 # Samples the resident memory every 0.5 s (OUT/rss.txt) and prints its range after the first quarter of the run.
 set -uo pipefail
 cli=$1 scan=$2 out=$3 seconds=$4
@@ -33,7 +34,8 @@ awk -v s="$seconds" '{t[NR] = $1; m[NR] = $2} END {
     if (best) printf " %.0f s: %.0f", t[best], m[best] / 1024 }
   printf "\n" }' "$out/rss.txt"
 ok=1
-[ "$status" = 0 ] || { echo "FAIL: exit status $status"; ok=0; }
+[ "$status" = 130 ] || { echo "FAIL: exit status $status, expected 130 (128 + SIGINT)"; ok=0; }
+grep -q "stopped by signal 2 (Interrupt)" "$out/reconstruct.txt" || { echo "FAIL: stderr does not name SIGINT"; ok=0; }
 [ -s "$out/model.ply" ] || { echo "FAIL: no model written"; ok=0; }
 grep -q "stopped by a signal" "$out/reconstruct.txt" || { echo "FAIL: the stop was not reported"; ok=0; }
 grep -Eq "live source: [0-9]+ frames reconstructed, [1-9][0-9]* dropped" "$out/reconstruct.txt" ||

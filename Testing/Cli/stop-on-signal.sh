@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # stop-on-signal.sh CLI SCAN OUT: track and reconstruct over the frame folders of the synthetic scan SCAN, each sent
-# SIGTERM once its progress line shows frame 3: each must exit 0, say "stopped by a signal after N frames" with
-# N < all, and write complete outputs of the frames it did (the trajectory marked incomplete; the model a whole PLY).
+# SIGTERM once its progress line shows frame 3: each must exit 143 (128 + SIGTERM, as a shell reports a program a
+# signal ended: the run is not whole), say "stopped by a signal after N frames" with N < all and why it exits so on
+# stderr, and write complete outputs of the frames it did (the trajectory marked incomplete; the model a whole PLY).
 set -uo pipefail
 cli=$1 scan=$2 out=$3
 rm -rf "$out" && mkdir -p "$out"
@@ -20,7 +21,9 @@ run_and_stop() {
   kill -TERM "$pid" 2>/dev/null
   wait "$pid"; status=$?
   echo "== $name: exit status $status"; cat "$out/$name.out"
-  [ "$status" -eq 0 ] || fail "$name: exit status $status"
+  [ "$status" -eq 143 ] || fail "$name: exit status $status, expected 143 (128 + SIGTERM)"
+  grep -Eq "^tissuemosaic $name: stopped by signal 15 \(Terminated\) after [0-9]+ frames: the outputs hold those frames only$" \
+    "$out/$name.err" || fail "$name: stderr does not say it stopped on SIGTERM"
   stopped=$(sed -n 's/.*stopped by a signal after \([0-9]*\) frames.*/\1/p' "$out/$name.out" | head -n 1)
   [ -n "$stopped" ] && [ "$stopped" -ge 3 ] && [ "$stopped" -lt "$all" ] ||
     fail "$name: no 'stopped by a signal after N frames' with 3 <= N < $all"

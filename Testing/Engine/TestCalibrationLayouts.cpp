@@ -67,7 +67,7 @@ void expectReference(const StereoCalibration& read, double tolerance, bool withI
 
 TEST(CalibrationLayouts, OpenCvStereoCalibrateNames) {
   const std::string path = outputPath("opencv.yml");
-  referenceRig().write(path);
+  writeStereoCalibration(referenceRig(), path);
   const CalibrationFileContent content = readCalibrationFiles(CalibrationFiles{path, "", ""});
   EXPECT_EQ(content.layout, "OpenCV stereoCalibrate");
   expectReference(content.calibration, 0.0);
@@ -122,7 +122,11 @@ TEST(CalibrationLayouts, StereoCalibSampleIntrinsicsAndExtrinsicsPair) {
   expectReference(readCalibrationFiles(std::vector<std::string>{extrinsics, intrinsics}).calibration, 0.0, false);
   const std::string alone = errorOf([&] { readCalibrationFiles(CalibrationFiles{intrinsics, "", ""}); });
   EXPECT_NE(alone.find("key 'R' is missing"), std::string::npos) << alone;
-  EXPECT_NE(alone.find("--calib-extrinsics"), std::string::npos) << alone;
+  EXPECT_NE(alone.find("give that file too"), std::string::npos) << alone;
+  // The missing input is named as the engine's parameter, for the command line (--calib-extrinsics) and Python
+  // (extrinsics=) to name their own; the message names neither.
+  EXPECT_EQ(parameterOf([&] { readCalibrationFiles(CalibrationFiles{intrinsics, "", ""}); }), "extrinsicsCalibration");
+  EXPECT_EQ(alone.find("--"), std::string::npos) << alone;
 }
 
 /// ROS's stereo calibrator rectifies with cv::stereoRectify and writes each eye's K D R P, P in metres.
@@ -159,8 +163,9 @@ TEST(CalibrationLayouts, RosCameraInfoPerEyeKeepsItsOwnRectification) {
   EXPECT_GT(std::abs(g.focalPx - StereoRectifier(reference).geometry().focalPx), 1.0);  // not recomputed
   // The eyes in either order through the app's list; one eye alone and swapped eyes are refused.
   expectReference(readCalibrationFiles(std::vector<std::string>{right, left}).calibration, 1e-9);
-  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{left, "", ""}); }).find("--calib-right"),
+  EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{left, "", ""}); }).find("give the right eye's file too"),
             std::string::npos);
+  EXPECT_EQ(parameterOf([&] { readCalibrationFiles(CalibrationFiles{left, "", ""}); }), "rightCalibration");
   EXPECT_NE(errorOf([&] { readCalibrationFiles(CalibrationFiles{right, "", left}); }).find("swapped"),
             std::string::npos);
 }
@@ -292,10 +297,10 @@ TEST(CalibrationLayouts, UnknownLayoutListsTheLayoutsUnderstood) {
     EXPECT_NE(message.find(layout), std::string::npos) << layout << ": " << message;
   const std::string notYaml = outputPath("broken.yaml");
   writeText(notYaml, "a: [1, 2\nb: {\n");
-  EXPECT_NE(errorOf([&] { StereoCalibration::read(notYaml); }).find("not a valid YAML or JSON"), std::string::npos);
+  EXPECT_NE(errorOf([&] { readStereoCalibration(notYaml); }).find("not a valid YAML or JSON"), std::string::npos);
   const std::string list = outputPath("list.yaml");
   writeText(list, "- 1\n- 2\n");
-  EXPECT_NE(errorOf([&] { StereoCalibration::read(list); }).find("holds no keys"), std::string::npos);
+  EXPECT_NE(errorOf([&] { readStereoCalibration(list); }).find("holds no keys"), std::string::npos);
 }
 
 // Found by fuzz_calibration (Testing/Fuzz/corpus/fuzz_calibration/oom-*): OpenCV allocates an OpenCV matrix's

@@ -3,6 +3,7 @@
 // these as cli.stereo.read_back after that test (fixture cli_stereo_outputs, TM_CLI_WORK_DIR set); plain discovery
 // leaves the suite CliStereoOutputs out. Each check is also run on a deliberately broken copy, which must fail it.
 #include "Core/StereoRig.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "IO/DisparityPfm.h"
 #include "IO/PointCloudPly.h"
 #include "Stereo/DisparityScore.h"
@@ -74,7 +75,7 @@ TEST(CliStereoOutputs, CloudFileHasTheTrueDepths) {
   const ColoredPointCloud cloud = readPly(workFile("good.ply"));
   const cv::Mat disparity = readPfm(workFile("good.pfm"));
   const cv::Mat trueDepthMm = readPfm(workFile("pair/depth_mm.pfm"));
-  const RectifiedGeometry geometry = StereoRectifier(StereoCalibration::read(workFile("pair/rig.yml"))).geometry();
+  const RectifiedGeometry geometry = StereoRectifier(readStereoCalibration(workFile("pair/rig.yml"))).geometry();
   EXPECT_EQ(static_cast<int>(cloud.size()), cv::countNonZero(disparity == disparity)) << "one point per estimate";
   EXPECT_EQ(cloud.colorsRgb.size(), cloud.size());
 

@@ -53,6 +53,37 @@ TEST(PixelFormat, GreyIsOpenCvsConversionOfEveryLayout) {
   EXPECT_EQ(differingPixels(fromView, view), 0);
 }
 
+bool sameImage(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0;
+}
+
+TEST(PixelFormat, RgbGivesItsBgrTwinsGreyAndColours) {
+  // ReconstructionPipeline takes RGB frames in their order: their grey must be the BGR twin's bit for bit (whole,
+  // in bands, and with alpha), and toContinuousBgr8 must give the BGR twin itself.
+  const cv::Mat bgr = randomImage(CV_8UC3, 11, {960, 540}), bgra = randomImage(CV_8UC4, 12);
+  cv::Mat rgb, rgba;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  cv::cvtColor(bgra, rgba, cv::COLOR_BGRA2RGBA);
+  EXPECT_EQ(differingPixels(toGrey8(rgb, "image", ChannelOrder::Rgb), toGrey8(bgr, "image")), 0);
+  EXPECT_EQ(differingPixels(toGrey8(rgba, "image", ChannelOrder::Rgb), toGrey8(bgra, "image")), 0);
+  cv::Mat banded;
+  convertToGrey8(rgb, banded, "image", 8, ChannelOrder::Rgb);
+  EXPECT_EQ(differingPixels(banded, toGrey8(bgr, "image")), 0);
+  // The order matters: the same pixels read as BGR give another grey image.
+  EXPECT_GT(differingPixels(toGrey8(rgb, "image"), toGrey8(bgr, "image")), 0);
+
+  EXPECT_TRUE(sameImage(toContinuousBgr8(rgb, "image", ChannelOrder::Rgb), bgr));
+  EXPECT_EQ(toContinuousBgr8(bgr, "image", ChannelOrder::Bgr).data, bgr.data) << "continuous BGR is not copied";
+  cv::Mat bgrFromBgra;
+  cv::cvtColor(bgra, bgrFromBgra, cv::COLOR_BGRA2BGR);
+  EXPECT_TRUE(sameImage(toContinuousBgr8(rgba, "image", ChannelOrder::Rgb), bgrFromBgra));
+  const cv::Mat view = bgr(cv::Rect(3, 5, 101, 43));
+  const cv::Mat fromView = toContinuousBgr8(view, "image", ChannelOrder::Bgr);
+  EXPECT_TRUE(fromView.isContinuous());
+  EXPECT_TRUE(sameImage(fromView, view));
+  EXPECT_THROW(toContinuousBgr8(cv::Mat(4, 4, CV_32FC3), "image", ChannelOrder::Rgb), Error);
+}
+
 TEST(PixelFormat, GreyIntoStagingMemoryWritesThatMemory) {
   // The stereo matcher converts straight into its upload staging buffer: the conversion must write the memory it
   // is given, not reallocate, and give OpenCV's pixels for every layout.

@@ -11,6 +11,7 @@
 #include "StereoTestUtilities.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -157,6 +158,51 @@ TEST(ReconstructionPipeline, WithoutTheFrameDisparityTheSameFramesGiveTheSameRes
   ASSERT_EQ(fromKept.size(), fromNotKept.size());
   EXPECT_EQ(fromKept.cloud.pointsMm, fromNotKept.cloud.pointsMm);
   EXPECT_EQ(fromKept.cloud.colorsRgb, fromNotKept.cloud.colorsRgb);
+}
+
+TEST(ReconstructionPipeline, RgbFramesGiveTheirBgrTwinsResultsWithoutACopy) {
+  // Python gives RGB frames: the pipeline reads them in that order (grey for stereo, range and tracking with the same
+  // weights, the model's colours swapped where they are sampled) instead of the caller converting both frames. Every
+  // pose, the ranges and the model, colours included, must be the BGR frames' bit for bit.
+  synthetic::SyntheticScanOptions options;
+  options.width = 320;
+  options.height = 180;
+  options.frames = 12;
+  options.supersampling = 1;
+  const synthetic::SyntheticScan scan(options);
+  ReconstructionPipeline fromBgr(scan.geometry(), ReconstructionParameters{}, Device::Cpu, scan.T_world_camera(0));
+  ReconstructionPipeline fromRgb(scan.geometry(), ReconstructionParameters{}, Device::Cpu, scan.T_world_camera(0));
+  int keyFrames = 0;
+  for (int k = 0; k < scan.frameCount(); ++k) {
+    const synthetic::SyntheticScanFrame frame = scan.renderFrame(k);
+    cv::Mat leftRgb, rightRgb;
+    cv::cvtColor(frame.leftRectified, leftRgb, cv::COLOR_BGR2RGB);
+    cv::cvtColor(frame.rightRectified, rightRgb, cv::COLOR_BGR2RGB);
+    const FrameResult a = fromBgr.process(frame.leftRectified, frame.rightRectified, frame.timeS);
+    const FrameResult b = fromRgb.process(leftRgb, rightRgb, frame.timeS, ChannelOrder::Rgb);
+    EXPECT_EQ(a.channelOrder, ChannelOrder::Bgr);
+    EXPECT_EQ(b.channelOrder, ChannelOrder::Rgb);
+    EXPECT_EQ(b.leftRectified.data, leftRgb.data) << "rectified RGB frames are used as they are, not copied";
+    EXPECT_TRUE(test::sameDisparity(a.disparityPx, b.disparityPx)) << "frame " << k;
+    EXPECT_EQ(a.disparityRange.minPx, b.disparityRange.minPx) << "frame " << k;
+    EXPECT_EQ(a.disparityRange.maxPx, b.disparityRange.maxPx) << "frame " << k;
+    ASSERT_EQ(a.status, b.status) << "frame " << k;
+    ASSERT_EQ(a.keyFrame, b.keyFrame) << "frame " << k;
+    EXPECT_EQ(a.inliers, b.inliers) << "frame " << k;
+    EXPECT_TRUE(a.T_world_camera == b.T_world_camera) << "frame " << k;
+    keyFrames += a.keyFrame;
+  }
+  EXPECT_GE(keyFrames, 2);
+  const ModelPoints bgr = fromBgr.modelSnapshot(), rgb = fromRgb.modelSnapshot();
+  ASSERT_GT(bgr.size(), 10000u);
+  ASSERT_EQ(bgr.size(), rgb.size());
+  EXPECT_EQ(bgr.cloud.pointsMm, rgb.cloud.pointsMm);
+  EXPECT_EQ(bgr.cloud.normals, rgb.cloud.normals);
+  EXPECT_EQ(bgr.cloud.colorsRgb, rgb.cloud.colorsRgb);
+  // The colours are the scene's, not the swapped channels': the synthetic tissue is red, not blue.
+  double red = 0, blue = 0;
+  for (const cv::Vec3b& c : rgb.cloud.colorsRgb) red += c[0], blue += c[2];
+  EXPECT_GT(red, blue);
 }
 
 TEST(ReconstructionPipeline, RefusesMismatchedFrames) {

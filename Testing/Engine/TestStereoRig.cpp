@@ -1,6 +1,7 @@
 // StereoRig: calibration files, rectification and disparity to 3D, against points projected with OpenCV.
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
+#include "IO/Calibration/CalibrationFile.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
@@ -49,8 +50,8 @@ TEST(StereoRig, CalibrationYamlAndXmlRoundTrip) {
   const StereoCalibration original = syntheticCalibration();
   for (const std::string name : {"calib_roundtrip.yml", "calib_roundtrip.xml"}) {
     const std::string path = outputPath(name);
-    original.write(path);
-    const StereoCalibration read = StereoCalibration::read(path);
+    writeStereoCalibration(original, path);
+    const StereoCalibration read = readStereoCalibration(path);
     EXPECT_EQ(read.imageSize, original.imageSize) << name;
     for (auto [a, b] : {std::pair{read.K1, original.K1}, {read.D1, original.D1}, {read.K2, original.K2},
                         {read.D2, original.D2}, {read.R, original.R}, {read.T, original.T}}) {
@@ -72,7 +73,7 @@ TEST(StereoRig, CalibrationAsStereoCalibrateWritesItWithImageWidthHeight) {
     storage << "K1" << reference.K1 << "D1" << d1 << "K2" << reference.K2 << "D2" << d2;
     storage << "R" << reference.R << "T" << reference.T;
   }
-  const StereoCalibration read = StereoCalibration::read(path);
+  const StereoCalibration read = readStereoCalibration(path);
   EXPECT_EQ(read.imageSize, cv::Size(640, 480));
   EXPECT_EQ(read.D1.size(), cv::Size(5, 1));
   EXPECT_EQ(cv::norm(read.D1, reference.D1, cv::NORM_INF), 0.0);
@@ -89,7 +90,7 @@ void expectReadError(const std::string& name, const std::function<void(cv::FileS
     write(storage);
   }
   try {
-    StereoCalibration::read(path);
+    readStereoCalibration(path);
     ADD_FAILURE() << name << ": no Error thrown";
   } catch (const Error& e) {
     const std::string message = e.what();
@@ -146,7 +147,7 @@ TEST(StereoRig, CalibrationWithoutImageSizeTakesTheFrames) {
     cv::FileStorage storage(path, cv::FileStorage::WRITE);
     storage << "K1" << c.K1 << "D1" << c.D1 << "K2" << c.K2 << "D2" << c.D2 << "R" << c.R << "T" << c.T;
   }
-  StereoCalibration read = StereoCalibration::read(path);
+  StereoCalibration read = readStereoCalibration(path);
   EXPECT_TRUE(read.imageSize.empty());
   EXPECT_THROW(StereoRectifier{read}, Error);
   read.adoptFrameSize({640, 480}, "test frames");
@@ -156,7 +157,7 @@ TEST(StereoRig, CalibrationWithoutImageSizeTakesTheFrames) {
 TEST(StereoRig, UnreadableCalibrationFilesGiveErrors) {
   auto expectMessage = [](const std::string& path, const std::string& expected) {
     try {
-      StereoCalibration::read(path);
+      readStereoCalibration(path);
       ADD_FAILURE() << path << ": no Error thrown";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
@@ -183,7 +184,7 @@ TEST(StereoRig, HandWrittenPlainValuesAreAccepted) {
             "K1: [[800, 0, 320], [0, 800, 240], [0, 0, 1]]\nD1: [0, 0, 0, 0, 0]\n"
             "K2: [[800, 0, 320], [0, 800, 240], [0, 0, 1]]\nD2: [0, 0, 0, 0]\n"
             "R: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\nT: [-5, 0, 0]\n");
-  const StereoCalibration c = StereoCalibration::read(path);
+  const StereoCalibration c = readStereoCalibration(path);
   EXPECT_EQ(c.K1.at<double>(0, 2), 320.0);
   EXPECT_EQ(c.D2.size(), cv::Size(4, 1));
   EXPECT_EQ(c.T.size(), cv::Size(1, 3));

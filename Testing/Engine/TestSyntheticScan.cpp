@@ -7,6 +7,7 @@
 
 #include "Core/Error.h"
 #include "IO/DisparityPfm.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "IO/MeshPly.h"
 #include "IO/TrajectoryTum.h"
 
@@ -137,7 +138,7 @@ TEST(SyntheticScan, WrittenGroundTruthIsConsistent) {
     EXPECT_TRUE(std::filesystem::exists(folder / "left" / (name + ".png")));
     EXPECT_TRUE(std::filesystem::exists(folder / "right" / (name + ".png")));
   }
-  const StereoCalibration rig = StereoCalibration::read((folder / "rig.yml").string());
+  const StereoCalibration rig = readStereoCalibration((folder / "rig.yml").string());
   EXPECT_NEAR(StereoRectifier(rig).geometry().focalPx, scan.geometry().focalPx, 1e-9);
 
   const Trajectory trajectory = readTumTrajectory((folder / "groundtruth" / "trajectory.txt").string());

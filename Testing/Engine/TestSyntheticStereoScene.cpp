@@ -5,6 +5,7 @@
 
 #include "Core/Error.h"
 #include "Core/StereoRig.h"
+#include "IO/Calibration/CalibrationFile.h"
 #include "IO/DisparityPfm.h"
 
 #include <gtest/gtest.h>
@@ -233,7 +234,7 @@ TEST(SyntheticStereoScene, WritesImagesCalibrationAndGroundTruthThatReadBack) {
   const cv::Mat mask = cv::imread(folder + "/groundtruth/highlight_mask_left.png", cv::IMREAD_UNCHANGED);
   ASSERT_EQ(mask.type(), CV_8U);
   EXPECT_EQ(cv::norm(mask, pair.highlightMaskLeft, cv::NORM_INF), 0.0);
-  const StereoCalibration calibration = StereoCalibration::read(folder + "/rig.yml");
+  const StereoCalibration calibration = readStereoCalibration(folder + "/rig.yml");
   EXPECT_EQ(calibration.imageSize, pair.calibration.imageSize);
   EXPECT_LT(cv::norm(calibration.K1, pair.calibration.K1, cv::NORM_INF), 1e-9);
   EXPECT_LT(cv::norm(calibration.D2, pair.calibration.D2, cv::NORM_INF), 1e-12);

@@ -2,6 +2,7 @@
 
 #include "CudaRuntime.h"
 #include "Error.h"
+#include "ParameterError.h"
 #include "ParallelFor.h"
 
 #include <fstream>
@@ -28,10 +29,11 @@ Device parseDevice(const std::string& text) {
   if (text == "cpu") return Device::Cpu;
   if (text == "auto") return cudaAvailable() ? Device::Cuda : Device::Cpu;
   if (text == "cuda") {
-    requireUsableDevice(Device::Cuda, "--device cuda");
+    const std::string reason = cudaUnavailableReason();
+    requireParameter(reason.empty(), "device", "cuda was asked for, but " + reason);
     return Device::Cuda;
   }
-  throw Error("unknown device '" + text + "': expected cpu, cuda or auto");
+  throw ParameterError("device", "unknown device '" + text + "': expected cpu, cuda or auto");
 }
 
 const char* deviceLabel(Device device) { return device == Device::Cuda ? "cuda" : "cpu"; }

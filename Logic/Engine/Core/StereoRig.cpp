@@ -1,7 +1,6 @@
 #include "StereoRig.h"
 
 #include "Error.h"
-#include "IO/Calibration/CalibrationFile.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -63,10 +62,6 @@ void validateDistortion(const cv::Mat& D, const std::string& name) {
 
 }  // namespace
 
-StereoCalibration StereoCalibration::read(const std::string& path) {
-  return readCalibrationFiles(CalibrationFiles{path, "", ""}).calibration;
-}
-
 void StereoCalibration::adoptFrameSize(const cv::Size& frameSize, const std::string& framesDescription) {
   if (imageSize.empty()) {
     imageSize = frameSize;
@@ -76,25 +71,6 @@ void StereoCalibration::adoptFrameSize(const cv::Size& frameSize, const std::str
                                       std::to_string(imageSize.height) + " but the frames of " + framesDescription +
                                       " are " + std::to_string(frameSize.width) + "x" +
                                       std::to_string(frameSize.height));
-}
-
-void StereoCalibration::write(const std::string& path) const {
-  validate();
-  require(rectification.empty(), "cannot write stereo calibration '" + path +
-                                     "': it has its own rectification (ROS camera_info), which the stereoCalibrate "
-                                     "layout cannot hold");
-  require(!imageSize.empty(), "cannot write stereo calibration '" + path + "': its image size is not known");
-  cv::FileStorage storage;
-  try {
-    storage.open(path, cv::FileStorage::WRITE);
-  } catch (const cv::Exception& e) {
-    throw Error("cannot write stereo calibration '" + path + "': " + e.err);
-  }
-  require(storage.isOpened(), "cannot write stereo calibration '" + path +
-                                  "': the folder does not exist or is not writable (use a .yml, .yaml or .xml name)");
-  storage << "imageSize" << imageSize;
-  storage << "K1" << K1 << "D1" << D1 << "K2" << K2 << "D2" << D2 << "R" << R << "T" << T;
-  storage.release();
 }
 
 void StereoCalibration::validate() const {

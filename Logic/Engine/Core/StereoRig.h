@@ -26,12 +26,8 @@ struct StereoCalibration {
   cv::Size imageSize;            ///< width x height in pixels of the unrectified images; empty: not in the file
   GivenRectification rectification;
 
-  /// Reads any layout IO/Calibration/CalibrationFile.h understands (one file; see readCalibrationFiles for the
-  /// layouts of two files). Throws Error saying which key is missing or malformed, or listing the layouts.
-  static StereoCalibration read(const std::string& path);
-  /// Writes cv::stereoCalibrate's keys K1 D1 K2 D2 R T and imageSize as [width, height]. Throws Error for a
-  /// calibration with its own rectification (that layout cannot hold it) or without an image size.
-  void write(const std::string& path) const;
+  // Files: IO/Calibration/CalibrationFile.h reads every layout (readStereoCalibration, readCalibrationFiles) and
+  // writes cv::stereoCalibrate's (writeStereoCalibration).
   /// Throws Error when a matrix has the wrong shape, K is not a camera matrix, R is not a rotation, etc. An empty
   /// image size passes (the frames give it); a negative one does not.
   void validate() const;

@@ -57,7 +57,8 @@ void requireSurfaceInputs(cv::Size disparitySize, const cv::Mat& leftRectified, 
 
 SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx,
-                                  double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept) {
+                                  double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept,
+                                  ChannelOrder order) {
   require(!disparityPx.empty() && disparityPx.type() == CV_32FC1, "measureSurface: the disparity map must be a non-empty CV_32FC1 image");
   requireSurfaceInputs(disparityPx.size(), leftRectified, geometry, device, normalRadiusPx, maxDepthJumpMm);  // before any upload
   const cv::Mat disparity = disparityPx.isContinuous() ? disparityPx : disparityPx.clone();
@@ -68,12 +69,13 @@ SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& lef
     disparityImage.buffer().upload(disparity.ptr<float>());
   }
   return measureSurface(disparityImage.view(), leftRectified, geometry, device, normalRadiusPx, maxDepthJumpMm,
-                        residence, kept);
+                        residence, kept, order);
 }
 
 SurfaceMeasurement measureSurface(ImageView<const float> disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx,
-                                  double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept) {
+                                  double maxDepthJumpMm, SurfaceMapResidence residence, DisparityRangePx kept,
+                                  ChannelOrder order) {
   require(disparityPx.data != nullptr && disparityPx.width > 0 && disparityPx.height > 0,
           "measureSurface: the disparity map is empty");
   requireSurfaceInputs({disparityPx.width, disparityPx.height}, leftRectified, geometry, device, normalRadiusPx,
@@ -104,10 +106,9 @@ SurfaceMeasurement measureSurface(ImageView<const float> disparityPx, const cv::
   measurement.validMask.create(height, width, CV_8U);
   valid.buffer().download(measurement.validMask.ptr<uint8_t>());
   measurement.validPixels = cv::countNonZero(measurement.validMask);
-  // A BGR image is shared, not copied (6 MB a frame at 1920x1080): the measurement reads the caller's pixels.
-  if (leftRectified.channels() == 3 && leftRectified.isContinuous()) measurement.colourBgr = leftRectified;
-  else if (leftRectified.channels() == 3) measurement.colourBgr = leftRectified.clone();
-  else cv::cvtColor(leftRectified, measurement.colourBgr, leftRectified.channels() == 1 ? cv::COLOR_GRAY2BGR : cv::COLOR_BGRA2BGR);
+  // A continuous BGR image is shared, not copied (6 MB a frame at 1920x1080): the measurement reads the caller's
+  // pixels. RGB, grey and 4-channel images are converted.
+  measurement.colourBgr = toContinuousBgr8(leftRectified, "measureSurface: the left image", order);
   if (device == Device::Cuda) {
     maps->colourBgr = Buffer<uint8_t>(device, measurement.colourBgr.total() * 3);
     maps->colourBgr.upload(measurement.colourBgr.ptr<uint8_t>());  // continuous: shared, cloned or converted above

@@ -5,6 +5,7 @@
 #include "Core/Device.h"
 #include "Core/Float3.h"
 #include "Core/Image.h"
+#include "Core/PixelFormat.h"
 #include "Core/StereoRig.h"
 
 #include <opencv2/core.hpp>
@@ -79,18 +80,19 @@ surface::Reprojection reprojectionOf(const RectifiedGeometry& geometry);
 /// depth jumps by more than `maxDepthJumpMm`). Runs on `device`; on CUDA the maps also stay on the device
 /// (`onDevice`), and `residence` says whether they come to the host too. A disparity outside `kept` counts as
 /// missing (tested in the kernel: no masked copy of the disparity on the host). Throws Error on empty or mismatched
-/// inputs. colourBgr shares the left image's pixels when it is continuous BGR (a cv::Mat header, no copy).
+/// inputs. colourBgr shares the left image's pixels when it is continuous BGR (a cv::Mat header, no copy); an RGB
+/// image (`order`) is converted into it, once per measurement (the pipeline measures at key frames only).
 SurfaceMeasurement measureSurface(const cv::Mat& disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx = 2,
                                   double maxDepthJumpMm = 2.0,
                                   SurfaceMapResidence residence = SurfaceMapResidence::HostAndDevice,
-                                  DisparityRangePx kept = {});
+                                  DisparityRangePx kept = {}, ChannelOrder order = ChannelOrder::Bgr);
 /// The same from a disparity map already in `device`'s memory (e.g. StereoMatcher::lastDisparityAwayFromHighlightsView
 /// on CUDA): nothing to upload. The map is read during the call only.
 SurfaceMeasurement measureSurface(ImageView<const float> disparityPx, const cv::Mat& leftRectified,
                                   const RectifiedGeometry& geometry, Device device, int normalRadiusPx = 2,
                                   double maxDepthJumpMm = 2.0,
                                   SurfaceMapResidence residence = SurfaceMapResidence::HostAndDevice,
-                                  DisparityRangePx kept = {});
+                                  DisparityRangePx kept = {}, ChannelOrder order = ChannelOrder::Bgr);
 
 }  // namespace tissuemosaic

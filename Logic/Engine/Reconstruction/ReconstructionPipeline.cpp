@@ -143,7 +143,21 @@ ReconstructionPipeline::ReconstructionPipeline(const StereoCalibration& calibrat
 
 ReconstructionPipeline::~ReconstructionPipeline() = default;
 
-FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& right, double timeS) {
+namespace {
+
+/// The grey image a grey-working stage (range, stereo, tracking) takes of a frame: the frame itself in BGR (the stage
+/// converts it, as before), converted here in RGB; large frames in bands on the thread pool, as StereoMatcher does.
+cv::Mat stageImage(const cv::Mat& frame, ChannelOrder order, const char* what) {
+  if (order == ChannelOrder::Bgr) return frame;
+  cv::Mat grey;
+  convertToGrey8(frame, grey, what, frame.total() >= 1'000'000 ? 8 : 1, ChannelOrder::Rgb);
+  return grey;
+}
+
+}  // namespace
+
+FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& right, double timeS,
+                                            ChannelOrder order) {
   Impl& s = *impl_;
   const cv::Size size = s.geometry.imageSize;
   require(!left.empty() && !right.empty(), "reconstruction: empty frame");
@@ -155,13 +169,15 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   result.frameIndex = s.tracker.frameCount();
   const auto start = Clock::now();
 
-  cv::Mat leftBgr = toBgr8(left, "reconstruction: frames"), rightBgr = toBgr8(right, "reconstruction: frames");
+  // 3 channels in the frames' order (grey and 4-channel frames become 3 channels; rectification keeps the order).
+  cv::Mat leftColour = toBgr8(left, "reconstruction: frames"), rightColour = toBgr8(right, "reconstruction: frames");
   if (s.rectifier) {
-    s.rectifier->rectify(leftBgr, rightBgr, result.leftRectified, result.rightRectified);
+    s.rectifier->rectify(leftColour, rightColour, result.leftRectified, result.rightRectified);
   } else {
-    result.leftRectified = leftBgr;
-    result.rightRectified = rightBgr;
+    result.leftRectified = leftColour;
+    result.rightRectified = rightColour;
   }
+  result.channelOrder = order;
   result.timesMs.videoReading = millisecondsSince(start);
 
   // The frame's disparity range is set before its dense matching starts and stays for the whole frame. The automatic
@@ -180,15 +196,23 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   }
   const bool firstRange = !s.disparityRange.history().current;
   const auto rangeStart = Clock::now();
-  result.disparityRange = s.disparityRange.beforeFrame(result.leftRectified, result.rightRectified);
+  // The images are read only where the first frame's range is measured.
+  result.disparityRange =
+      firstRange ? s.disparityRange.beforeFrame(stageImage(result.leftRectified, order, "disparity range: the left image"),
+                                                stageImage(result.rightRectified, order, "disparity range: the right image"))
+                 : s.disparityRange.beforeFrame(result.leftRectified, result.rightRectified);
   // A pair whose rows the first frame found apart is matched with its right view moved onto the left's rows.
   result.rightRectified = s.disparityRange.alignedRight(result.rightRectified);
   s.matcher.setDisparityRange(result.disparityRange);
   if (s.disparityRange.automatic() && firstRange) result.disparityRangeMs = millisecondsSince(rangeStart);
   if (s.disparityRange.automatic() && !firstRange && !s.rangeSample && result.frameIndex % sampleEvery == 0) {
     // Copies: the caller may write its next frame into the same images while this frame is measured.
-    s.rangeSample.emplace(s.rangeWorker.run([&s, left = result.leftRectified.clone(),
-                                              right = result.rightRectified.clone()] {
+    // (RGB frames: their grey images, new memory too.)
+    const auto copyOf = [order](const cv::Mat& image, const char* what) {
+      return order == ChannelOrder::Bgr ? image.clone() : stageImage(image, order, what);
+    };
+    s.rangeSample.emplace(s.rangeWorker.run([&s, left = copyOf(result.leftRectified, "disparity range: the left image"),
+                                              right = copyOf(result.rightRectified, "disparity range: the right image")] {
       const auto measureStart = Clock::now();
       DisparitySample sample = s.disparityRange.measure(left, right);
       return std::make_pair(std::move(sample), millisecondsSince(measureStart));
@@ -209,7 +233,8 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
   PendingResult<TimedDisparity> stereo = s.worker.run([&] {
     const auto stereoStart = Clock::now();
     TimedDisparity computed;
-    s.matcher.match(result.leftRectified, result.rightRectified, &computed.parts);
+    s.matcher.match(stageImage(result.leftRectified, order, "the left image"),
+                    stageImage(result.rightRectified, order, "the right image"), &computed.parts);
     computed.rangeEnds = s.matcher.lastRangeEndCounts();
     if (s.frameDisparityKept) {
       const auto downloadStart = Clock::now();
@@ -262,7 +287,8 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
     return cv::format("the model disagrees with the frame's depth at this pose (%.0f%% within 1 mm, median %.1f mm)",
                       100 * a.shareWithin1mm, a.medianDepthDifferenceMm);
   };
-  TrackResult track = s.tracker.track(result.leftRectified, FrameTracker::DisparitySource(sampleTrackingDisparity), check);
+  TrackResult track = s.tracker.track(stageImage(result.leftRectified, order, "tracking: the left image"),
+                                      FrameTracker::DisparitySource(sampleTrackingDisparity), check);
   waitForStereo();  // the tracker has waited on every path that returns; this only guards that contract
   if (!track.tracked) {
     // Frames since the last key frame are from before the loss: not the next key frame's bundle.
@@ -361,7 +387,7 @@ FrameResult ReconstructionPipeline::process(const cv::Mat& left, const cv::Mat& 
           measureSurface(s.matcher.lastDisparityAwayFromHighlightsView(), result.leftRectified, s.geometry, s.device,
                          s.parameters.fusion.normalRadiusPx, s.parameters.fusion.maxDepthJumpMm,
                          SurfaceMapResidence::DeviceOnly,  // refinement and fusion run on the same device
-                         workingDisparityRange(s.geometry, s.parameters.fusion));
+                         workingDisparityRange(s.geometry, s.parameters.fusion), order);
       synchronize(s.device);  // the maps stay on the device for the refiner and fusion on the calling thread
       result.refinementPartsMs.surface = millisecondsSince(surfaceStart);
       const std::vector<Eigen::Vector3f> modelPointsWorldMm = modelSample.get();

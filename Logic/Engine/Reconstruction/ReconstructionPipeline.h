@@ -11,6 +11,7 @@
 /// Not thread-safe: one thread calls process(); the logic layer runs it off the GUI thread and reads results
 /// through the FrameResult it returns and modelSnapshot().
 #include "Core/Device.h"
+#include "Core/PixelFormat.h"
 #include "Core/StereoRig.h"
 #include "Deformation/DeformationTracker.h"
 #include "Fusion/ModelAgreement.h"
@@ -108,9 +109,10 @@ struct FrameResult {
   RefinementPartsMs refinementPartsMs;  ///< key frames only
   StereoTimingsMs stereoPartsMs;        ///< the stereo stage's parts (its GPU stages in device time)
   TrackingPartsMs trackingPartsMs;
-  /// 8-bit BGR; the right view moved onto the left's rows where the first frame found the pair out of rectification
-  /// (DisparityRangeFollower::alignedRight)
+  /// 8-bit, 3 channels in `channelOrder` (BGR unless process() was given RGB frames); the right view moved onto the
+  /// left's rows where the first frame found the pair out of rectification (DisparityRangeFollower::alignedRight)
   cv::Mat leftRectified, rightRectified;
+  ChannelOrder channelOrder = ChannelOrder::Bgr;
   cv::Mat disparityPx;                    ///< CV_32F, NaN = none; empty when the pipeline keeps none (setFrameDisparityKept)
   DisparityRange disparityRange;          ///< the range this frame was matched over
   RangeEndCounts disparityRangeEnds;      ///< its winners on the range's ends (rangeTooNarrowWarning)
@@ -144,10 +146,14 @@ public:
   ReconstructionPipeline& operator=(const ReconstructionPipeline&) = delete;
 
   /// Processes the next stereo frame (8-bit grey or BGR, both the rig's size). timeS: its time stamp (TUM output).
+  /// order: the frames' channel order. RGB frames (Python, Pillow, PyTorch) are taken as they are, without a copy:
+  /// the stages that work in grey get them converted with the same weights, and the model's colours are read in
+  /// that order, so the result is the BGR twin's bit for bit.
   /// Throws Error for misuse (empty or mismatched frames), and, with the automatic disparity range, when the first
   /// frame has too few left-right feature matches to choose it (the message says what was found); lost tracking is
   /// reported in the result.
-  FrameResult process(const cv::Mat& left, const cv::Mat& right, double timeS);
+  FrameResult process(const cv::Mat& left, const cv::Mat& right, double timeS,
+                      ChannelOrder order = ChannelOrder::Bgr);
 
   const RectifiedGeometry& geometry() const;
   const ReconstructionParameters& parameters() const;

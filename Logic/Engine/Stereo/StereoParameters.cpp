@@ -2,6 +2,7 @@
 
 #include "Core/Error.h"
 #include "Core/ParameterChecks.h"
+#include "Core/ParameterError.h"
 #include "Core/ParameterFileKeys.h"
 
 #include <opencv2/core.hpp>
@@ -235,9 +236,10 @@ void StereoParameters::writeFile(const std::string& path) const {
 void requireDisparityRangeMeetsImage(const StereoParameters& parameters, int widthPx) {
   if (parameters.disparityRangeMode != DisparityRangeMode::Fixed) return;  // the others are measured or derived
   if (parameters.minDisparityPx < widthPx && parameters.maxDisparityPx > -widthPx) return;
-  throw Error(cv::format("the disparity range %d..%d px lies beyond the %d-pixel-wide frames: no left pixel can match "
-                         "a right one (set the range within +-%d px: --min-disparity/--max-disparity, or Python's disparity_range)",
-                         parameters.minDisparityPx, parameters.maxDisparityPx, widthPx, widthPx - 1));
+  throw ParameterError("disparityRange",
+                       cv::format("the disparity range %d..%d px lies beyond the %d-pixel-wide frames: no left pixel "
+                                  "can match a right one (set the range within +-%d px)",
+                                  parameters.minDisparityPx, parameters.maxDisparityPx, widthPx, widthPx - 1));
 }
 
 }  // namespace tissuemosaic

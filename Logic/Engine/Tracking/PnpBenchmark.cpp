@@ -1,6 +1,7 @@
 #include "Tracking/PnpBenchmark.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterError.h"
 #include "Core/Statistics.h"
 
 #include <opencv2/calib3d.hpp>
@@ -137,7 +138,8 @@ SyntheticPnpCase makeSyntheticPnpCase(std::uint64_t seed, int n, double outlierR
 }
 
 std::string runPnpBenchmark(const PnpBenchmarkOptions& options) {
-  require(options.repeats >= 1 && options.repeats <= 100000, "bench pnp: --repeats must be in [1, 100000]");
+  requireParameter(options.repeats >= 1 && options.repeats <= 100000, "repeats",
+                   "bench pnp: the repeat count must be in [1, 100000]");
   cv::setNumThreads(1);  // OpenCV single-threaded, as ours: the comparison is one core against one core
   const std::vector<int> sizes = options.quick ? std::vector<int>{200} : std::vector<int>{200, 500, 1000};
   const std::vector<double> ratios =

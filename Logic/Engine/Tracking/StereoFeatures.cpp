@@ -1,9 +1,9 @@
 #include "Tracking/StereoFeatures.h"
 
+#include "Core/DisparitySampling.h"
 #include "Core/Error.h"
 #include "Core/KernelProfiler.h"
 #include "Core/PixelFormat.h"
-#include "Stereo/DisparitySampling.h"
 
 #include <cmath>
 #include <limits>

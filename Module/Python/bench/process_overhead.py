@@ -3,9 +3,10 @@
 
 Both are timed on the same frames in one process: the Python call's wall time around rec.process(...) against the
 engine's own ReconstructionPipeline::process inside it (FrameResult.engine_ms, timed in C++), so that their
-difference is the binding's cost (argument checks, the RGB-to-BGR conversion, releasing and taking the GIL, the
-result's conversion) and not the run-to-run spread of a whole frame. Frames are read into memory first. Figures:
-median, mean and p99 in milliseconds, for RGB input and for BGR input (bgr=True, no conversion).
+difference is the binding's cost (argument checks, releasing and taking the GIL, the result's conversion) and not the
+run-to-run spread of a whole frame. Frames are read into memory first. Figures: median, mean and p99 in
+milliseconds, for RGB input and for BGR input (bgr=True); neither is converted or copied (the engine reads RGB frames
+in their order), so compare their engine_ms too: the engine's RGB path must cost what its BGR path does.
 
     PYTHONPATH=build/python python3 Module/Python/bench/process_overhead.py --frames 40 --device cpu
 """

@@ -141,7 +141,7 @@ std::unique_ptr<Reconstruction> makeReconstruction(std::shared_ptr<Rig> rig, con
 
 PyFrameResult process(Reconstruction& reconstruction, const py::array& left, const py::array& right, double timeS,
                       bool bgr) {
-  // Views of the arrays; an RGB pair is converted inside, with the GIL released, into buffers kept between frames.
+  // Views of the arrays, no copy: the engine reads RGB frames in their order (ReconstructionPipeline::process).
   const cv::Mat leftImage = imageView(left, "left"), rightImage = imageView(right, "right");
   FrameResult result;
   double engineMs = 0;

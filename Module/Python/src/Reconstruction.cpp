@@ -1,11 +1,9 @@
 #include "Reconstruction.h"
 
-#include "ModelOutput.h"  // Module/Cli: the model file as `reconstruct --out` writes it
+#include "ModelFile.h"  // Logic/ModelFile: the model file as `reconstruct --out` writes it
 
 #include "Core/Error.h"
 #include "Core/Stopwatch.h"
-
-#include <opencv2/imgproc.hpp>
 
 #include <chrono>
 
@@ -45,15 +43,10 @@ FrameResult Reconstruction::process(const cv::Mat& leftGiven, const cv::Mat& rig
   } else if (leftGiven.size() != pipeline_->geometry().imageSize) {
     rig_->resolve(leftGiven.size(), "the frames given to process()");  // the CLI's message: "the calibration is for"
   }
-  cv::Mat left = leftGiven, right = rightGiven;
-  if (rgb && left.channels() == 3) {
-    cv::cvtColor(leftGiven, leftBgr_, cv::COLOR_RGB2BGR);
-    cv::cvtColor(rightGiven, rightBgr_, cv::COLOR_RGB2BGR);
-    left = leftBgr_;
-    right = rightBgr_;
-  }
+  // RGB frames go to the engine as they are (no conversion, no copy): it reads them in that order.
   const auto start = std::chrono::steady_clock::now();
-  FrameResult result = pipeline_->process(left, right, timeS);
+  FrameResult result =
+      pipeline_->process(leftGiven, rightGiven, timeS, rgb ? ChannelOrder::Rgb : ChannelOrder::Bgr);
   *engineMs = millisecondsSince(start);
   timing_.add(result);
   if (result.tracked) {
@@ -109,11 +102,11 @@ std::string Reconstruction::disparityRangeDescription() const {
 }
 
 void Reconstruction::save(const std::string& modelPath, const std::string& trajectoryPath) const {
-  cli::checkModelOutputPath(modelPath);
+  checkModelOutputPath(modelPath);
   const ModelPoints points = model();
   require(points.size() > 0, "the reconstruction has no model points yet (tracking never started?)");
-  cli::writeModelFile(modelPath, points.cloud, cli::kReconstructedModelComment);
-  if (!trajectoryPath.empty()) writeTumTrajectory(trajectoryPath, keyFrameTrajectory(), cli::kKeyFrameTrajectoryHeader);
+  writeModelFile(modelPath, points.cloud, kReconstructedModelComment);
+  if (!trajectoryPath.empty()) writeTumTrajectory(trajectoryPath, keyFrameTrajectory(), kKeyFrameTrajectoryHeader);
 }
 
 }  // namespace tissuemosaic::python

@@ -21,9 +21,9 @@ public:
   Reconstruction(std::shared_ptr<Rig> rig, ReconstructionParameters parameters, Device device,
                  const Eigen::Matrix4d& T_world_startCamera, bool keepDisparity);
 
-  /// One frame: 8-bit BGR or grey images, or RGB ones (rgb: converted into buffers this object keeps, which the
-  /// pipeline does not hold past process(): no allocation and no page faults per frame). Thread-safe: calls on one
-  /// object run one at a time. engineMs: the milliseconds of ReconstructionPipeline::process alone.
+  /// One frame: 8-bit BGR or grey images, or RGB ones (rgb: the pipeline reads them in that order, without a
+  /// conversion or a copy). Thread-safe: calls on one object run one at a time. engineMs: the milliseconds of
+  /// ReconstructionPipeline::process alone.
   FrameResult process(const cv::Mat& left, const cv::Mat& right, bool rgb, double timeS, double* engineMs);
 
   int frameCount() const;
@@ -50,7 +50,6 @@ private:
   std::unique_ptr<ReconstructionPipeline> pipeline_;
   TimingTable timing_;
   Trajectory framePoses_;
-  cv::Mat leftBgr_, rightBgr_;  ///< RGB input converted
 };
 
 }  // namespace tissuemosaic::python

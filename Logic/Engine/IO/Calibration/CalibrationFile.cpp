@@ -1,7 +1,10 @@
 #include "IO/Calibration/CalibrationFile.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterError.h"
 #include "IO/Calibration/CalibrationLayout.h"
+
+#include <opencv2/core.hpp>
 
 namespace tissuemosaic {
 namespace {
@@ -48,6 +51,8 @@ CalibrationFileContent readCalibrationFiles(const CalibrationFiles& files) {
       content.calibration.validate();
       return content;
     }
+  } catch (const ParameterError& e) {  // one input missing or wrong: keep which, for the front end to name it
+    throw ParameterError(e.parameter(), context + e.what());
   } catch (const Error& e) {
     throw Error(context + e.what());
   } catch (const cv::Exception& e) {
@@ -80,6 +85,31 @@ CalibrationFileContent readCalibrationFiles(const std::vector<std::string>& path
   if (extrinsicsOnly(a)) return readCalibrationFiles(CalibrationFiles{paths[1], paths[0], ""});
   if (rosLeft(b) && !rosLeft(a)) return readCalibrationFiles(CalibrationFiles{paths[1], "", paths[0]});
   return readCalibrationFiles(CalibrationFiles{paths[0], "", paths[1]});
+}
+
+StereoCalibration readStereoCalibration(const std::string& path) {
+  return readCalibrationFiles(CalibrationFiles{path, "", ""}).calibration;
+}
+
+void writeStereoCalibration(const StereoCalibration& calibration, const std::string& path) {
+  calibration.validate();
+  require(calibration.rectification.empty(),
+          "cannot write stereo calibration '" + path +
+              "': it has its own rectification (ROS camera_info), which the stereoCalibrate layout cannot hold");
+  require(!calibration.imageSize.empty(),
+          "cannot write stereo calibration '" + path + "': its image size is not known");
+  cv::FileStorage storage;
+  try {
+    storage.open(path, cv::FileStorage::WRITE);
+  } catch (const cv::Exception& e) {
+    throw Error("cannot write stereo calibration '" + path + "': " + e.err);
+  }
+  require(storage.isOpened(), "cannot write stereo calibration '" + path +
+                                  "': the folder does not exist or is not writable (use a .yml, .yaml or .xml name)");
+  storage << "imageSize" << calibration.imageSize;
+  storage << "K1" << calibration.K1 << "D1" << calibration.D1 << "K2" << calibration.K2 << "D2" << calibration.D2
+          << "R" << calibration.R << "T" << calibration.T;
+  storage.release();
 }
 
 }  // namespace tissuemosaic

@@ -33,6 +33,14 @@ CalibrationFileContent readCalibrationFiles(const CalibrationFiles& files);
 /// left eye's projection has Tx = 0).
 CalibrationFileContent readCalibrationFiles(const std::vector<std::string>& paths);
 
+/// One file in any layout readCalibrationFiles understands (the layouts of two files need it). Throws as it does.
+StereoCalibration readStereoCalibration(const std::string& path);
+
+/// Writes cv::stereoCalibrate's keys K1 D1 K2 D2 R T and imageSize as [width, height]. Throws Error for a
+/// calibration with its own rectification (that layout cannot hold it), without an image size, or that fails
+/// StereoCalibration::validate.
+void writeStereoCalibration(const StereoCalibration& calibration, const std::string& path);
+
 /// "  NAME: KEYS" lines, one per layout understood.
 std::string calibrationLayoutsText();
 

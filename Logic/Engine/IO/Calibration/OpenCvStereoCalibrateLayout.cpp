@@ -1,4 +1,4 @@
-// cv::stereoCalibrate's names, as TissueMosaic writes them (StereoCalibration::write) and most OpenCV scripts do.
+// cv::stereoCalibrate's names, as TissueMosaic writes them (writeStereoCalibration) and most OpenCV scripts do.
 #include "IO/Calibration/CalibrationLayout.h"
 
 #include "Core/Error.h"

@@ -4,6 +4,7 @@
 #include "IO/Calibration/CalibrationLayout.h"
 
 #include "Core/Error.h"
+#include "Core/ParameterError.h"
 
 namespace tissuemosaic {
 namespace {
@@ -44,13 +45,13 @@ CalibrationLayout rosCameraInfoLayout() {
   CalibrationLayout layout;
   layout.name = "ROS camera_info (one file per eye)";
   layout.keys = "camera_matrix distortion_coefficients rectification_matrix projection_matrix image_width "
-                "image_height, left eye with --calib and right eye with --calib-right";
+                "image_height, one file per eye: the left eye's and the right eye's";
   layout.matches = [](const CalibrationInput& input) {
     return hasKeys(input.main.root, {"camera_matrix", "projection_matrix"});
   };
   layout.read = [](const CalibrationInput& input) {
-    require(input.right.has_value(),
-            "a ROS camera_info file describes one eye: give the right eye's file with --calib-right");
+    requireParameter(input.right.has_value(), "rightCalibration",
+                     "a ROS camera_info file describes one eye: give the right eye's file too");
     const RosCamera left = readCamera(input.main, "left");
     const RosCamera right = readCamera(*input.right, "right");
     require(left.imageSize == right.imageSize, "the left and right camera_info files give different image sizes");
