@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -105,6 +106,12 @@ Field<S> choice(const char* key, E S::*member, std::initializer_list<E> values, 
   return field;
 }
 
+/// A row in words, for help texts: its limits ("[-1000, 1000]", or the choices "paper | ad-census") and default as
+/// they would be written.
+struct FieldDescription {
+  std::string key, defaultText, limitsText, unit, doc;
+};
+
 /// The rows of one struct and what they make: range checks, the file node's write and read.
 template <class S>
 class Table {
@@ -174,6 +181,24 @@ public:
     }
   }
 
+  /// Every row in words, in the table's order.
+  std::vector<FieldDescription> describe() const {
+    std::vector<FieldDescription> rows;
+    for (const Field<S>& f : Fields) {
+      FieldDescription row{f.key, "", "", f.unit, f.doc};
+      const double value = f.defaultValue();
+      if (f.kind == FieldKind::Choice) {
+        row.defaultText = f.choiceName(value);
+        for (const std::string& name : f.choiceNames) row.limitsText += (row.limitsText.empty() ? "" : " | ") + name;
+      } else {
+        row.defaultText = numberText(value, f.integer());
+        row.limitsText = "[" + numberText(f.minimum, f.integer()) + ", " + numberText(f.maximum, f.integer()) + "]";
+      }
+      rows.push_back(row);
+    }
+    return rows;
+  }
+
   /// A struct from `node` (the defaults where it holds no key), validated: the struct's read().
   S readValidated(const cv::FileNode& node) const {
     S s;
@@ -183,6 +208,12 @@ public:
   }
 
 private:
+  static std::string numberText(double value, bool integer) {
+    std::ostringstream text;
+    if (integer) text << static_cast<long long>(value);
+    else text << static_cast<float>(value);  // as a float prints: 0.01, not 0.0099999998
+    return text.str();
+  }
   template <class T>
   void readNumber(const cv::FileNode& node, const Field<S>& f, S& s) const {
     T value{};
