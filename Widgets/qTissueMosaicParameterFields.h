@@ -1,13 +1,16 @@
 #pragma once
 /// @file qTissueMosaicParameterFields.h
-/// @brief The one form both parameter panels (stereo, reconstruction) give their spin boxes: a table of fields,
-/// each an accessor pair of its parameters struct (TM_PARAMETER_FIELD), and the spin boxes made from it, grouped
-/// into form layouts. Integer fields get a QSpinBox, real ones a QDoubleSpinBox; every spin box ignores the mouse
+/// @brief The one form both parameter panels (stereo, reconstruction) give their spin boxes: a list of rows, each a
+/// row of the engine's parameter tables (Core/ParameterTable.h: key, limits, unit, doc) with the panel's label,
+/// group, step and decimals (tableRow), and the spin boxes made from it, grouped into form layouts. Limits, suffix
+/// and tooltip come from the engine's table, so a spin box holds exactly what validate() takes. Integer fields get a QSpinBox, real ones a QDoubleSpinBox; every spin box ignores the mouse
 /// wheel unless focused (qTissueMosaicWheelGuard.h). A refused edit (validate() said no) is shown at the field: the
 /// spin boxes whose values differ from the stored parameters turn red, and the message line of their group says
 /// why, until the values are valid again.
 #include "qTissueMosaicMessageLine.h"
 #include "qTissueMosaicWheelGuard.h"
+
+#include "Core/ParameterTable.h"
 
 #include <QDoubleSpinBox>
 #include <QFormLayout>
@@ -18,6 +21,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -34,27 +38,30 @@ struct ParameterField {
   bool integer;       ///< QSpinBox (else QDoubleSpinBox)
   double minimum, maximum, step;
   int decimals;
-  const char* suffix;
+  std::string suffix;
   const char* toolTip;
 };
 
-/// The value of a spin box as the field's own type (integers rounded).
-template <class T>
-T fromSpinBoxValue(double value) {
-  if constexpr (std::is_integral_v<T>) return static_cast<T>(std::lround(value));
-  else return static_cast<T>(value);
+/// The spin box of table row `key` of the struct `Part`, the member `part` of the panel's `Parameters`.
+template <class Parameters, class Part>
+ParameterField<Parameters> tableRow(const parameters::Table<Part>& table, Part Parameters::*part, const char* key,
+                                    const char* label, int group, double step, int decimals) {
+  const parameters::Field<Part>& row = table.field(key);
+  return {row.key, label, group,
+          [get = row.get, part](const Parameters& p) { return get(p.*part); },
+          [set = row.set, part](Parameters& p, double value) { set(p.*part, value); },
+          row.integer(), row.minimum, row.maximum, step, decimals,
+          *row.unit ? std::string(" ") + row.unit : std::string(), row.doc};
 }
 
-}  // namespace tissuemosaic::widgets
-
-/// get, set and integer of a ParameterField for the member at `path` (e.g. `tracking.inlierThresholdPx`) of the
-/// parameters struct `P`.
-#define TM_PARAMETER_FIELD(P, path)                                                                             \
-  [](const P& p) { return static_cast<double>(p.path); },                                                      \
-      [](P& p, double v) { p.path = tissuemosaic::widgets::fromSpinBoxValue<std::decay_t<decltype(p.path)>>(v); }, \
-      std::is_integral_v<std::decay_t<decltype(std::declval<P>().path)>>
-
-namespace tissuemosaic::widgets {
+/// The same for a panel that edits `Parameters` itself.
+template <class Parameters>
+ParameterField<Parameters> tableRow(const parameters::Table<Parameters>& table, const char* key, const char* label,
+                                    int group, double step, int decimals) {
+  const parameters::Field<Parameters>& row = table.field(key);
+  return {row.key, label, group, row.get, row.set, row.integer(), row.minimum, row.maximum, step, decimals,
+          *row.unit ? std::string(" ") + row.unit : std::string(), row.doc};
+}
 
 /// The spin boxes of a field table, parallel to it.
 template <class Parameters>
@@ -79,7 +86,7 @@ public:
         auto* spinBox = new QSpinBox(owner);
         spinBox->setRange(static_cast<int>(field.minimum), static_cast<int>(field.maximum));
         spinBox->setSingleStep(static_cast<int>(field.step));
-        spinBox->setSuffix(field.suffix);
+        spinBox->setSuffix(QString::fromStdString(field.suffix));
         QObject::connect(spinBox, QOverload<int>::of(&QSpinBox::valueChanged), owner, [onEdit] { onEdit(); });
         box = spinBox;
       } else {
@@ -87,7 +94,7 @@ public:
         spinBox->setDecimals(field.decimals);
         spinBox->setRange(field.minimum, field.maximum);
         spinBox->setSingleStep(field.step);
-        spinBox->setSuffix(field.suffix);
+        spinBox->setSuffix(QString::fromStdString(field.suffix));
         QObject::connect(spinBox, QOverload<double>::of(&QDoubleSpinBox::valueChanged), owner, [onEdit] { onEdit(); });
         box = spinBox;
       }

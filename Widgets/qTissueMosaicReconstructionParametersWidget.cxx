@@ -7,6 +7,9 @@
 #include "vtkTissueMosaicReconstructionLogic.h"
 
 #include "Core/Device.h"
+#include "Fusion/FusionParameterTable.h"
+#include "Refinement/RefinementParameterTable.h"
+#include "Tracking/TrackingParameterTable.h"
 
 #include <vtkSmartPointer.h>
 
@@ -39,50 +42,37 @@ enum Group { Tracking, KeyFrames, Refinement, Fusion };
 
 using Field = widgets::ParameterField<Parameters>;
 
-/// One spin box per field outside the stereo panel (qTissueMosaicParameterFields.h). The spin-box range is wider
-/// than validate()'s, so that an out-of-range value reaches validate() and is refused with its message instead of
-/// being clamped silently.
+/// One spin box per field outside the stereo panel, each a row of its stage's table (qTissueMosaicParameterFields.h):
+/// limits, unit and tooltip are the table's. Here: label, group, step and decimals.
+Field trackingRow(const char* key, const char* label, Group group, double step, int decimals) {
+  return widgets::tableRow(tissuemosaic::trackingParameterTable(), &Parameters::tracking, key, label, group, step,
+                           decimals);
+}
+Field refinementRow(const char* key, const char* label, Group group, double step, int decimals) {
+  return widgets::tableRow(tissuemosaic::refinementParameterTable(), &Parameters::refinement, key, label, group, step,
+                           decimals);
+}
+Field fusionRow(const char* key, const char* label, Group group, double step, int decimals) {
+  return widgets::tableRow(tissuemosaic::fusionParameterTable(), &Parameters::fusion, key, label, group, step,
+                           decimals);
+}
+
 const std::vector<Field>& fields() {
   static const std::vector<Field> table = {
-      {"inlierThresholdPx", "Inlier threshold H", Tracking, TM_PARAMETER_FIELD(Parameters, tracking.inlierThresholdPx), 0, 1000, 0.5,
-       2, " px",
-       "DynamicR1PPnP (paper III.B): a match whose reprojection error is at most H pixels is an inlier; it is also "
-       "the knee of the re-weighting. Paper: 5 px."},
-      {"candidateEta", "Candidate factor eta", Tracking, TM_PARAMETER_FIELD(Parameters, tracking.candidateEta), 0, 100, 0.1, 2, "",
-       "DynamicR1PPnP: a further candidate match enters when its error is below eta * H (eta > 1). Paper: 2."},
-      {"candidateRampIterations", "Candidate ramp T", Tracking, TM_PARAMETER_FIELD(Parameters, tracking.candidateRampIterations), 0,
-       1000, 1, 0, " iterations",
-       "DynamicR1PPnP: a newly admitted candidate's weight ramps in over T iterations. Paper: 5."},
-      {"keyFramePoseThreshold", "Key frame threshold", KeyFrames, TM_PARAMETER_FIELD(Parameters, tracking.keyFramePoseThreshold), 0,
-       1e6, 0.5, 2, "",
-       "Paper III.C: a new key frame when the pose difference ||dt|| (mm) + 20 min(||dE||, 2 pi - ||dE||) to the last "
-       "key frame exceeds this. Paper: 10 for most videos (3 to 5 for slow, close scans)."},
-      {"keyFrameMinGapFrames", "Key frame min gap", KeyFrames, TM_PARAMETER_FIELD(Parameters, tracking.keyFrameMinGapFrames), -1,
-       100000, 1, 0, " frames", "Paper III.C: at least this many frames since the last key frame. Paper: 10."},
-      {"keyFrameMinInliers", "Key frame min inliers", KeyFrames, TM_PARAMETER_FIELD(Parameters, tracking.keyFrameMinInliers), 0,
-       100000, 5, 0, "", "Paper III.C: a key frame needs at least this many DynamicR1PPnP inliers. Paper: 50."},
-      {"icpWeightFactor", "ICP weight factor", Refinement, TM_PARAMETER_FIELD(Parameters, refinement.icpWeightFactor), -1, 1e6, 0.05,
-       3, "",
-       "Paper III.D: beta = factor * feature residuals / ICP points balances bundle adjustment against "
-       "point-to-plane ICP. Paper: 0.1."},
-      {"icpTukeyMm", "ICP Tukey constant", Refinement, TM_PARAMETER_FIELD(Parameters, refinement.icpTukeyMm), 0, 1000, 0.5, 3, " mm",
-       "Paper III.D: point-to-plane residuals beyond this are outliers (Tukey's biweight)."},
-      {"maxMatchedKeyFrames", "Matched key frames", Refinement, TM_PARAMETER_FIELD(Parameters, refinement.maxMatchedKeyFrames), -1,
-       1000, 1, 0, "", "Earlier key frames matched at most when refining a key frame (the most overlapping first)."},
-      {"truncationMm", "TSDF truncation", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.truncationMm), 0, 1000, 0.1, 3, " mm",
-       "Paper III.E: a measurement within this distance along the ray of a model point is merged into it (running "
-       "average); farther ones add new points."},
-      {"colourMinWeight", "Edge colour weight", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.colourMinWeight), 0, 1, 0.05, 3, "",
-       "Paper III.E: the colour weight falls from 1 in the image centre to this at the corners, so the model "
-       "takes colours from where the scope's light is even."},
-      {"newPointStepPx", "New point step", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.newPointStepPx), 0, 1000, 1, 0, " px",
-       "New model points at every k-th pixel in x and y (1: the video's full resolution, as the paper)."},
-      {"conflictMinWeight", "Outlier guard", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.conflictMinWeight), 0, 1000000, 1, 0,
-       " observations",
-       "A measurement that contradicts a model point seen at least this many times is taken as a stereo outlier and "
-       "not added (0: off). Keeps long scans free of piled-up outliers."},
-      {"maxPoints", "Point budget", Fusion, TM_PARAMETER_FIELD(Parameters, fusion.maxPoints), 0, 2000000000, 100000, 0, " points",
-       "New points are refused once the model holds this many (memory bound of a long scan)."},
+      trackingRow("inlierThresholdPx", "Inlier threshold H", Tracking, 0.5, 2),
+      trackingRow("candidateEta", "Candidate factor eta", Tracking, 0.1, 2),
+      trackingRow("candidateRampIterations", "Candidate ramp T", Tracking, 1, 0),
+      trackingRow("keyFramePoseThreshold", "Key frame threshold", KeyFrames, 0.5, 2),
+      trackingRow("keyFrameMinGapFrames", "Key frame min gap", KeyFrames, 1, 0),
+      trackingRow("keyFrameMinInliers", "Key frame min inliers", KeyFrames, 5, 0),
+      refinementRow("icpWeightFactor", "ICP weight factor", Refinement, 0.05, 3),
+      refinementRow("icpTukeyMm", "ICP Tukey constant", Refinement, 0.5, 3),
+      refinementRow("maxMatchedKeyFrames", "Matched key frames", Refinement, 1, 0),
+      fusionRow("truncationMm", "TSDF truncation", Fusion, 0.1, 3),
+      fusionRow("colourMinWeight", "Edge colour weight", Fusion, 0.05, 3),
+      fusionRow("newPointStepPx", "New point step", Fusion, 1, 0),
+      fusionRow("conflictMinWeight", "Outlier guard", Fusion, 1, 0),
+      fusionRow("maxPoints", "Point budget", Fusion, 100000, 0),
   };
   return table;
 }

@@ -6,6 +6,7 @@
 #include "vtkTissueMosaicStereoLogic.h"
 
 #include "Stereo/DisparityRange.h"
+#include "Stereo/StereoParameterTable.h"
 
 #include <vtkSmartPointer.h>
 
@@ -38,130 +39,56 @@ enum Group { Range, Matching, Zncc, Outliers, Refinement, AdCensus, GroupCount }
 
 using Field = widgets::ParameterField<StereoParameters>;
 
-/// One spin box per field (qTissueMosaicParameterFields.h). Ranges are those StereoParameters::validate accepts, so
-/// the spin boxes never clamp silently; combinations (min <= max, odd window) are checked by validate and refused
-/// with its message, shown at the fields.
+/// One spin box per numeric row of the stereo table (qTissueMosaicParameterFields.h): limits, unit and tooltip are
+/// the table's, so a spin box holds what validate() takes; combinations (min <= max, odd window) are checked by
+/// validate and refused with its message, shown at the fields. Here: label, group, step and decimals.
+Field row(const char* key, const char* label, Group group, double step, int decimals) {
+  return widgets::tableRow(tissuemosaic::stereoParameterTable(), key, label, group, step, decimals);
+}
+
 const std::vector<Field>& fields() {
   static const std::vector<Field> table = {
-    {"minDisparityPx", "Min disparity", Range, TM_PARAMETER_FIELD(StereoParameters, minDisparityPx), -1000, 1000, 1, 0, " px",
-     "Smallest candidate disparity (a left pixel x matches right pixel x - d) of a fixed range; editing it fixes "
-     "the range. Paper IV: candidates from -20 to 80 px. Must not exceed the max disparity; at most 1024 "
-     "candidates."},
-    {"maxDisparityPx", "Max disparity", Range, TM_PARAMETER_FIELD(StereoParameters, maxDisparityPx), -1000, 1000, 1, 0, " px",
-     "Largest candidate disparity of a fixed range, inclusive; editing it fixes the range. Paper IV: 80 px (range "
-     "-20..80). The matching cost grows with the number of candidates."},
-    {"workingDistanceNearMm", "Working distance from", Range, TM_PARAMETER_FIELD(StereoParameters, workingDistanceNearMm), 1.0,
-     10000.0, 5.0, 1, " mm",
-     "The nearest tissue, in mm from the scope (along its axis); editing it sets the range from the working "
-     "distance, through the calibration: d = f B / Z - doffs."},
-    {"workingDistanceFarMm", "Working distance to", Range, TM_PARAMETER_FIELD(StereoParameters, workingDistanceFarMm), 1.0,
-     10000.0, 5.0, 1, " mm",
-     "The farthest tissue, in mm from the scope; editing it sets the range from the working distance."},
-    {"leftRightMaxDifferencePx", "Left-right check", Matching, TM_PARAMETER_FIELD(StereoParameters, leftRightMaxDifferencePx), -1, 1000, 1, 0, " px",
-     "Winners whose right-view winner disagrees by more than this are dropped (occlusions, fattened depth edges). "
-     "-1 switches the check off. An addition to the paper."},
-    {"rangeEndMarginPx", "Range-end margin", Matching, TM_PARAMETER_FIELD(StereoParameters, rangeEndMarginPx), -1, 100, 1, 0, " px",
-     "Winners this close to either end of the disparity range are dropped: their match most likely lies beyond it "
-     "(an instrument nearer than the tissue the range follows). 0 drops the end candidates only; -1 switches it off. "
-     "An addition to the paper."},
-    {"specularMarginPx", "Highlight margin", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMarginPx), 0, 20, 1, 0, " px",
-     "Estimates within this distance of a highlight (the left pixel, or its match in the right eye) that disagree "
-     "with the tissue around it are removed and refilled from that tissue. The margin follows the highlight's "
-     "outline. For 960 px wide images: wider ones scale it with their width. An addition to the paper."},
-    {"specularMaxRadiusPx", "Highlight max. radius", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMaxRadiusPx), 1, 100, 1, 0,
-     " px",
-     "A saturated area reaching this far on both sides of a pixel (along a row or column) is bright tissue, not a "
-     "highlight. Surroundings are sampled just beyond the bright spot and its matching windows. For 960 px wide "
-     "images: wider ones scale it with their width."},
-    {"trackingHighlightMarginPx", "Tracking highlight margin", Matching,
-     TM_PARAMETER_FIELD(StereoParameters, trackingHighlightMarginPx), 0, 50, 1, 0, " px",
-     "Tracking and fusion leave out the pixels within this distance (a square) of a highlight in the left image. "
-     "The stereo output keeps the refilled tissue depth there, but a highlight slides over the tissue as the camera "
-     "moves, so features on it would mislead tracking. For 960 px wide images: wider ones scale it with their width. "
-     "An addition to the paper."},
-    {"znccWindowPx", "ZNCC window", Zncc, TM_PARAMETER_FIELD(StereoParameters, znccWindowPx), 3, 21, 2, 0, " px",
-     "Side of the square ZNCC matching window, odd. Paper II.A: 11x11, using every other pixel (a chessboard)."},
-    {"outlierIterations", "Iterations", Outliers, TM_PARAMETER_FIELD(StereoParameters, outlierIterations), 0, 10, 1, 0, "",
-     "Rounds of outlier removal alternating with hole filling. Paper II.B: 3."},
-    {"outlierRadiusStartPx", "Detection radius r", Outliers, TM_PARAMETER_FIELD(StereoParameters, outlierRadiusStartPx), 1, 200, 1, 0, " px",
-     "Initial detection radius r: a pixel is an outlier when none of its 8 radial directions changes smoothly "
-     "within r. Paper II.B: 10 px."},
-    {"outlierRadiusStepPx", "Radius step dr", Outliers, TM_PARAMETER_FIELD(StereoParameters, outlierRadiusStepPx), 0, 200, 1, 0, " px",
-     "Growth of r per round, so that removed disparities can be filled and later rounds keep inliers. "
-     "Paper II.B: 10 px."},
-    {"holeRadialRadiusPx", "Radial filling radius", Outliers, TM_PARAMETER_FIELD(StereoParameters, holeRadialRadiusPx), 0, 500, 1, 0, " px", "Hole filling, first method: search distance along the pixel's 8 radial directions. Paper II.B: 50 px."},
-    {"holeRadialMinLines", "Radial filling lines", Outliers, TM_PARAMETER_FIELD(StereoParameters, holeRadialMinLines), 1, 4, 1, 0, "",
-     "Hole filling, first method: opposite direction pairs that must both reach a valid disparity before "
-     "interpolating (the paper's 'sufficient number of neighbouring points')."},
-    {"holeDiscRadiusPx", "Disc filling radius", Outliers, TM_PARAMETER_FIELD(StereoParameters, holeDiscRadiusPx), 0, 200, 1, 0, " px",
-     "Hole filling, second method: radius of the neighbourhood searched around the pixel. Paper II.B: 20 px."},
-    {"refineIterations", "Iterations", Refinement, TM_PARAMETER_FIELD(StereoParameters, refineIterations), 0, 100, 1, 0, "",
-     "Rounds of improved Laplacian smoothing, each followed by re-selection of the discrete disparity o_i. "
-     "The paper does not state the number."},
-    {"refineRadiusPx", "Smoothing radius", Refinement, TM_PARAMETER_FIELD(StereoParameters, refineRadiusPx), 1, 200, 1, 0, " px",
-     "Neighbourhood radius of the Laplacian smoothing of the discrete disparities o_j (design default 15 px)."},
-    {"refineSearchPx", "Re-selection range", Refinement, TM_PARAMETER_FIELD(StereoParameters, refineSearchPx), 0, 50, 1, 0, " px",
-     "o_i is re-selected within [d_i - s, d_i + s] minimising 1/ZNCC + eta (o - d_i)^2. Paper II.C: 5 px."},
-    {"censusWidthPx", "Census width", AdCensus, TM_PARAMETER_FIELD(StereoParameters, censusWidthPx), 1, 15, 2, 0, " px",
-     "Census window width, odd; width x height - 1 may not exceed 64 bits. Mei et al.: 9."},
-    {"censusHeightPx", "Census height", AdCensus, TM_PARAMETER_FIELD(StereoParameters, censusHeightPx), 1, 15, 2, 0, " px",
-     "Census window height, odd. Mei et al.: 7."},
-    {"armMaxPx", "Arm length L1", AdCensus, TM_PARAMETER_FIELD(StereoParameters, armMaxPx), 0, 127, 1, 0, " px",
-     "Longest reach of a pixel's cross arms, the support region of the cost aggregation. Mei et al.: 34."},
-    {"armLongPx", "Long arm from L2", AdCensus, TM_PARAMETER_FIELD(StereoParameters, armLongPx), 0, 127, 1, 0, " px",
-     "Beyond this reach an arm must also stay within the stricter grey limit tau2. Mei et al.: 17; at most L1."},
-    {"armLimitGrey", "Arm grey limit tau1", AdCensus, TM_PARAMETER_FIELD(StereoParameters, armLimitGrey), 1, 256, 1, 0, "",
-     "An arm stops at a grey step of this much from its anchor or from its predecessor. Mei et al.: 20."},
-    {"armLongLimitGrey", "Long arm limit tau2", AdCensus, TM_PARAMETER_FIELD(StereoParameters, armLongLimitGrey), 1, 256, 1, 0, "",
-     "Beyond L2 an arm stops at this grey difference from its anchor. Mei et al.: 6."},
-    {"aggregationIterations", "Aggregation rounds", AdCensus, TM_PARAMETER_FIELD(StereoParameters, aggregationIterations), 0, 8, 1, 0, "",
-     "Rounds of cross-based aggregation, alternating horizontal-first and vertical-first. 2 scored as well as "
-     "Mei et al.'s 4."},
-    {"pathEdgeGrey", "Path edge tau_SO", AdCensus, TM_PARAMETER_FIELD(StereoParameters, pathEdgeGrey), 1, 256, 1, 0, "",
-     "A grey step of this much along a scanline path is an edge: the path penalties shrink there. Mei et al.: 15."},
-    {"specularMinGrey", "Highlight grey level", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMinGrey), 1.0, 256.0, 1.0, 1, "",
-     "Grey level from which a pixel may be a specular highlight, which sits on a different surface point in each "
-     "eye and matches consistently but falsely. 256 switches highlight removal off. An addition to the paper."},
-    {"specularMinContrastGrey", "Highlight contrast", Matching, TM_PARAMETER_FIELD(StereoParameters, specularMinContrastGrey), 0.0,
-     255.0, 1.0, 1, "",
-     "A highlight is brighter than the mean of its surroundings by at least this many grey levels (by half the "
-     "headroom to 255 on bright tissue); bright tissue is about as bright as its surroundings."},
-    {"specularViewToleranceGrey", "Highlight view tolerance", Matching, TM_PARAMETER_FIELD(StereoParameters, specularViewToleranceGrey),
-     0.0, 255.0, 1.0, 1, "",
-     "A highlight is view-dependent: at its surroundings' disparity the other eye is darker by more than this (or "
-     "the highlight matched elsewhere). Bright diffuse tissue looks alike to both eyes and keeps its estimates."},
-    {"minWindowStdDev", "Min window std. dev.", Zncc, TM_PARAMETER_FIELD(StereoParameters, minWindowStdDev), 0.0, 100.0, 0.5, 2, "",
-     "Grey-level standard deviation below which a window counts as textureless and gets no ZNCC estimate "
-     "(an engine safeguard; not in the paper)."},
-    {"outlierSmoothnessPx", "Smoothness threshold", Outliers, TM_PARAMETER_FIELD(StereoParameters, outlierSmoothnessPx), 0.0, 100.0,
-     0.5, 2, " px",
-     "Largest disparity difference between neighbouring points along a smooth radial direction. "
-     "Paper II.B: 2.5."},
-    {"holeMaxEdgeDifferencePx", "Filling edge limit", Outliers, TM_PARAMETER_FIELD(StereoParameters, holeMaxEdgeDifferencePx), -1.0,
-     1000.0, 0.5, 2, " px",
-     "Radial filling ignores a line whose two ends differ by more than this plus 0.25 px per pixel of its length "
-     "(it crosses a depth edge). -1 switches it off. An addition to the paper."},
-    {"holeDiscMinValidFraction", "Disc filling valid share", Outliers, TM_PARAMETER_FIELD(StereoParameters, holeDiscMinValidFraction), 0.0, 1.0, 0.05, 2, "",
-     "Hole filling, second method: share of the neighbourhood that must have a valid disparity before "
-     "interpolating (the paper's 'sufficient number')."},
-    {"refineAlpha", "Alpha", Refinement, TM_PARAMETER_FIELD(StereoParameters, refineAlpha), 0.0, 1.0, 0.05, 3, "",
-     "Vollmer's weight in b_i = d_i(k) - alpha o_i - (1 - alpha) d_i(k-1), which keeps the surface from "
-     "shrinking. Paper II.C: 0.1, in [0, 1]."},
-    {"refineEta", "Eta", Refinement, TM_PARAMETER_FIELD(StereoParameters, refineEta), 0.0, 100.0, 0.005, 4, "",
-     "Weight of the smoothness cost (o - d_i)^2 against the ZNCC cost 1/ZNCC when re-selecting o_i. "
-     "Paper II.C: 0.01 with an 11x11 window."},
-    {"refineMaxDeviationPx", "Max. smoothing deviation", Refinement, TM_PARAMETER_FIELD(StereoParameters, refineMaxDeviationPx), -1.0,
-     1000.0, 0.5, 2, " px",
-     "Where the smoothed d_i and the re-selected o_i differ by more, the output is o_i (a depth edge, where a "
-     "neighbourhood average is meaningless). -1 switches it off. An addition to the paper."},
-    {"censusLambda", "Census lambda", AdCensus, TM_PARAMETER_FIELD(StereoParameters, censusLambda), 0.01, 1000.0, 1.0, 2, "",
-     "Census cost 1 - exp(-Hamming distance / lambda). Mei et al.: 30."},
-    {"absoluteDifferenceLambda", "Grey difference lambda", AdCensus, TM_PARAMETER_FIELD(StereoParameters, absoluteDifferenceLambda), 0.01, 1000.0, 1.0, 2, "", "Grey cost 1 - exp(-|I_L - I_R| / lambda). Mei et al.: 10 (on colour)."},
-    {"pathPenaltySmall", "Path penalty P1", AdCensus, TM_PARAMETER_FIELD(StereoParameters, pathPenaltySmall), 0.0, 100.0, 0.25, 2, "",
-     "Scanline optimisation: penalty of a 1 px disparity change, in cost units (census + grey cost <= 2). "
-     "Divided by 4 across an edge in one image, by 10 across both. Mei et al.: 1."},
-    {"pathPenaltyLarge", "Path penalty P2", AdCensus, TM_PARAMETER_FIELD(StereoParameters, pathPenaltyLarge), 0.0, 100.0, 0.25, 2, "",
-     "Penalty of a larger disparity change; at least P1. Mei et al.: 3."},
+    row("minDisparityPx", "Min disparity", Range, 1, 0),
+    row("maxDisparityPx", "Max disparity", Range, 1, 0),
+    row("workingDistanceNearMm", "Working distance from", Range, 5.0, 1),
+    row("workingDistanceFarMm", "Working distance to", Range, 5.0, 1),
+    row("leftRightMaxDifferencePx", "Left-right check", Matching, 1, 0),
+    row("rangeEndMarginPx", "Range-end margin", Matching, 1, 0),
+    row("specularMarginPx", "Highlight margin", Matching, 1, 0),
+    row("specularMaxRadiusPx", "Highlight max. radius", Matching, 1, 0),
+    row("trackingHighlightMarginPx", "Tracking highlight margin", Matching, 1, 0),
+    row("znccWindowPx", "ZNCC window", Zncc, 2, 0),
+    row("outlierIterations", "Iterations", Outliers, 1, 0),
+    row("outlierRadiusStartPx", "Detection radius r", Outliers, 1, 0),
+    row("outlierRadiusStepPx", "Radius step dr", Outliers, 1, 0),
+    row("holeRadialRadiusPx", "Radial filling radius", Outliers, 1, 0),
+    row("holeRadialMinLines", "Radial filling lines", Outliers, 1, 0),
+    row("holeDiscRadiusPx", "Disc filling radius", Outliers, 1, 0),
+    row("refineIterations", "Iterations", Refinement, 1, 0),
+    row("refineRadiusPx", "Smoothing radius", Refinement, 1, 0),
+    row("refineSearchPx", "Re-selection range", Refinement, 1, 0),
+    row("censusWidthPx", "Census width", AdCensus, 2, 0),
+    row("censusHeightPx", "Census height", AdCensus, 2, 0),
+    row("armMaxPx", "Arm length L1", AdCensus, 1, 0),
+    row("armLongPx", "Long arm from L2", AdCensus, 1, 0),
+    row("armLimitGrey", "Arm grey limit tau1", AdCensus, 1, 0),
+    row("armLongLimitGrey", "Long arm limit tau2", AdCensus, 1, 0),
+    row("aggregationIterations", "Aggregation rounds", AdCensus, 1, 0),
+    row("pathEdgeGrey", "Path edge tau_SO", AdCensus, 1, 0),
+    row("specularMinGrey", "Highlight grey level", Matching, 1.0, 1),
+    row("specularMinContrastGrey", "Highlight contrast", Matching, 1.0, 1),
+    row("specularViewToleranceGrey", "Highlight view tolerance", Matching, 1.0, 1),
+    row("minWindowStdDev", "Min window std. dev.", Zncc, 0.5, 2),
+    row("outlierSmoothnessPx", "Smoothness threshold", Outliers, 0.5, 2),
+    row("holeMaxEdgeDifferencePx", "Filling edge limit", Outliers, 0.5, 2),
+    row("holeDiscMinValidFraction", "Disc filling valid share", Outliers, 0.05, 2),
+    row("refineAlpha", "Alpha", Refinement, 0.05, 3),
+    row("refineEta", "Eta", Refinement, 0.005, 4),
+    row("refineMaxDeviationPx", "Max. smoothing deviation", Refinement, 0.5, 2),
+    row("censusLambda", "Census lambda", AdCensus, 1.0, 2),
+    row("absoluteDifferenceLambda", "Grey difference lambda", AdCensus, 1.0, 2),
+    row("pathPenaltySmall", "Path penalty P1", AdCensus, 0.25, 2),
+    row("pathPenaltyLarge", "Path penalty P2", AdCensus, 0.25, 2),
   };
   return table;
 }

@@ -39,10 +39,7 @@ qTissueMosaicCommandLine parse(int argc, char** argv) {
   QString error;
   if (!options.parse(arguments, error)) usageError(error);
   if (options.help) {
-    // QCommandLineParser's help names the program from QCoreApplication::arguments(): without an application
-    // object it crashed. A plain one is enough (no display needed for the help).
-    QCoreApplication application(argc, argv);
-    std::cout << qTissueMosaicCommandLine::helpText().toStdString();
+    std::cout << qTissueMosaicCommandLine::helpText().toStdString();  // no display needed for the help
     std::exit(0);
   }
   return options;
@@ -107,11 +104,11 @@ int main(int argc, char** argv) {
   demo.width = options.demoWidth;
   demo.height = options.demoHeight;
   window.setDemoOptions(demo);
-  if (!options.params.isEmpty() && !logic->ReadParametersFile(options.params.toStdString())) {
+  if (options.params && !logic->ReadParametersFile(*options.params)) {
     std::cerr << "tissuemosaic-app: " << logic->GetLastErrorText() << "\n";
     return 2;
   }
-  panel->parametersPanel()->setDeviceChoice(options.device == "cpu" ? 1 : options.device == "cuda" ? 2 : 0);
+  panel->parametersPanel()->setDeviceChoice(options.device.name == "cpu" ? 1 : options.device.name == "cuda" ? 2 : 0);
   panel->parametersPanel()->updateGUIFromParameters();
   // A batch run has no one to answer "quit without exporting?".
   window.setConfirmUnsavedModel(!options.quitWhenDone);
@@ -148,20 +145,21 @@ int main(int argc, char** argv) {
                 << stalls.longestStallBusyMs() << " ms of it, and at most " << stalls.longestBusyMs()
                 << " ms between two ticks" << std::endl;
     }
-    if (!options.exportModel.isEmpty() && !panel->exportModel(options.exportModel)) {
+    if (!options.exportModel.empty() && !panel->exportModel(QString::fromStdString(options.exportModel))) {
       std::cerr << "tissuemosaic-app: " << panel->lastMessage().toStdString() << "\n";
       exitCode = 1;
     }
-    if (!options.exportTrajectory.isEmpty() && !panel->exportTrajectory(options.exportTrajectory)) {
+    if (!options.exportTrajectory.empty() &&
+        !panel->exportTrajectory(QString::fromStdString(options.exportTrajectory))) {
       std::cerr << "tissuemosaic-app: " << panel->lastMessage().toStdString() << "\n";
       exitCode = 1;
     }
-    if (!options.snapshot.isEmpty()) {
+    if (!options.snapshot.empty()) {
       // Let the views paint the last results before the picture is taken.
       window.modelView()->renderFullModel();
       QApplication::processEvents();
-      if (window.saveScreenshot(options.snapshot)) {
-        std::cout << "tissuemosaic-app: screenshot written to " << options.snapshot.toStdString() << std::endl;
+      if (window.saveScreenshot(QString::fromStdString(options.snapshot))) {
+        std::cout << "tissuemosaic-app: screenshot written to " << options.snapshot << std::endl;
       } else {
         std::cerr << "tissuemosaic-app: " << panel->lastMessage().toStdString() << "\n";
         exitCode = 1;
@@ -195,7 +193,7 @@ int main(int argc, char** argv) {
     }
   });
   if (options.demo) QTimer::singleShot(0, &window, &qTissueMosaicMainWindow::openDemo);
-  if (options.hasInput() || !options.calibration.isEmpty()) {
+  if (options.hasInput() || !options.geometry.calib.empty()) {
     // As Slicer opens the files it is given: the input (and its geometry) in the panel, then --start. Once the
     // window has been drawn: its first paint sets up OpenGL (a second or so on software OpenGL), which is no part
     // of a scan's event-loop stalls.

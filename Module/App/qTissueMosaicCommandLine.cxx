@@ -3,244 +3,162 @@
 #include "qTissueMosaicReconstructionWidget.h"
 #include "vtkTissueMosaicReconstructionLogic.h"
 
+#include "HelpFormat.h"
+#include "UsageMessage.h"
+
 #include "Core/RectifiedGeometryFromPinhole.h"
 
-#include <QCommandLineOption>
-#include <QCommandLineParser>
-
 #include <cmath>
-#include <map>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace {
 
-/// Every option once: name, value name ("" for a switch), description. The parser and the help come from it.
-struct OptionSpec {
-  const char* name;
-  const char* valueName;
-  const char* description;
+namespace cli = tissuemosaic::cli;
+
+const char* const kApplicationHeading = "Application";
+
+/// The options as text where the application checks them itself, for its own messages.
+struct ApplicationText {
+  std::string demoFrames, demoSize, snapshotFrame, slowEventMs;
 };
 
-// The input and geometry block is `tissuemosaic reconstruct`'s: same names, same meanings.
-const OptionSpec kOptions[] = {
-    {"left-frames", "DIR", "left frames (PNG/JPEG/..., paired with --right-frames in file-name order)"},
-    {"right-frames", "DIR", "right frames"},
-    {"left-video", "L", "left video file (with --right-video, read in lock step)"},
-    {"right-video", "R", "right video file"},
-    {"video", "SBS", "one side-by-side video (left eye in the left half)"},
-    {"calib", "rig.yml", "stereo calibration, recognised by its keys (docs/CALIBRATION.md: OpenCV, stereo_calib / "
-              "SCARED / SurgT, Kalibr, MATLAB); without an image size the frames give it: frames are rectified"},
-    {"rectified", "", "with --calib: the frames are already rectified as StereoRectifier makes them from it"},
-    {"focal-px", "F", "frames already rectified with this focal length (px), with --baseline-mm"},
-    {"baseline-mm", "B", "the rectified rig's baseline (mm), with --focal-px"},
-    {"cx-px", "X", "rectified principal point x (px; default: the image centre)"},
-    {"cy-px", "Y", "rectified principal point y (px; default: the image centre)"},
-    {"doffs-px", "D", "disparity offset cx_right - cx_left (px; default 0)"},
-    {"fps", "F", "frame rate of frame folders (default 30)"},
-    {"start", "", "start reconstructing the input at once"},
-    {"demo", "", "generate the bundled synthetic demo scan, open it and start reconstructing"},
-    {"demo-frames", "N", "frames of the demo scan (default 60)"},
-    {"demo-size", "WxH", "demo frame size (default 480x270)"},
-    {"device", "cpu|cuda|auto", "where the engine runs (default auto)"},
-    {"params", "FILE", "reconstruction parameters (YAML, as the parameter panel saves them)"},
-    {"offscreen", "",
-     "headless: render into a private X server (Xvfb; started and stopped by the application, nothing appears on "
-     "any screen); falls back to $DISPLAY when Xvfb is not installed"},
-    {"snapshot", "FILE.png", "write a screenshot of the application when the scan ends (or at --snapshot-frame), then quit"},
-    {"snapshot-frame", "N", "take the screenshot once N frames are processed (mid-scan) and stop the scan"},
-    {"export-model", "FILE", "write the model (.ply or .vtp) when the scan ends"},
-    {"export-trajectory", "FILE", "write the camera path (TUM) when the scan ends"},
-    {"quit-when-done", "", "quit when the scan ends (implied by --offscreen and --snapshot)"},
-    {"report-stalls", "", "print the longest event-loop stall (QTimer probe) measured while the scan ran"},
-    {"trace-slow-events", "MS", "write every event that takes longer than MS milliseconds to stderr (what a stall was)"},
-};
-
-void addOptions(QCommandLineParser& parser) {
-  for (const OptionSpec& spec : kOptions) {
-    QCommandLineOption option(spec.name, spec.description);
-    if (*spec.valueName) option.setValueName(spec.valueName);
-    parser.addOption(option);
-  }
-  parser.addHelpOption();
+/// One grammar: the tool's input, geometry, device and parameters groups, then the application's own.
+std::unique_ptr<CLI::App> makeParser(qTissueMosaicCommandLine& options, ApplicationText& text) {
+  auto app = std::make_unique<CLI::App>(
+      "The TissueMosaic desktop application: open a stereo video (or the demo) and its calibration, reconstruct the\n"
+      "tissue surface live (growing textured model, camera frusta, video, disparity), export the model and the\n"
+      "camera path, register the model to a CT/MR surface. Input and geometry as `tissuemosaic reconstruct`.",
+      "tissuemosaic-app");
+  cli::useHouseHelpFormat(*app);
+  cli::addInputOptions(*app, options.input);
+  cli::addGeometryOptions(*app, options.geometry);
+  const auto own = [&](CLI::Option* option) { option->group(kApplicationHeading); };
+  own(app->add_flag("--start", options.start, "start reconstructing the input at once"));
+  own(app->add_flag("--demo", options.demo, "generate the bundled synthetic demo scan, open it and start reconstructing"));
+  own(app->add_option("--demo-frames", text.demoFrames, "frames of the demo scan (default 60)")->type_name("N"));
+  own(app->add_option("--demo-size", text.demoSize, "demo frame size (default 480x270)")->type_name("WxH"));
+  own(app->add_flag("--offscreen", options.offscreen,
+                    "headless: render into a private X server (Xvfb; started and stopped by the application, nothing "
+                    "appears on any screen); falls back to $DISPLAY when Xvfb is not installed"));
+  own(app->add_option("--snapshot", options.snapshot,
+                      "write a screenshot of the application when the scan ends (or at --snapshot-frame), then quit")
+          ->type_name("FILE.png"));
+  own(app->add_option("--snapshot-frame", text.snapshotFrame,
+                      "take the screenshot once N frames are processed (mid-scan) and stop the scan")
+          ->type_name("N"));
+  own(app->add_option("--export-model", options.exportModel, "write the model (.ply or .vtp) when the scan ends")
+          ->type_name("FILE"));
+  own(app->add_option("--export-trajectory", options.exportTrajectory, "write the camera path (TUM) when the scan ends")
+          ->type_name("FILE"));
+  own(app->add_flag("--quit-when-done", options.quitWhenDone, "quit when the scan ends (implied by --offscreen and "
+                                                              "--snapshot)"));
+  own(app->add_flag("--report-stalls", options.reportStalls,
+                    "print the longest event-loop stall (QTimer probe) measured while the scan ran"));
+  own(app->add_option("--trace-slow-events", text.slowEventMs,
+                      "write every event that takes longer than MS milliseconds to stderr (what a stall was)")
+          ->type_name("MS"));
+  cli::addDeviceOption(*app, options.device);
+  cli::addParamsOption(*app, options.params, "stereo, features, tracking, refinement, fusion, agreement, pipeline");
+  cli::moveHelpLast(*app);
+  return app;
 }
 
-bool positiveInteger(const QString& option, const QString& text, int& value, QString& error) {
-  bool ok = false;
-  const long long number = text.toLongLong(&ok);
-  if (!ok || number <= 0 || number > 1000000) {
-    error = QString("%1 needs a positive integer, not '%2'").arg(option, text);
-    return false;
+/// A positive integer (at most a million) from an option's text; UsageError in the application's words.
+int positiveInteger(const char* option, const std::string& text) {
+  std::size_t end = 0;
+  long long number = 0;
+  try {
+    number = std::stoll(text, &end);
+  } catch (const std::exception&) {
+    end = 0;
   }
-  value = static_cast<int>(number);
-  return true;
+  if (end == 0 || end != text.size() || number <= 0 || number > 1000000) {
+    throw cli::UsageError(std::string(option) + " needs a positive integer, not '" + text + "'");
+  }
+  return static_cast<int>(number);
 }
 
-bool number(const QString& option, const QString& text, double& value, QString& error) {
-  bool ok = false;
-  value = text.toDouble(&ok);
-  if (!ok || !std::isfinite(value)) {
-    error = QString("%1 needs a number, not '%2'").arg(option, text);
-    return false;
+/// What the application's own options say, and how they go with the input.
+void checkApplicationOptions(qTissueMosaicCommandLine& options, const ApplicationText& text) {
+  if (!text.demoFrames.empty()) options.demoFrames = positiveInteger("--demo-frames", text.demoFrames);
+  if (!text.snapshotFrame.empty()) options.snapshotFrame = positiveInteger("--snapshot-frame", text.snapshotFrame);
+  if (!text.slowEventMs.empty()) options.slowEventMs = positiveInteger("--trace-slow-events", text.slowEventMs);
+  if (!text.demoSize.empty()) {
+    const std::size_t x = text.demoSize.find('x');
+    if (x == std::string::npos) throw cli::UsageError("--demo-size must be WIDTHxHEIGHT, e.g. 480x270");
+    options.demoWidth = positiveInteger("--demo-size", text.demoSize.substr(0, x));
+    options.demoHeight = positiveInteger("--demo-size", text.demoSize.substr(x + 1));
   }
-  return true;
+  const cli::InputOptions& input = options.input;
+  if (!input.igtlInput.empty() || !input.scared.empty() || !input.hamlyn.empty() || !input.stereomis.empty() ||
+      input.videoLayout != "sbs" || !options.geometry.calibExtrinsics.empty() || !options.geometry.calibRight.empty()) {
+    throw cli::UsageError("the application opens frame folders, two videos or one side-by-side video with one "
+                          "calibration file: run OpenIGTLink, data-set layouts, other video layouts and two-file "
+                          "calibrations with `tissuemosaic reconstruct`");
+  }
+  if (options.hasInput()) {
+    cli::requireOneInput(input);
+    cli::requireGeometry(options.geometry);
+  } else if (options.hasPinholeGeometry()) {
+    throw cli::UsageError("--focal-px/--baseline-mm describe an input's frames: give the input too");
+  }
+  if (options.demo && options.hasInput()) throw cli::UsageError("give either --demo or an input, not both");
+  if (options.start && !options.hasInput() && !options.demo) {
+    throw cli::UsageError("--start needs an input: --left-frames/--right-frames, --left-video/--right-video or --video");
+  }
+  if (options.device.name != "auto" && options.device.name != "cpu" && options.device.name != "cuda") {
+    throw cli::UsageError("--device must be cpu, cuda or auto");
+  }
+  if (options.snapshotFrame > 0 && options.snapshot.empty()) throw cli::UsageError("--snapshot-frame needs --snapshot");
+  if (options.offscreen || !options.snapshot.empty()) options.quitWhenDone = true;
+  if (options.quitWhenDone && options.hasInput() && !options.start) {
+    throw cli::UsageError("--offscreen, --snapshot and --quit-when-done end with the scan: add --start to begin it");
+  }
 }
 
 }  // namespace
 
 QString qTissueMosaicCommandLine::helpText() {
-  QCommandLineParser parser;
-  parser.setApplicationDescription(
-      "The TissueMosaic desktop application: open a stereo video (or the demo) and its calibration, reconstruct the\n"
-      "tissue surface live (growing textured model, camera frusta, video, disparity), export the model and the\n"
-      "camera path, register the model to a CT/MR surface.\n\n"
-      "Input and geometry as `tissuemosaic reconstruct`: --left-frames/--right-frames, --left-video/--right-video\n"
-      "or --video, with --calib rig.yml [--rectified] or --focal-px F --baseline-mm B for rectified frames.");
-  addOptions(parser);
-  QString text = parser.helpText();
-  text.replace("Usage: ", "usage: ");
-  return text;
+  qTissueMosaicCommandLine options;
+  ApplicationText text;
+  QString help = QString::fromStdString(makeParser(options, text)->help());
+  help.replace("Usage: ", "usage: ");
+  return help;
 }
 
 bool qTissueMosaicCommandLine::parse(const QStringList& arguments, QString& error) {
-  QCommandLineParser parser;
-  parser.setSingleDashWordOptionMode(QCommandLineParser::ParseAsLongOptions);
-  addOptions(parser);
-  if (!parser.parse(arguments)) {
-    error = parser.errorText();
-    return false;
-  }
-  if (!parser.positionalArguments().isEmpty()) {
-    error = QString("unexpected argument '%1' (options start with --)").arg(parser.positionalArguments().first());
-    return false;
-  }
-  this->help = parser.isSet("help");
-  if (this->help) return true;
-  const auto text = [&](const char* name, QString& value) {
-    if (parser.isSet(name)) value = parser.value(name);
-  };
-  text("left-frames", this->leftFrames);
-  text("right-frames", this->rightFrames);
-  text("left-video", this->leftVideo);
-  text("right-video", this->rightVideo);
-  text("video", this->video);
-  text("calib", this->calibration);
-  text("device", this->device);
-  text("params", this->params);
-  text("snapshot", this->snapshot);
-  text("export-model", this->exportModel);
-  text("export-trajectory", this->exportTrajectory);
-  this->rectified = parser.isSet("rectified");
-  this->start = parser.isSet("start");
-  this->demo = parser.isSet("demo");
-  this->offscreen = parser.isSet("offscreen");
-  this->quitWhenDone = parser.isSet("quit-when-done");
-  this->reportStalls = parser.isSet("report-stalls");
-
-  const std::map<const char*, double*> numbers = {{"focal-px", &this->focalPx}, {"baseline-mm", &this->baselineMm},
-                                                  {"cx-px", &this->cxPx},       {"cy-px", &this->cyPx},
-                                                  {"doffs-px", &this->doffsPx}, {"fps", &this->fps}};
-  for (const auto& [name, value] : numbers) {
-    if (parser.isSet(name) && !number(QString("--") + name, parser.value(name), *value, error)) return false;
-  }
-  const std::map<const char*, int*> integers = {{"demo-frames", &this->demoFrames},
-                                                {"snapshot-frame", &this->snapshotFrame},
-                                                {"trace-slow-events", &this->slowEventMs}};
-  for (const auto& [name, value] : integers) {
-    if (parser.isSet(name) && !positiveInteger(QString("--") + name, parser.value(name), *value, error)) return false;
-  }
-  if (parser.isSet("demo-size")) {
-    const QStringList size = parser.value("demo-size").split('x');
-    if (size.size() != 2) {
-      error = "--demo-size must be WIDTHxHEIGHT, e.g. 480x270";
-      return false;
-    }
-    if (!positiveInteger("--demo-size", size[0], this->demoWidth, error) ||
-        !positiveInteger("--demo-size", size[1], this->demoHeight, error)) {
-      return false;
-    }
-  }
-
-  // The checks and words of `tissuemosaic reconstruct`.
-  const bool folders = !this->leftFrames.isEmpty() || !this->rightFrames.isEmpty();
-  const bool videos = !this->leftVideo.isEmpty() || !this->rightVideo.isEmpty();
-  const bool sideBySide = !this->video.isEmpty();
-  if (folders + videos + sideBySide > 1) {
-    error = "give exactly one input: --left-frames/--right-frames, --left-video/--right-video or --video";
-    return false;
-  }
-  const std::pair<const QString*, const char*> partners[] = {{&this->leftFrames, "left-frames"},
-                                                             {&this->rightFrames, "right-frames"},
-                                                             {&this->leftVideo, "left-video"},
-                                                             {&this->rightVideo, "right-video"}};
-  for (const auto& [value, name] : partners) {
-    const bool needed = QString(name).endsWith("frames") ? folders : videos;
-    if (needed && value->isEmpty()) {
-      error = QString("missing required option --%1").arg(name);
-      return false;
-    }
-  }
-  if (!(this->fps > 0)) {
-    error = "--fps must be positive";
-    return false;
-  }
-  const bool pinhole = parser.isSet("focal-px") || parser.isSet("baseline-mm");
-  if (this->rectified && this->calibration.isEmpty()) {
-    error = "--rectified needs --calib: it says the frames were rectified with that calibration";
-    return false;
-  }
-  if (!this->calibration.isEmpty() && pinhole) {
-    error = "give either --calib or --focal-px/--baseline-mm, not both";
-    return false;
-  }
-  if (pinhole && (!(this->focalPx > 0) || !(this->baselineMm > 0))) {
-    error = !(this->focalPx > 0) ? "--focal-px must be a positive number of pixels"
-                                 : "--baseline-mm must be a positive number of mm";
-    return false;
-  }
-  if (this->hasInput() && this->calibration.isEmpty() && !pinhole) {
-    error = "give the geometry: --calib rig.yml, or --focal-px and --baseline-mm for rectified frames";
-    return false;
-  }
-  if (pinhole && !this->hasInput()) {
-    error = "--focal-px/--baseline-mm describe an input's frames: give the input too";
-    return false;
-  }
-  if (this->demo && this->hasInput()) {
-    error = "give either --demo or an input, not both";
-    return false;
-  }
-  if (this->start && !this->hasInput() && !this->demo) {
-    error = "--start needs an input: --left-frames/--right-frames, --left-video/--right-video or --video";
-    return false;
-  }
-  if (this->device != "auto" && this->device != "cpu" && this->device != "cuda") {
-    error = "--device must be cpu, cuda or auto";
-    return false;
-  }
-  if (this->snapshotFrame > 0 && this->snapshot.isEmpty()) {
-    error = "--snapshot-frame needs --snapshot";
-    return false;
-  }
-  if (this->offscreen || !this->snapshot.isEmpty()) this->quitWhenDone = true;
-  if (this->quitWhenDone && this->hasInput() && !this->start) {
-    error = "--offscreen, --snapshot and --quit-when-done end with the scan: add --start to begin it";
+  ApplicationText text;
+  const std::unique_ptr<CLI::App> parser = makeParser(*this, text);
+  std::vector<std::string> words;
+  for (int i = arguments.size() - 1; i >= 1; --i) words.push_back(arguments[i].toStdString());  // CLI11: reversed
+  try {
+    parser->parse(words);
+    checkApplicationOptions(*this, text);
+  } catch (const CLI::CallForHelp&) {
+    this->help = true;
+  } catch (const CLI::ParseError& failure) {
+    error = QString::fromStdString(cli::usageMessage(failure, *parser));
     return false;
   }
   return true;
 }
 
-bool qTissueMosaicCommandLine::hasInput() const {
-  return !this->leftFrames.isEmpty() || !this->rightFrames.isEmpty() || !this->leftVideo.isEmpty() ||
-         !this->rightVideo.isEmpty() || !this->video.isEmpty();
-}
-
 bool qTissueMosaicCommandLine::openInput(qTissueMosaicReconstructionWidget* panel, QString& error) const {
+  const auto qt = [](const std::string& text) { return QString::fromStdString(text); };
   bool ok = true;
-  if (!this->leftFrames.isEmpty()) ok = panel->openFrameFolders(this->leftFrames, this->rightFrames, this->fps);
-  else if (!this->leftVideo.isEmpty()) ok = panel->openVideoPair(this->leftVideo, this->rightVideo);
-  else if (!this->video.isEmpty()) ok = panel->openSideBySideVideo(this->video);
-  if (ok && !this->calibration.isEmpty()) {
-    ok = panel->loadCalibration(this->calibration);
-    panel->setInputRectified(this->rectified);
+  if (!this->input.leftFrames.empty()) {
+    ok = panel->openFrameFolders(qt(this->input.leftFrames), qt(this->input.rightFrames), this->input.fps);
+  } else if (!this->input.leftVideo.empty()) {
+    ok = panel->openVideoPair(qt(this->input.leftVideo), qt(this->input.rightVideo));
+  } else if (!this->input.video.empty()) {
+    ok = panel->openSideBySideVideo(qt(this->input.video));
+  }
+  if (ok && !this->geometry.calib.empty()) {
+    ok = panel->loadCalibration(qt(this->geometry.calib));
+    panel->setInputRectified(this->geometry.rectified);
   }
   if (!ok) {
     error = panel->lastMessage();
@@ -249,9 +167,12 @@ bool qTissueMosaicCommandLine::openInput(qTissueMosaicReconstructionWidget* pane
   if (this->hasPinholeGeometry()) {
     // The geometry of rectified frames exactly as `tissuemosaic reconstruct` makes it from the same options.
     vtkTissueMosaicReconstructionLogic* logic = panel->reconstructionLogic();
+    const double centre = std::numeric_limits<double>::quiet_NaN();  // the image centre
     try {
       logic->SetRectifiedGeometry(tissuemosaic::rectifiedGeometryFromPinhole(
-          logic->GetInputFrameSize(), this->focalPx, this->baselineMm, this->cxPx, this->cyPx, this->doffsPx));
+          logic->GetInputFrameSize(), this->geometry.focalPx.value_or(0), this->geometry.baselineMm.value_or(0),
+          this->geometry.cxPx.value_or(centre), this->geometry.cyPx.value_or(centre),
+          this->geometry.doffsPx.value_or(0)));
     } catch (const std::exception& failure) {
       error = failure.what();
       return false;

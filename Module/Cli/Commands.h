@@ -15,6 +15,7 @@ enum class CommandUse { Run, ParseOnly };
 
 void setupReconstruct(CLI::App& tool, CommandUse use = CommandUse::Run);  ///< tissuemosaic reconstruct ... (ReconstructCommand.cpp)
 void setupBatch(CLI::App& tool);              ///< tissuemosaic batch ...          (BatchCommand.cpp)
+void setupParams(CLI::App& tool);             ///< tissuemosaic params ...         (ParamsCommand.cpp)
 void setupRegister(CLI::App& tool);           ///< tissuemosaic register ...       (RegisterCommand.cpp, needs VTK)
 void setupEval(CLI::App& tool);               ///< tissuemosaic eval ...           (EvalCommand.cpp, needs VTK)
 void setupSynthPair(CLI::App& synth);         ///< tissuemosaic synth pair ...     (SynthCommand.cpp)

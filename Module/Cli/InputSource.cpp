@@ -10,18 +10,8 @@
 namespace tissuemosaic::cli {
 
 std::unique_ptr<StereoFrameSource> openInput(const InputOptions& input) {
-  const bool folders = !input.leftFrames.empty();
-  const bool videos = !input.leftVideo.empty();
-  const bool packed = !input.video.empty();
-  const bool igtl = !input.igtlInput.empty();
-  if (folders + videos + packed + igtl != 1) {
-    throw UsageError("give exactly one input: --left-frames DIR --right-frames DIR, --left-video L --right-video R, "
-                     "--video V, or --igtl-input HOST:PORT");
-  }
-  if (input.videoLayout != "sbs" && !packed && input.igtlSbs.empty()) {
-    throw UsageError("--video-layout applies to --video and --igtl-sbs");
-  }
-  if (igtl) return openIgtLinkInput(input, parseVideoLayout(input.videoLayout));
+  requireOneInput(input);
+  if (!input.igtlInput.empty()) return openIgtLinkInput(input, parseVideoLayout(input.videoLayout));
   StereoInputPaths paths;
   paths.leftFrames = input.leftFrames;
   paths.rightFrames = input.rightFrames;

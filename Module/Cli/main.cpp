@@ -4,6 +4,7 @@
 // (130, 143) when SIGINT or SIGTERM stopped a command that then wrote its partial outputs (StopSignal.h).
 #include "CommonOptions.h"
 #include "Commands.h"
+#include "HelpFormat.h"
 #include "OptionNames.h"
 #include "StopSignal.h"
 #include "UsageMessage.h"
@@ -35,37 +36,6 @@ const char* const toolDetails =
     "[--rectified], or --focal-px/--baseline-mm for rectified frames), --device, --params, the disparity range\n"
     "and --quiet mean the same in every command. Exit status: 0 done, 1 error, 2 command-line error.";
 
-/// CLI11's help layout with one blank line between option groups, and without the Needs:/Excludes: lists (each
-/// group's descriptions say how its options go together).
-class HelpFormatter : public CLI::Formatter {
-public:
-  std::string make_group(std::string group, bool isPositional, std::vector<const CLI::Option*> options) const override {
-    std::string text = group + ":\n";
-    for (const CLI::Option* option : options) text += make_option(option, isPositional);
-    return text;
-  }
-  std::string make_usage(const CLI::App* app, std::string name) const override {
-    return CLI::Formatter::make_usage(app, name) + "\n";
-  }
-  std::string make_option_opts(const CLI::Option* option) const override {
-    std::string text;
-    if (option->get_type_size() == 0) return text;  // a flag
-    if (!option->get_type_name().empty()) text += " " + option->get_type_name();
-    if (!option->get_default_str().empty()) text += "=" + option->get_default_str();
-    if (option->get_required()) text += " REQUIRED";
-    return text;
-  }
-};
-
-/// -h/--help last, under the common options, in every command (CLI11 adds it first).
-void moveHelpLast(CLI::App& app) {
-  app.set_help_flag();
-  app.set_help_flag("-h,--help", "print this help and exit")->group(cli::heading::common);
-  for (CLI::App* sub : app.get_subcommands([](CLI::App* candidate) { return !candidate->get_name().empty(); })) {
-    moveHelpLast(*sub);
-  }
-}
-
 #if !defined(TM_WITH_REGISTRATION)
 /// A command this build leaves out: it takes any words and says why it cannot run.
 void addUnavailableCommand(CLI::App& tool, const std::string& name, const std::string& summary,
@@ -82,9 +52,7 @@ int main(int argc, char** argv) {
   CLI::App tool("TissueMosaic: stereo surgical video to a dense textured 3D model", toolName);
   tool.footer(toolDetails);
   tool.require_subcommand(1);
-  tool.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::Throw);
-  tool.formatter(std::make_shared<HelpFormatter>());
-  tool.get_formatter()->column_width(34);
+  cli::useHouseHelpFormat(tool);
 
 #if !defined(TM_BENCH_ONLY)
   cli::setupStereo(tool);
@@ -96,6 +64,7 @@ int main(int argc, char** argv) {
   cli::setupTrack(tool);
   cli::setupReconstruct(tool);
   cli::setupBatch(tool);
+  cli::setupParams(tool);
 #if defined(TM_WITH_REGISTRATION)
   cli::setupRegister(tool);
   cli::setupEval(tool);
@@ -115,7 +84,7 @@ int main(int argc, char** argv) {
   cli::setupBenchReconstruct(*bench);
   cli::setupBenchPnp(*bench);
   cli::setupBenchOrb(*bench);
-  moveHelpLast(tool);
+  cli::moveHelpLast(tool);
 
   const std::vector<std::string> words(argv + 1, argv + argc);
   if (words.empty() || words[0] == "help") {

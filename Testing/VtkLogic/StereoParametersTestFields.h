@@ -1,27 +1,17 @@
 #pragma once
-// StereoParameters for tests: every field by name, a value set in which every field differs from its default, and
-// a comparison of all fields. One list for the parameter-file tests (VtkLogic) and the panel tests (Widgets).
-#include "Stereo/StereoParameters.h"
+// StereoParameters for tests: a value set in which every field differs from its default, and a comparison of all
+// fields, both over the stereo table's rows. For the parameter-file tests (VtkLogic) and the panel tests (Widgets).
+#include "Stereo/StereoParameterTable.h"
 
 #include <gtest/gtest.h>
 
-#include <utility>
 #include <vector>
 
 namespace tissuemosaic::test {
 
-/// Numeric fields of StereoParameters, besides the method, the search and the disparity range's mode; the lists
-/// below must name every one of them.
-constexpr std::size_t kStereoParameterNumericFields = 41;
-static_assert(sizeof(StereoParameters) ==
-                      sizeof(StereoMethod) + sizeof(StereoSearch) + sizeof(DisparityRangeMode) +
-                          kStereoParameterNumericFields * sizeof(int) &&
-                  sizeof(int) == sizeof(float),
-              "a StereoParameters field was added: list it in StereoParametersTestFields.h (and in the panel)");
-
-/// Every numeric field differs from its default (and is exactly representable in the panel's decimals); the
-/// method stays the default. The range's mode is WorkingDistance, as the panel leaves it after its working distance
-/// fields were edited last.
+/// Every numeric field differs from its default (and is exactly representable in the panel's decimals; a row
+/// without its value here fails UnusualParametersDifferInEveryField); the method stays the default. The range's
+/// mode is WorkingDistance, as the panel leaves it after its working distance fields were edited last.
 inline StereoParameters unusualParameters() {
   StereoParameters p;
   p.disparityRangeMode = DisparityRangeMode::WorkingDistance;
@@ -69,61 +59,24 @@ inline StereoParameters unusualParameters() {
   return p;
 }
 
-/// Every numeric field by name (the method has no spin box and is compared on its own).
-struct StereoParameterFields {
-  std::vector<std::pair<const char*, int StereoParameters::*>> ints = {
-      {"minDisparityPx", &StereoParameters::minDisparityPx},
-      {"maxDisparityPx", &StereoParameters::maxDisparityPx},
-      {"znccWindowPx", &StereoParameters::znccWindowPx},
-      {"outlierIterations", &StereoParameters::outlierIterations},
-      {"outlierRadiusStartPx", &StereoParameters::outlierRadiusStartPx},
-      {"outlierRadiusStepPx", &StereoParameters::outlierRadiusStepPx},
-      {"holeRadialRadiusPx", &StereoParameters::holeRadialRadiusPx},
-      {"holeRadialMinLines", &StereoParameters::holeRadialMinLines},
-      {"holeDiscRadiusPx", &StereoParameters::holeDiscRadiusPx},
-      {"refineIterations", &StereoParameters::refineIterations},
-      {"refineRadiusPx", &StereoParameters::refineRadiusPx},
-      {"refineSearchPx", &StereoParameters::refineSearchPx},
-      {"leftRightMaxDifferencePx", &StereoParameters::leftRightMaxDifferencePx},
-      {"rangeEndMarginPx", &StereoParameters::rangeEndMarginPx},
-      {"specularMarginPx", &StereoParameters::specularMarginPx},
-      {"specularMaxRadiusPx", &StereoParameters::specularMaxRadiusPx},
-      {"trackingHighlightMarginPx", &StereoParameters::trackingHighlightMarginPx},
-      {"censusWidthPx", &StereoParameters::censusWidthPx},
-      {"censusHeightPx", &StereoParameters::censusHeightPx},
-      {"armMaxPx", &StereoParameters::armMaxPx},
-      {"armLongPx", &StereoParameters::armLongPx},
-      {"armLimitGrey", &StereoParameters::armLimitGrey},
-      {"armLongLimitGrey", &StereoParameters::armLongLimitGrey},
-      {"aggregationIterations", &StereoParameters::aggregationIterations},
-      {"pathEdgeGrey", &StereoParameters::pathEdgeGrey}};
-  std::vector<std::pair<const char*, float StereoParameters::*>> reals = {
-      {"minWindowStdDev", &StereoParameters::minWindowStdDev},
-      {"outlierSmoothnessPx", &StereoParameters::outlierSmoothnessPx},
-      {"holeDiscMinValidFraction", &StereoParameters::holeDiscMinValidFraction},
-      {"refineAlpha", &StereoParameters::refineAlpha},
-      {"refineEta", &StereoParameters::refineEta},
-      {"refineMaxDeviationPx", &StereoParameters::refineMaxDeviationPx},
-      {"holeMaxEdgeDifferencePx", &StereoParameters::holeMaxEdgeDifferencePx},
-      {"specularMinGrey", &StereoParameters::specularMinGrey},
-      {"specularMinContrastGrey", &StereoParameters::specularMinContrastGrey},
-      {"specularViewToleranceGrey", &StereoParameters::specularViewToleranceGrey},
-      {"censusLambda", &StereoParameters::censusLambda},
-      {"absoluteDifferenceLambda", &StereoParameters::absoluteDifferenceLambda},
-      {"pathPenaltySmall", &StereoParameters::pathPenaltySmall},
-      {"pathPenaltyLarge", &StereoParameters::pathPenaltyLarge},
-      {"workingDistanceNearMm", &StereoParameters::workingDistanceNearMm},
-      {"workingDistanceFarMm", &StereoParameters::workingDistanceFarMm}};
-};
+/// The numeric rows of the stereo table (the method and the range's mode are choices, with combo boxes).
+inline std::vector<const parameters::Field<StereoParameters>*> numericStereoFields() {
+  std::vector<const parameters::Field<StereoParameters>*> rows;
+  for (const auto& field : stereoParameterTable().fields()) {
+    if (field.kind != parameters::FieldKind::Choice) rows.push_back(&field);
+  }
+  return rows;
+}
 
-/// Every field of a and b equal, the failing ones named.
+/// Every field of a and b equal (the table's rows), the failing ones named.
 inline void expectSameParameters(const StereoParameters& a, const StereoParameters& b) {
-  EXPECT_EQ(a.method, b.method);
-  EXPECT_EQ(a.search, b.search);  // no control of its own in the panel: the stored struct keeps it
-  EXPECT_EQ(a.disparityRangeMode, b.disparityRangeMode);
-  const StereoParameterFields fields;
-  for (const auto& field : fields.ints) EXPECT_EQ(a.*field.second, b.*field.second) << field.first;
-  for (const auto& field : fields.reals) EXPECT_FLOAT_EQ(a.*field.second, b.*field.second) << field.first;
+  for (const auto& field : stereoParameterTable().fields()) {
+    if (field.kind == parameters::FieldKind::Float) {
+      EXPECT_FLOAT_EQ(static_cast<float>(field.get(a)), static_cast<float>(field.get(b))) << field.key;
+    } else {
+      EXPECT_EQ(field.get(a), field.get(b)) << field.key;
+    }
+  }
 }
 
 }  // namespace tissuemosaic::test

@@ -22,6 +22,15 @@ std::string outputPath(const std::string& name) {
 
 }  // namespace
 
+TEST(StereoParametersFile, UnusualParametersDifferInEveryField) {
+  // What makes the round trips below cover every row of the stereo table.
+  const StereoParameters unusual = unusualParameters(), defaults;
+  for (const auto* field : tissuemosaic::test::numericStereoFields()) {
+    EXPECT_NE(field->get(unusual), field->get(defaults)) << field->key << ": give it a value in unusualParameters()";
+  }
+  EXPECT_NO_THROW(unusual.validate());
+}
+
 TEST(StereoParametersFile, RoundTripKeepsEveryField) {
   StereoParameters written = unusualParameters();
   written.method = tissuemosaic::StereoMethod::AdCensus;  // the method too

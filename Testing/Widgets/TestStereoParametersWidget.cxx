@@ -19,7 +19,7 @@
 #include <filesystem>
 
 using tissuemosaic::StereoParameters;
-using tissuemosaic::test::StereoParameterFields;
+using tissuemosaic::test::numericStereoFields;
 using tissuemosaic::test::expectSameParameters;
 using tissuemosaic::test::unusualParameters;
 
@@ -36,24 +36,28 @@ QDoubleSpinBox* realBox(QWidget& widget, const char* key) {
 
 TEST(StereoParametersWidget, ObjectToPanelShowsEveryField) {
   qTissueMosaicStereoParametersWidget widget;
-  const StereoParameterFields fields;
-  // The 37 numeric fields of StereoParameters, each with its own spin box and a tooltip (the method and the range's
-  // mode have their combo boxes). The list is checked against the struct's size (StereoParametersTestFields.h), so that a field added to
-  // StereoParameters and not listed fails to compile.
-  ASSERT_EQ(fields.ints.size() + fields.reals.size(), tissuemosaic::test::kStereoParameterNumericFields);
+  // Every numeric row of the stereo table has its spin box, with the table's limits and doc (the method and the
+  // range's mode have their combo boxes).
   ASSERT_TRUE(widget.setParameters(unusualParameters())) << widget.errorText().toStdString();
   const StereoParameters expected = unusualParameters();
-  for (const auto& field : fields.ints) {
-    QSpinBox* box = intBox(widget, field.first);
-    ASSERT_NE(box, nullptr) << field.first;
-    EXPECT_EQ(box->value(), expected.*field.second) << field.first;
-    EXPECT_FALSE(box->toolTip().isEmpty()) << field.first;
-  }
-  for (const auto& field : fields.reals) {
-    QDoubleSpinBox* box = realBox(widget, field.first);
-    ASSERT_NE(box, nullptr) << field.first;
-    EXPECT_FLOAT_EQ(static_cast<float>(box->value()), expected.*field.second) << field.first;
-    EXPECT_FALSE(box->toolTip().isEmpty()) << field.first;
+  for (const auto* field : numericStereoFields()) {
+    QAbstractSpinBox* box = nullptr;
+    if (field->integer()) {
+      QSpinBox* spinBox = intBox(widget, field->key);
+      ASSERT_NE(spinBox, nullptr) << field->key;
+      EXPECT_EQ(spinBox->value(), field->get(expected)) << field->key;
+      EXPECT_EQ(spinBox->minimum(), field->minimum) << field->key;
+      EXPECT_EQ(spinBox->maximum(), field->maximum) << field->key;
+      box = spinBox;
+    } else {
+      QDoubleSpinBox* spinBox = realBox(widget, field->key);
+      ASSERT_NE(spinBox, nullptr) << field->key;
+      EXPECT_FLOAT_EQ(static_cast<float>(spinBox->value()), static_cast<float>(field->get(expected))) << field->key;
+      EXPECT_EQ(spinBox->minimum(), field->minimum) << field->key;
+      EXPECT_EQ(spinBox->maximum(), field->maximum) << field->key;
+      box = spinBox;
+    }
+    EXPECT_EQ(box->toolTip().toStdString(), field->doc) << field->key;
   }
 }
 
@@ -61,12 +65,13 @@ TEST(StereoParametersWidget, PanelToObjectRoundTrip) {
   qTissueMosaicStereoParametersWidget widget;
   QSignalSpy changed(&widget, &qTissueMosaicStereoParametersWidget::parametersChanged);
   const StereoParameters target = unusualParameters();
-  const StereoParameterFields fields;
-  // Edit as a user would, one spin box at a time; every intermediate state is valid.
-  for (const auto& field : fields.ints) intBox(widget, field.first)->setValue(target.*field.second);
-  for (const auto& field : fields.reals) realBox(widget, field.first)->setValue(target.*field.second);
+  // Edit as a user would, one spin box at a time, in the table's order; every intermediate state is valid.
+  for (const auto* field : numericStereoFields()) {
+    if (field->integer()) intBox(widget, field->key)->setValue(static_cast<int>(field->get(target)));
+    else realBox(widget, field->key)->setValue(field->get(target));
+  }
   expectSameParameters(widget.parameters(), target);
-  EXPECT_EQ(changed.count(), static_cast<int>(tissuemosaic::test::kStereoParameterNumericFields));
+  EXPECT_EQ(changed.count(), static_cast<int>(numericStereoFields().size()));
   EXPECT_TRUE(widget.errorText().isEmpty());
 
   // And back: what the panel holds shows again after a GUI refresh.

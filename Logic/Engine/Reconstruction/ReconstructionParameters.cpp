@@ -47,8 +47,7 @@ ReconstructionParameters readStorage(const cv::FileStorage& storage) {
     else if (name == "tissuemosaic") p.extractor = FeatureExtractor::TissueMosaicOrb;
     else throw Error("pipeline parameter extractor must be \"opencv\" or \"tissuemosaic\"");
   }
-  p.validate();
-  return p;
+  return p;  // each stage's read() validated its part: checked once, where it is set
 }
 
 }  // namespace

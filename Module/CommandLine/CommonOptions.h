@@ -1,6 +1,6 @@
 #pragma once
 /// @file CommonOptions.h
-/// @brief The option groups that several commands share, defined once: input video, stereo geometry, device,
+/// @brief The option groups that several commands (and the desktop application) share, defined once: input video, stereo geometry, device,
 /// parameters file, disparity range, image size and --quiet. Each group is a struct the command's options hold,
 /// an add* function that declares its options on the command (under the same help heading everywhere), and the
 /// function that turns what was given into engine objects, checking what CLI11 cannot (exactly one input, one
@@ -50,6 +50,10 @@ struct InputOptions {
   double fps = 30;  ///< time stamps of frame folders (videos carry their own)
 };
 void addInputOptions(CLI::App& command, InputOptions& input);
+/// True when any input option was given.
+bool inputGiven(const InputOptions& input);
+/// UsageError unless exactly one input was given (and --video-layout only with an input that packs both eyes).
+void requireOneInput(const InputOptions& input);
 /// Opens the one input given (UsageError when none or several are). Implemented in InputSource.cpp, apart from
 /// the rest: it needs the video and image codecs, which tissuemosaic-bench must not link.
 std::unique_ptr<StereoFrameSource> openInput(const InputOptions& input);
@@ -79,7 +83,9 @@ struct GeometryOptions {
 };
 void addGeometryOptions(CLI::App& command, GeometryOptions& geometry);
 
-/// Checks the options (UsageError: none, or both kinds) and resolves them through the engine (IO/StereoGeometry.h):
+/// UsageError unless the options describe one geometry (a calibration, or a focal length with a baseline).
+void requireGeometry(const GeometryOptions& geometry);
+/// Checks the options (requireGeometry) and resolves them through the engine (IO/StereoGeometry.h):
 /// a calibration must be for frames of `frameSize` (Error naming `framesDescription`), a file without image size
 /// takes it.
 StereoGeometry resolveGeometry(const GeometryOptions& geometry, const cv::Size& frameSize,

@@ -1,9 +1,8 @@
 #include "CommonOptions.h"
-#include "Commands.h"
 
 #include "Core/Error.h"
 #include "IO/Calibration/CalibrationFile.h"
-#include "Stereo/StereoParameters.h"
+#include "Stereo/StereoParameterTable.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -12,13 +11,6 @@
 #include <utility>
 
 namespace tissuemosaic::cli {
-
-CLI::App* addCommand(CLI::App& parent, const std::string& name, const std::string& summary,
-                     const std::string& details) {
-  CLI::App* command = parent.add_subcommand(name, summary);
-  command->footer(details);
-  return command;
-}
 
 CLI::Validator positiveNumber(const std::string& unit) {
   return CLI::Validator(
@@ -104,6 +96,24 @@ void addInputOptions(CLI::App& command, InputOptions& input) {
   command.get_option("--fps")->group(heading::input);
 }
 
+bool inputGiven(const InputOptions& input) {
+  return !input.leftFrames.empty() || !input.leftVideo.empty() || !input.video.empty() || !input.igtlInput.empty();
+}
+
+void requireOneInput(const InputOptions& input) {
+  const bool folders = !input.leftFrames.empty();
+  const bool videos = !input.leftVideo.empty();
+  const bool packed = !input.video.empty();
+  const bool igtl = !input.igtlInput.empty();
+  if (folders + videos + packed + igtl != 1) {
+    throw UsageError("give exactly one input: --left-frames DIR --right-frames DIR, --left-video L --right-video R, "
+                     "--video V, or --igtl-input HOST:PORT");
+  }
+  if (input.videoLayout != "sbs" && !packed && input.igtlSbs.empty()) {
+    throw UsageError("--video-layout applies to --video and --igtl-sbs");
+  }
+}
+
 bool GeometryOptions::given() const { return !calib.empty() || focalPx || baselineMm; }
 
 void addGeometryOptions(CLI::App& command, GeometryOptions& geometry) {
@@ -139,17 +149,24 @@ void addGeometryOptions(CLI::App& command, GeometryOptions& geometry) {
     option->group(heading::geometry);
 }
 
+void requireGeometry(const GeometryOptions& options) {
+  if (!options.calib.empty()) return;
+  if (options.baselineMm && !options.focalPx) {
+    throw UsageError("--baseline-mm needs --focal-px (or --hamlyn, whose intrinsics.txt gives it)");
+  }
+  if (!options.focalPx) {
+    throw UsageError("give the geometry: --calib rig.yml, or --focal-px and --baseline-mm for rectified frames");
+  }
+}
+
 StereoGeometry resolveGeometry(const GeometryOptions& options, const cv::Size& frameSize,
                                const std::string& framesDescription) {
+  requireGeometry(options);
   StereoGeometrySpec spec;
   if (!options.calib.empty()) {
     spec.calibration =
         readCalibrationFiles(CalibrationFiles{options.calib, options.calibExtrinsics, options.calibRight});
     spec.framesRectified = options.rectified;
-  } else if (options.baselineMm && !options.focalPx) {
-    throw UsageError("--baseline-mm needs --focal-px (or --hamlyn, whose intrinsics.txt gives it)");
-  } else if (!options.focalPx) {
-    throw UsageError("give the geometry: --calib rig.yml, or --focal-px and --baseline-mm for rectified frames");
   } else {
     spec.focalPx = *options.focalPx;
     spec.baselineMm = *options.baselineMm;
@@ -174,7 +191,8 @@ void addDeviceOption(CLI::App& command, DeviceOption& device, const std::string&
 void addParamsOption(CLI::App& command, std::optional<std::string>& path, const std::string& nodes) {
   command
       .add_option("--params", path,
-                  "parameters file (OpenCV YAML/XML; nodes " + nodes + "; missing keys keep the paper's defaults)")
+                  "parameters file (OpenCV YAML/XML; nodes " + nodes +
+                      "; missing keys keep the paper's defaults; `tissuemosaic params` lists every key)")
       ->type_name("p.yml")
       ->group(heading::common);
 }
@@ -254,7 +272,12 @@ void addDisparityRangeOptions(CLI::App& command, DisparityRangeOptions& range) {
                      "end from --max-disparity, else the parameters file, else " +
                          std::to_string(defaults.minDisparityPx) + ".." + std::to_string(defaults.maxDisparityPx) +
                          ")");
-  command.add_option("--max-disparity", range.maxPx, "fixes the range: its largest candidate disparity in px, inclusive");
+  const parameters::Field<StereoParameters>& minimum = stereoParameterTable().field("minDisparityPx");
+  command.add_option("--max-disparity", range.maxPx,
+                     "fixes the range: its largest candidate disparity in px, inclusive (both ends within [" +
+                         std::to_string(static_cast<int>(minimum.minimum)) + ", " +
+                         std::to_string(static_cast<int>(minimum.maximum)) + "], at most " +
+                         std::to_string(kMaxDisparityCount) + " candidates)");
   for (const char* name : {"--disparity-range", "--depth-range-mm", "--min-disparity", "--max-disparity"}) {
     command.get_option(name)->group(heading::disparityRange);
   }
@@ -284,7 +307,7 @@ void addImageSizeOptions(CLI::App& command, int& width, int& height) {
 void addBenchDisparitiesOption(CLI::App& command, std::optional<int>& disparities) {
   command.add_option("--disparities", disparities,
                      "disparities searched (default: the paper's 101, -20..80 px, scaled by width / 960)")
-      ->check(CLI::Range(2, 1024))
+      ->check(CLI::Range(2, kMaxDisparityCount))
       ->group(heading::options);
 }
 
