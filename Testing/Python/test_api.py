@@ -97,6 +97,27 @@ def test_frames_read_the_cli_inputs(out_dir):
     assert len(list(tm.frames(left_frames=scan["left_frames"], right_frames=scan["right_frames"], max_frames=2))) == 2
 
 
+def test_live_model_follows_breathing_tissue(out_dir, cli):
+    # A still scope over a 3 mm swell: with the deformation on, live_model() is model() moved where the tissue is
+    # (the same points, the swell's risen); without it, live_model() is model().
+    folder = out_dir / "breathing"
+    subprocess.run([cli, "synth", "scan", "--out", str(folder), "--frames", "12", "--width", "320", "--height", "240",
+                    "--supersampling", "1", "--min-speed", "0", "--max-speed", "0", "--breathing-mm", "3",
+                    "--breathing-period-s", "0.8", "--breathing-radius-mm", "14"], check=True, capture_output=True)
+    rig = tm.Rig.from_file(folder / "rig.yml", rectified=True)
+    rigid = tm.Reconstruction(rig, device="cpu")
+    deforming = tm.Reconstruction(rig, params={"fusion": {"deformation": "on"}}, device="cpu")
+    for left, right, time_s in tm.frames(left_frames=folder / "left", right_frames=folder / "right", fps=30):
+        rigid.process(left, right, time_s)
+        deforming.process(left, right, time_s)
+    assert np.array_equal(rigid.live_model().points, rigid.model().points)
+    rest, live = deforming.model().points, deforming.live_model().points
+    assert rest.shape == live.shape and len(rest) > 1000
+    moved = np.linalg.norm(live - rest, axis=1)
+    assert moved.max() > 1.0, "the swell rose: some points must have moved"
+    assert np.median(moved) < 0.5, "most tissue is still"
+
+
 def test_parameters_as_a_dict(pair):
     defaults = tm.default_params()
     assert defaults["stereo"]["znccWindowPx"] == 11  # the paper's 11x11 window

@@ -37,9 +37,8 @@ struct DeformationTrackerParameters {
   /// The camera takes the field's rigid part over the tissue the frame sees (RigidPart.h), so that the field holds
   /// only what moves against the rest: a camera error is then corrected, not taken on by the field as tissue motion
   /// (and fused as such). Where most of the view moves as one (breathing under a still scope), the camera takes that
-  /// motion, as the rigid pipeline's does. Off: measured on the hard-mode scan it made the model at rest better (0.448
-  /// mm RMS against 0.492) but the camera worse (largest frame error 2.43 mm against 0.78), and the demo scan's ATE
-  /// 0.197 mm against 0.135 (docs/DEFORMATION.md).
+  /// motion, as the rigid pipeline's does. Off: it made the model at rest better but the camera worse (hard-mode
+  /// scan, largest frame error 2.43 mm against 0.78; docs/DEFORMATION.md).
   bool cameraTakesRigidPart = false;
   double rigidPartToleranceMm = 1.0;  ///< nodes moving farther than this from the rigid part do not count (Tukey)
 

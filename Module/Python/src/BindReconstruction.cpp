@@ -207,7 +207,16 @@ is released while the engine works; calls on one Reconstruction run one at a tim
                points = r.model();
              }
              return toModel(std::move(points));
-           }, "a copy of the fused model (Model)")
+           }, "a copy of the fused model (Model); with fusion.deformation on, the tissue at rest (the canonical model)")
+      .def("live_model", [](const Reconstruction& r) {
+             ModelPoints points;
+             {
+               py::gil_scoped_release release;
+               points = r.liveModel();
+             }
+             return toModel(std::move(points));
+           }, "a copy of the fused model where the tissue is now (fusion.deformation on: model() moved by the last "
+              "frame's deformation; model() itself otherwise)")
       .def("save", [](const Reconstruction& r, const py::object& path, const py::object& trajectory) {
              const std::string modelPath = pathText(path, "path");
              const std::string trajectoryPath = trajectory.is_none() ? "" : pathText(trajectory, "trajectory");

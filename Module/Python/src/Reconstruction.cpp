@@ -73,6 +73,11 @@ ModelPoints Reconstruction::model() const {
   return pipeline_ ? pipeline_->modelSnapshot() : ModelPoints{};
 }
 
+ModelPoints Reconstruction::liveModel() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return pipeline_ ? pipeline_->liveModelSnapshot() : ModelPoints{};
+}
+
 Trajectory Reconstruction::keyFrameTrajectory() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   Trajectory keyFrames;

@@ -28,6 +28,8 @@ public:
 
   int frameCount() const;
   ModelPoints model() const;
+  /// The model where the tissue is now (fusion.deformation on); model() itself otherwise.
+  ModelPoints liveModel() const;
   Trajectory keyFrameTrajectory() const;
   Trajectory frameTrajectory() const;  ///< every tracked frame
   TimingTable timing() const;
