@@ -2,6 +2,7 @@
 
 #include "Core/Error.h"
 #include "Core/ParameterChecks.h"
+#include "Core/RigidTransform.h"
 #include "Core/Stopwatch.h"
 #include "Core/SurfaceKernels.h"
 #include "Core/SurfaceMeasurement.h"
@@ -101,9 +102,7 @@ Eigen::Matrix4d DeformationTracker::takeRigidPart(const DeformationCorrespondenc
     weights.push_back(reach[j]);
   }
   const Eigen::Matrix4d rigid = robustRigidMotion(rest, live, weights, parameters_.rigidPartToleranceMm);
-  Eigen::Matrix4d back = Eigen::Matrix4d::Identity();  // the rigid motion undone
-  back.topLeftCorner<3, 3>() = rigid.topLeftCorner<3, 3>().transpose();
-  back.topRightCorner<3, 1>() = -back.topLeftCorner<3, 3>() * rigid.topRightCorner<3, 1>();
+  const Eigen::Matrix4d back = inverseRigid(rigid);  // the rigid motion undone
   // live(p) = sum_j w_j (R_j (p - g_j) + g_j + t_j) is affine in each node's motion: undoing D on every reached node
   // moves the tissue they carry by D^-1 exactly.
   for (std::size_t j = 0; j < nodes.size(); ++j) {
